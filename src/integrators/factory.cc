@@ -4,12 +4,13 @@
 
 #include "integrators/explicit_rk.h"
 #include "integrators/rkmk.h"
+#include "integrators/splitting.h"
 #include "integrators/thesis_euler.h"
 
 namespace deploysim::integrators {
 
 std::vector<std::string> NumericalStepperNames() {
-  return {"thesis-euler", "rk4", "dopri5", "rkf78", "rkmk4", "rkmk-dopri5", "rkmk-rkf78"};
+  return {"thesis-euler", "rk4", "dopri5", "rkf78", "rkmk4", "rkmk-dopri5", "rkmk-rkf78", "split4"};
 }
 
 std::unique_ptr<Stepper> MakeNumericalStepper(const std::string& name) {
@@ -38,6 +39,7 @@ std::unique_ptr<Stepper> MakeNumericalStepper(const std::string& name) {
     return std::make_unique<RkmkStepper>(
         Fehlberg78(), name, "Runge-Kutta-Munthe-Kaas with Fehlberg 7(8), adaptive");
   }
+  if (name == "split4") return std::make_unique<SplittingStepper>();
   std::string list;
   for (const auto& n : NumericalStepperNames()) list += (list.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown integrator '" + name + "' (valid: " + list + ", exact)");

@@ -11,7 +11,7 @@
 
 namespace deploysim::integrators {
 
-/// Names: "thesis-euler", "rk4", "dopri5", "rkf78", "rkmk4", "rkmk-dopri5", "rkmk-rkf78".
+/// Names: "thesis-euler", "rk4", "dopri5", "rkf78", "rkmk4", "rkmk-dopri5", "rkmk-rkf78", "split4".
 std::vector<std::string> NumericalStepperNames();
 
 /// Throws std::invalid_argument listing the valid names for an unknown one.

@@ -114,6 +114,12 @@ IntegrationResult Integrate(const Stepper& stepper,
   const StepperInfo& info = stepper.info();
   ValidateSettings(info, settings);
   Require(Finite(initial), "initial state must be finite");
+  Require(initial.q_NB.norm() > 0.5,
+          "initial attitude quaternion must be a unit quaternion (rule: |q| = 1; got a norm of " +
+              std::to_string(initial.q_NB.norm()) + ")");
+  Require(std::all_of(output_times.begin(), output_times.end(),
+                      [](double t) { return std::isfinite(t); }),
+          "output times must be finite");
   Require(std::isfinite(t_end) && t_end > initial.t, "end time must be finite and > start time");
   Require(std::is_sorted(output_times.begin(), output_times.end()),
           "output times must be ascending");
