@@ -1,0 +1,158 @@
+// deploysim: the command-line front end. Parses, runs, reports; the only place that
+// catches exceptions (one line on stderr, non-zero exit).
+
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "analysis/coupling_comparison.h"
+#include "analysis/exact_flow.h"
+#include "analysis/mission.h"
+#include "cli/report.h"
+#include "io/trajectory_file.h"
+#include "io/yaml_loader.h"
+
+namespace {
+
+using deploysim::analysis::MissionResult;
+
+constexpr int kExitBadInput = 1;
+
+struct Overrides {
+  std::optional<std::string> method, coupling, mode;
+  std::optional<double> rtol, atol, step, dt;
+};
+
+void AddOverrideOptions(CLI::App* cmd, Overrides& o) {
+  cmd->add_option("--method", o.method, "integrator (see `deploysim methods`)");
+  cmd->add_option("--rtol", o.rtol, "relative tolerance of adaptive integrators");
+  cmd->add_option("--atol", o.atol, "absolute tolerance, relative to |H_B(0)|");
+  cmd->add_option("--step", o.step, "fixed step [s] (initial step for adaptive methods)");
+  cmd->add_option("--dt", o.dt, "output sampling interval [s]");
+  cmd->add_option("--coupling", o.coupling, "quasi-rigid | exact");
+  cmd->add_option("--mode", o.mode, "tensor | geometry");
+}
+
+deploysim::schedule::Profile Load(const std::string& path, const Overrides& o) {
+  deploysim::schedule::Profile p = deploysim::io::LoadProfile(path);
+  deploysim::io::ProfileOverrides po;
+  po.method = o.method;
+  po.coupling = o.coupling;
+  po.mode = o.mode;
+  po.rtol = o.rtol;
+  po.atol = o.atol;
+  po.step = o.step;
+  po.output_dt = o.dt;
+  deploysim::io::ApplyOverrides(p, po);
+  return p;
+}
+
+// A progress bar on a terminal; nothing otherwise (runs are short; sweeps have their own).
+std::function<void(double)> Progress(bool quiet) {
+  if (quiet || isatty(fileno(stderr)) == 0) return {};
+  return [](double f) {
+    const int width = 40;
+    const int filled = static_cast<int>(f * width);
+    std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), static_cast<int>(f * 100));
+    if (f >= 1.0) std::fprintf(stderr, "\r%*s\r", width + 8, "");
+    std::fflush(stderr);
+  };
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "deploysim: does a spinning spacecraft stay put when it deploys its panels, or "
+      "does it start to tumble? (Dzhanibekov effect with time-varying inertia)"};
+  app.set_version_flag("--version", std::string("deploysim ") + DEPLOYSIM_VERSION);
+  app.require_subcommand(1);
+  app.footer(
+      "Examples:\n"
+      "  deploysim simulate deployment_profiles/smallsat_three_stage.yaml -o out/smallsat.h5\n"
+      "  deploysim simulate deployment_profiles/wing_nut.yaml --method exact -o wing_nut.h5\n"
+      "  deploysim analyze deployment_profiles/seed_satellite.yaml\n"
+      "  deploysim analyze deployment_profiles/smallsat_three_stage.yaml --json\n"
+      "  deploysim methods\n"
+      "File formats: docs/file_formats.md. Plots: /usr/bin/python3 tools/plot_trajectory.py OUT.h5");
+
+  std::string profile_path, out_path;
+  bool csv = false, quiet = false, json = false, compare = false;
+  Overrides ov;
+
+  CLI::App* sim = app.add_subcommand("simulate", "run a deployment profile and write its trajectory (HDF5)");
+  sim->add_option("profile", profile_path, "deployment profile (YAML)")->required();
+  sim->add_option("-o,--output", out_path, "output HDF5 file (default: <profile stem>.h5 in the current folder)");
+  sim->add_flag("--csv", csv, "also write <output>.csv");
+  sim->add_flag("-q,--quiet", quiet, "no progress bar and no summary");
+  sim->add_flag("--compare-coupling", compare, "also run the other coupling and report the difference (geometry mode)");
+  AddOverrideOptions(sim, ov);
+  sim->footer("Example: deploysim simulate deployment_profiles/wing_nut.yaml -o wing_nut.h5 --method rkf78 --rtol 1e-12");
+
+  CLI::App* ana = app.add_subcommand("analyze", "stability per stage, predicted flips, danger windows");
+  ana->add_option("profile", profile_path, "deployment profile (YAML)")->required();
+  ana->add_flag("--json", json, "print JSON instead of the table");
+  AddOverrideOptions(ana, ov);
+  ana->footer("Example: deploysim analyze deployment_profiles/seed_satellite.yaml --json");
+
+  CLI::App* meth = app.add_subcommand("methods", "list the integrators");
+
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    if (meth->parsed()) {
+      for (const std::string& name : deploysim::analysis::StepperNames()) {
+        const auto s = deploysim::analysis::MakeStepper(name);
+        std::cout << fmt::format("{:<13} {}\n{:<13} order {}{}; {}\n", name, s->info().summary, "",
+                                 s->info().order, s->info().adaptive ? ", adaptive" : ", fixed step",
+                                 s->info().reference);
+      }
+      return 0;
+    }
+    const deploysim::schedule::Profile profile = Load(profile_path, ov);
+    const bool geometry = profile.mode == deploysim::schedule::Mode::kGeometry;
+    if (sim->parsed()) {
+      if (out_path.empty()) out_path = std::filesystem::path(profile_path).stem().string() + ".h5";
+      const MissionResult r = deploysim::analysis::RunMission(profile, Progress(quiet));
+      if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
+        std::cerr << "deploysim: error: " << profile_path << ": integration " << r.message << "\n";
+        return 3;
+      }
+      deploysim::io::WriteTrajectoryFile(out_path, r);
+      if (csv) deploysim::io::WriteTrajectoryCsv(out_path + ".csv", r.trajectory);
+      if (!quiet) {
+        std::cout << deploysim::cli::FormatSummary(r);
+        if (compare && geometry) {
+          std::cout << "\n" << deploysim::cli::FormatCouplingComparison(
+                                   deploysim::analysis::CompareCouplings(profile));
+        }
+        std::cout << "\nwrote " << out_path << (csv ? " and " + out_path + ".csv" : "") << "\n";
+      }
+      return 0;
+    }
+    if (ana->parsed()) {
+      const MissionResult r = deploysim::analysis::RunMission(profile);
+      std::optional<deploysim::analysis::CouplingComparison> c;
+      if (geometry) c = deploysim::analysis::CompareCouplings(profile);
+      if (json) {
+        std::cout << deploysim::cli::FormatJson(r, c ? &*c : nullptr);
+      } else {
+        std::cout << deploysim::cli::FormatSummary(r);
+        if (c) std::cout << "\n" << deploysim::cli::FormatCouplingComparison(*c);
+      }
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "deploysim: error: " << e.what() << "\n";
+    return kExitBadInput;
+  }
+  return 0;
+}

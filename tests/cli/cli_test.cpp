@@ -1,0 +1,178 @@
+// End-to-end tests of the `deploysim` command (issue 3, acceptance 1 and 4): every
+// shipped profile runs and its HDF5 file is read back and checked; every malformed
+// input of the corpus gives its specific one-line message, a non-zero exit and no
+// output file.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "analysis/free_body_solution.h"
+#include "analysis/mission.h"
+#include "io/trajectory_file.h"
+#include "math/inertia.h"
+
+namespace deploysim {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kMomentumTolerance = 1e-10;  // issue 3 acceptance 1: h_N constant
+constexpr double kFlipTolerance = 1e-7;       // [s] issue 3 acceptance 1
+
+struct Run {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+// Runs the CLI with arguments (shell-quoted by the caller), capturing stdout and stderr.
+Run RunCli(const std::string& args, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt";
+  const fs::path err = dir / "stderr.txt";
+  const std::string cmd = std::string("'") + DEPLOYSIM_CLI + "' " + args + " >'" + out.string() +
+                          "' 2>'" + err.string() + "'";
+  const int status = std::system(cmd.c_str());
+  Run r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  auto slurp = [](const fs::path& p) {
+    std::ifstream f(p);
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  };
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+fs::path TempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("deploysim_cli_test_" + name + "_" +
+                                                  std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+TEST(CliTest, HelpAndVersion) {
+  const fs::path d = TempDir("help");
+  const Run help = RunCli("--help", d);
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("Examples:"), std::string::npos) << help.out;
+  EXPECT_NE(help.out.find("simulate"), std::string::npos);
+  const Run version = RunCli("--version", d);
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_NE(version.out.find("deploysim "), std::string::npos);
+  const Run none = RunCli("", d);
+  EXPECT_NE(none.exit_code, 0);
+  fs::remove_all(d);
+}
+
+TEST(CliTest, MissingProfileFileIsOneLineError) {
+  const fs::path d = TempDir("missing");
+  const Run r = RunCli("simulate '" + (d / "nope.yaml").string() + "' -o '" +
+                           (d / "out.h5").string() + "'",
+                       d);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("nope.yaml"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(d / "out.h5"));
+  fs::remove_all(d);
+}
+
+// Every shipped profile: runs, writes a readable file whose h_N is constant and whose
+// flips in constant-inertia stages match the analytic engine started from the file's
+// own state at the first output time of the stage.
+TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
+  const fs::path d = TempDir("profiles");
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(DEPLOYSIM_SOURCE_DIR) / "deployment_profiles")) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++count;
+    const std::string name = entry.path().stem().string();
+    SCOPED_TRACE(name);
+    const fs::path out = d / (name + ".h5");
+    const Run r = RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const io::TrajectoryFile f = io::ReadTrajectoryFile(out.string());
+    const analysis::Trajectory& tr = f.trajectory;
+    ASSERT_GT(tr.size(), 2u);
+    const math::Vec3 h0 = tr.h_N.front();
+    double drift = 0.0;
+    for (std::size_t i = 0; i < tr.size(); ++i) {
+      drift = std::max(drift, (tr.q_NB[i] * tr.H_B[i] - h0).norm() / h0.norm());
+    }
+    EXPECT_LE(drift, kMomentumTolerance);
+    ::testing::Test::RecordProperty(name + "_h_N_drift", std::to_string(drift));
+    double worst_flip = 0.0;
+    const math::Vec3 spin_axis = analysis::InitialSpinAxis(tr.J_B.front(), tr.H_B.front());
+    for (const io::StageRow& st : f.stages) {
+      if (st.law != "hold" && st.law != "step") continue;
+      std::size_t i = 0;
+      while (i < tr.size() && tr.time[i] <= st.t_begin) ++i;  // strictly inside the stage
+      if (i >= tr.size() || tr.time[i] >= st.t_end) continue;
+      const analysis::FreeBodySolution sol(math::InertiaTensor::FromMatrix(tr.J_B[i]), tr.H_B[i],
+                                           tr.q_NB[i], tr.time[i]);
+      // Flips: sign changes along the intermediate axis while it is the spin axis.
+      const bool intermediate = analysis::LocateSpinAxis(tr.J_B[i], spin_axis).role ==
+                                analysis::AxisRole::kIntermediate;
+      const std::vector<double> predicted =
+          intermediate ? sol.FlipTimes(tr.time[i], st.t_end) : std::vector<double>{};
+      std::vector<double> observed;
+      for (double t : f.flip_times) {
+        if (t > tr.time[i] && t < st.t_end) observed.push_back(t);
+      }
+      ASSERT_EQ(observed.size(), predicted.size()) << "stage " << st.name;
+      for (std::size_t k = 0; k < observed.size(); ++k) {
+        worst_flip = std::max(worst_flip, std::abs(observed[k] - predicted[k]));
+      }
+    }
+    EXPECT_LE(worst_flip, kFlipTolerance);
+    ::testing::Test::RecordProperty(name + "_max_flip_error_s", std::to_string(worst_flip));
+  }
+  EXPECT_GE(count, 5);
+  fs::remove_all(d);
+}
+
+// The malformed-input corpus of tests/io/bad_inputs through the CLI.
+TEST(CliTest, MalformedProfilesFailCleanly) {
+  const fs::path d = TempDir("bad");
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(DEPLOYSIM_SOURCE_DIR) / "tests/io/bad_inputs")) {
+    if (entry.path().extension() != ".yaml") continue;
+    std::ifstream in(entry.path());
+    std::string first;
+    std::getline(in, first);
+    const std::string tag = "# expect: ";
+    if (first.rfind(tag, 0) != 0) continue;  // helper files (`# valid`)
+    const std::string expected = first.substr(tag.size());
+    // Profiles only (files with a `model:` or `stages:` key); model files are covered
+    // by the io tests.
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.find("\nmodel:") == std::string::npos && text.find("\nstages:") == std::string::npos &&
+        text.rfind("model:", 0) != 0 && text.rfind("stages:", 0) != 0) {
+      continue;
+    }
+    const fs::path out = d / "out.h5";
+    const Run r = RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
+    SCOPED_TRACE(entry.path().filename().string());
+    ++count;
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    for (const auto& left : fs::directory_iterator(d)) {
+      const std::string n = left.path().filename().string();
+      EXPECT_TRUE(n == "stdout.txt" || n == "stderr.txt") << "left behind: " << n;
+    }
+  }
+  EXPECT_GE(count, 15);
+  fs::remove_all(d);
+}
+
+}  // namespace
+}  // namespace deploysim

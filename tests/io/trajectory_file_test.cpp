@@ -1,0 +1,379 @@
+// HDF5 and CSV trajectories: bit-exact round trips of a synthetic mission, units on
+// every dataset, readable by h5dump, and all-or-nothing writes.
+
+#include "io/trajectory_file.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "io/test_temp_dir.h"
+#include "math/quaternion.h"
+
+namespace deploysim::io {
+namespace {
+
+namespace fs = std::filesystem;
+using analysis::MissionResult;
+using math::Mat3;
+using math::Quat;
+using math::Vec3;
+
+constexpr std::uint64_t kSeed = 20240611;
+constexpr std::size_t kSamples = 7;
+constexpr int kPanels = 2;
+
+/// A mission result with random (but reproducible) values that use every bit of the
+/// doubles, so that a round trip that loses anything shows.
+MissionResult SyntheticResult(schedule::Mode mode) {
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto vec = [&] { return Vec3(u(rng), u(rng), u(rng)); };
+
+  MissionResult r;
+  schedule::Profile& p = r.profile;
+  p.name = "synthetic";
+  p.source = "profiles/synthetic.yaml";
+  p.text = "name: synthetic\n# a profile text with unicode: \xce\xb8 = 90\xc2\xb0\n";
+  p.model.name = "synthetic_model";
+  p.mode = mode;
+  p.coupling = mode == schedule::Mode::kGeometry ? schedule::Coupling::kExact
+                                                 : schedule::Coupling::kQuasiRigid;
+  if (mode == schedule::Mode::kGeometry) {
+    p.model.kind = model::ModelKind::kHinged;
+    p.model.hinged.panels.resize(kPanels);
+  }
+  p.integrator.method = "rkmk-rkf78";
+  p.integrator.rtol = 1e-11;
+  p.integrator.atol = 1e-13;
+  p.output.dt = 0.25;
+  schedule::Stage hold;
+  hold.name = "closed spin";
+  hold.from = hold.to = "closed";
+  hold.t_begin = 0.0;
+  hold.t_end = 1.0;
+  schedule::Stage move;
+  move.name = "deploy";
+  move.from = "closed";
+  move.to = "open";
+  move.law = schedule::Law::kMinimumJerk;
+  move.t_begin = 1.0;
+  move.t_end = 1.5;
+  p.stages = {hold, move};
+
+  analysis::Trajectory& t = r.trajectory;
+  for (std::size_t k = 0; k < kSamples; ++k) {
+    t.time.push_back(0.25 * static_cast<double>(k) + 1e-3 * u(rng));
+    t.H_B.push_back(vec());
+    t.w_NB_B.push_back(vec());
+    t.q_NB.push_back(Quat(u(rng), u(rng), u(rng), u(rng)));
+    Mat3 J;
+    for (int i = 0; i < 9; ++i) J(i / 3, i % 3) = u(rng);  // not symmetric: order shows
+    t.J_B.push_back(J);
+    t.principal_moments.push_back(vec());
+    t.h_rel_B.push_back(vec());
+    t.h_N.push_back(vec());
+    t.energy.push_back(u(rng));
+    t.euler_313.push_back(vec());
+    t.spin_axis_angle.push_back(u(rng));
+    if (mode == schedule::Mode::kGeometry) {
+      t.hinge_angles.push_back(Eigen::Vector2d(u(rng), u(rng)));
+    }
+  }
+  r.flip_times = {0.3, 0.7 + 1e-15, 1.1};
+  r.stats.steps = 123;
+  r.stats.rejected = 4;
+  r.max_h_N_drift = 1.5e-14;
+  r.message = "reached the end";
+  return r;
+}
+
+void ExpectSameTrajectory(const analysis::Trajectory& a, const analysis::Trajectory& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a.time[k], b.time[k]);
+    EXPECT_EQ(a.H_B[k], b.H_B[k]);
+    EXPECT_EQ(a.w_NB_B[k], b.w_NB_B[k]);
+    EXPECT_EQ(a.q_NB[k].coeffs(), b.q_NB[k].coeffs());
+    EXPECT_EQ(a.J_B[k], b.J_B[k]);
+    EXPECT_EQ(a.principal_moments[k], b.principal_moments[k]);
+    EXPECT_EQ(a.h_rel_B[k], b.h_rel_B[k]);
+    EXPECT_EQ(a.h_N[k], b.h_N[k]);
+    EXPECT_EQ(a.energy[k], b.energy[k]);
+    EXPECT_EQ(a.euler_313[k], b.euler_313[k]);
+    EXPECT_EQ(a.spin_axis_angle[k], b.spin_axis_angle[k]);
+  }
+  ASSERT_EQ(a.hinge_angles.size(), b.hinge_angles.size());
+  for (std::size_t k = 0; k < a.hinge_angles.size(); ++k) {
+    EXPECT_EQ(a.hinge_angles[k], b.hinge_angles[k]);
+  }
+}
+
+/// Output of a shell command ("" if it could not run).
+std::string Capture(const std::string& command) {
+  std::string out;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return out;
+  char buf[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buf, 1, sizeof(buf), pipe)) > 0) out.append(buf, n);
+  ::pclose(pipe);
+  return out;
+}
+
+bool HaveH5dump() { return std::system("h5dump --version > /dev/null 2>&1") == 0; }
+
+class TrajectoryFileTest : public testing::TempDirTest {};
+
+TEST_F(TrajectoryFileTest, RoundTripIsBitExactInGeometryMode) {
+  const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);
+  const std::string path = Path("out.h5");
+  WriteTrajectoryFile(path, r);
+  const TrajectoryFile f = ReadTrajectoryFile(path);
+
+  ExpectSameTrajectory(r.trajectory, f.trajectory);
+  EXPECT_EQ(f.flip_times, r.flip_times);
+  ASSERT_EQ(f.stages.size(), 2u);
+  EXPECT_EQ(f.stages[0].name, "closed spin");
+  EXPECT_EQ(f.stages[0].law, "hold");
+  EXPECT_EQ(f.stages[0].from, "closed");
+  EXPECT_EQ(f.stages[0].to, "closed");
+  EXPECT_EQ(f.stages[0].t_begin, 0.0);
+  EXPECT_EQ(f.stages[0].t_end, 1.0);
+  EXPECT_EQ(f.stages[1].name, "deploy");
+  EXPECT_EQ(f.stages[1].law, schedule::ToString(schedule::Law::kMinimumJerk));
+  EXPECT_EQ(f.stages[1].from, "closed");
+  EXPECT_EQ(f.stages[1].to, "open");
+  EXPECT_EQ(f.stages[1].t_end, 1.5);
+}
+
+TEST_F(TrajectoryFileTest, RootAttributes) {
+  const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);
+  const std::string path = Path("out.h5");
+  WriteTrajectoryFile(path, r);
+  const std::map<std::string, std::string> a = ReadTrajectoryFile(path).attributes;
+  for (const char* key :
+       {"deploysim_version", "schema_version", "profile_name", "profile_source", "profile_text",
+        "model_name", "integrator", "integrator_settings", "mode", "coupling", "termination",
+        "termination_message", "statistics", "max_h_N_drift"}) {
+    EXPECT_EQ(a.count(key), 1u) << key;
+  }
+  EXPECT_FALSE(a.at("deploysim_version").empty());
+  EXPECT_EQ(a.at("schema_version"), std::to_string(kTrajectorySchemaVersion));
+  EXPECT_EQ(a.at("profile_name"), "synthetic");
+  EXPECT_EQ(a.at("profile_source"), "profiles/synthetic.yaml");
+  EXPECT_EQ(a.at("profile_text"), r.profile.text) << "UTF-8 text survives";
+  EXPECT_EQ(a.at("model_name"), "synthetic_model");
+  EXPECT_EQ(a.at("integrator"), "rkmk-rkf78");
+  EXPECT_NE(a.at("integrator_settings").find("rtol=1e-11"), std::string::npos)
+      << a.at("integrator_settings");
+  EXPECT_NE(a.at("integrator_settings").find("atol=1e-13"), std::string::npos);
+  EXPECT_NE(a.at("integrator_settings").find("output_dt=0.25"), std::string::npos);
+  EXPECT_EQ(a.at("mode"), "geometry");
+  EXPECT_EQ(a.at("coupling"), "exact");
+  EXPECT_EQ(a.at("termination"), integrators::ToString(integrators::Termination::kReachedEnd));
+  EXPECT_EQ(a.at("termination_message"), "reached the end");
+  EXPECT_NE(a.at("statistics").find("steps=123"), std::string::npos) << a.at("statistics");
+  EXPECT_EQ(a.at("max_h_N_drift"), "1.5e-14");
+}
+
+TEST_F(TrajectoryFileTest, EveryDatasetHasUnits) {
+  const std::string path = Path("out.h5");
+  WriteTrajectoryFile(path, SyntheticResult(schedule::Mode::kGeometry));
+  const std::map<std::string, std::string> expected = {
+      {"/time", "s"},
+      {"/H_B", "kg m^2/s"},
+      {"/w_NB_B", "rad/s"},
+      {"/q_NB", "1"},
+      {"/J_B", "kg m^2"},
+      {"/principal_moments", "kg m^2"},
+      {"/h_rel_B", "kg m^2/s"},
+      {"/h_N", "kg m^2/s"},
+      {"/energy", "J"},
+      {"/euler_313", "rad"},
+      {"/spin_axis_angle", "rad"},
+      {"/hinge_angles", "rad"},
+      {"/events/flip_time", "s"},
+      {"/stages/t_begin", "s"},
+      {"/stages/t_end", "s"},
+      {"/stages/name", "none"},
+      {"/stages/law", "none"},
+      {"/stages/from", "none"},
+      {"/stages/to", "none"},
+  };
+  EXPECT_EQ(ReadTrajectoryFile(path).units, expected);
+}
+
+TEST_F(TrajectoryFileTest, TensorModeHasNoHingeAngles) {
+  const MissionResult r = SyntheticResult(schedule::Mode::kTensor);
+  const std::string path = Path("tensor.h5");
+  WriteTrajectoryFile(path, r);
+  const TrajectoryFile f = ReadTrajectoryFile(path);
+  ExpectSameTrajectory(r.trajectory, f.trajectory);
+  EXPECT_TRUE(f.trajectory.hinge_angles.empty());
+  EXPECT_EQ(f.units.count("/hinge_angles"), 0u);
+  EXPECT_EQ(f.attributes.at("mode"), "tensor");
+}
+
+TEST_F(TrajectoryFileTest, NoFlipsAndNoSamples) {
+  MissionResult r = SyntheticResult(schedule::Mode::kTensor);
+  r.flip_times.clear();
+  r.trajectory = analysis::Trajectory();
+  const std::string path = Path("empty.h5");
+  WriteTrajectoryFile(path, r);
+  const TrajectoryFile f = ReadTrajectoryFile(path);
+  EXPECT_EQ(f.trajectory.size(), 0u);
+  EXPECT_TRUE(f.flip_times.empty());
+  EXPECT_EQ(f.stages.size(), 2u);
+}
+
+TEST_F(TrajectoryFileTest, H5dumpReadsTheFile) {
+  if (!HaveH5dump()) GTEST_SKIP() << "h5dump not installed";
+  const std::string path = Path("out.h5");
+  WriteTrajectoryFile(path, SyntheticResult(schedule::Mode::kGeometry));
+  EXPECT_EQ(std::system(("h5dump -H '" + path + "' > /dev/null 2>&1").c_str()), 0);
+  const std::string header = Capture("h5dump -H '" + path + "'");
+  EXPECT_NE(header.find("DATASET \"J_B\""), std::string::npos) << header;
+  EXPECT_NE(header.find("( 7, 3, 3 )"), std::string::npos) << "J_B is N x 3 x 3";
+  EXPECT_NE(header.find("( 7, 4 )"), std::string::npos) << "q_NB is N x 4";
+  EXPECT_NE(header.find("( 7, 2 )"), std::string::npos) << "hinge_angles is N x P";
+  EXPECT_NE(header.find("GROUP \"events\""), std::string::npos);
+  EXPECT_NE(header.find("ATTRIBUTE \"units\""), std::string::npos);
+  const std::string units = Capture("h5dump -a /H_B/units '" + path + "'");
+  EXPECT_NE(units.find("\"kg m^2/s\""), std::string::npos) << units;
+  const std::string q = Capture("h5dump -d /stages/law '" + path + "'");
+  EXPECT_NE(q.find("\"minimum-jerk\""), std::string::npos) << q;
+}
+
+TEST_F(TrajectoryFileTest, OverwritesAnExistingFileAndLeavesNoTemporary) {
+  const std::string path = Path("out.h5");
+  WriteTrajectoryFile(path, SyntheticResult(schedule::Mode::kTensor));
+  WriteTrajectoryFile(path, SyntheticResult(schedule::Mode::kGeometry));
+  EXPECT_EQ(ReadTrajectoryFile(path).attributes.at("mode"), "geometry");
+  EXPECT_EQ(Entries(), std::vector<std::string>{"out.h5"});
+}
+
+TEST_F(TrajectoryFileTest, MissingDirectoryLeavesNothing) {
+  const std::string path = Path("no_such_dir/out.h5");
+  EXPECT_THROW(WriteTrajectoryFile(path, SyntheticResult(schedule::Mode::kTensor)),
+               std::runtime_error);
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(Entries().empty());
+}
+
+TEST_F(TrajectoryFileTest, UnwritableDirectoryLeavesNothing) {
+  // A regular file as the "directory": nothing can be created in it, even as root.
+  Write("not_a_dir", "x");
+  const std::string path = Path("not_a_dir/out.h5");
+  try {
+    WriteTrajectoryFile(path, SyntheticResult(schedule::Mode::kTensor));
+    FAIL() << "wrote into a file";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+  }
+  EXPECT_EQ(Entries(), std::vector<std::string>{"not_a_dir"});
+}
+
+TEST_F(TrajectoryFileTest, FailedRenameRemovesTheTemporary) {
+  // The contents are written completely, then the rename onto a directory fails.
+  fs::create_directory(Path("taken"));
+  EXPECT_THROW(WriteTrajectoryFile(Path("taken"), SyntheticResult(schedule::Mode::kGeometry)),
+               std::runtime_error);
+  EXPECT_TRUE(fs::is_directory(Path("taken")));
+  EXPECT_EQ(Entries(), std::vector<std::string>{"taken"});
+}
+
+TEST_F(TrajectoryFileTest, InconsistentTrajectoryIsRejectedAndTheOldFileKept) {
+  const std::string path = Path("out.h5");
+  WriteTrajectoryFile(path, SyntheticResult(schedule::Mode::kTensor));
+  MissionResult bad = SyntheticResult(schedule::Mode::kGeometry);
+  bad.trajectory.energy.pop_back();
+  EXPECT_THROW(WriteTrajectoryFile(path, bad), std::invalid_argument);
+  bad = SyntheticResult(schedule::Mode::kGeometry);
+  bad.trajectory.hinge_angles[3] = Eigen::VectorXd::Zero(3);
+  EXPECT_THROW(WriteTrajectoryFile(path, bad), std::invalid_argument);
+  EXPECT_EQ(ReadTrajectoryFile(path).attributes.at("mode"), "tensor");
+  EXPECT_EQ(Entries(), std::vector<std::string>{"out.h5"});
+}
+
+TEST_F(TrajectoryFileTest, ReadingBadFilesThrowsRuntimeError) {
+  EXPECT_THROW((void)ReadTrajectoryFile(Path("missing.h5")), std::runtime_error);
+  const std::string text = Write("text.h5", "not hdf5\n");
+  try {
+    (void)ReadTrajectoryFile(text);
+    FAIL() << "read a text file";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("not an HDF5 file"), std::string::npos) << e.what();
+  }
+}
+
+// ---- CSV ----
+
+std::vector<std::string> Split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream s(line);
+  std::string cell;
+  while (std::getline(s, cell, ',')) cells.push_back(cell);
+  return cells;
+}
+
+TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
+  const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);
+  const analysis::Trajectory& t = r.trajectory;
+  const std::string path = Path("out.csv");
+  WriteTrajectoryCsv(path, t);
+  std::ifstream in(path);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  const std::vector<std::string> header = Split(line);
+  const std::size_t columns = 1 + 3 + 3 + 4 + 6 + 3 + 3 + 3 + 1 + 3 + 1 + kPanels;
+  ASSERT_EQ(header.size(), columns) << line;
+  EXPECT_EQ(header[0], "time [s]");
+  EXPECT_EQ(header[1], "H_B_x [kg m^2/s]");
+  EXPECT_EQ(header[7], "q_NB_w [1]");
+  EXPECT_EQ(header[11], "J_B_xx [kg m^2]");
+  EXPECT_EQ(header[columns - 1], "hinge_angle_1 [rad]");
+  for (const std::string& h : header) {
+    EXPECT_NE(h.find(" ["), std::string::npos) << "no unit: " << h;
+  }
+  std::size_t k = 0;
+  while (std::getline(in, line)) {
+    ASSERT_LT(k, t.size());
+    const std::vector<std::string> cells = Split(line);
+    ASSERT_EQ(cells.size(), columns);
+    auto value = [&](std::size_t i) { return std::strtod(cells[i].c_str(), nullptr); };
+    EXPECT_EQ(value(0), t.time[k]);
+    EXPECT_EQ(value(2), t.H_B[k].y());
+    EXPECT_EQ(value(7), t.q_NB[k].w());
+    EXPECT_EQ(value(8), t.q_NB[k].x());
+    EXPECT_EQ(value(14), t.J_B[k](0, 1));  // J_B_xy
+    EXPECT_EQ(value(26), t.energy[k]);
+    EXPECT_EQ(value(columns - 1), t.hinge_angles[k][1]);
+    ++k;
+  }
+  EXPECT_EQ(k, t.size());
+  EXPECT_EQ(Entries(), std::vector<std::string>{"out.csv"});
+}
+
+TEST_F(TrajectoryFileTest, CsvFailureLeavesNothing) {
+  EXPECT_THROW(WriteTrajectoryCsv(Path("missing/out.csv"),
+                                  SyntheticResult(schedule::Mode::kTensor).trajectory),
+               std::runtime_error);
+  fs::create_directory(Path("taken.csv"));
+  EXPECT_THROW(
+      WriteTrajectoryCsv(Path("taken.csv"), SyntheticResult(schedule::Mode::kTensor).trajectory),
+      std::runtime_error);
+  EXPECT_EQ(Entries(), std::vector<std::string>{"taken.csv"});
+}
+
+}  // namespace
+}  // namespace deploysim::io

@@ -1,0 +1,529 @@
+#include "model/mass_properties.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <new>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "math/inertia.h"
+#include "math/so3.h"
+
+// Heap-allocation counter for the no-allocation test: every (unaligned) operator new and
+// delete of this test executable is replaced, so that all of them pair malloc with free
+// (AddressSanitizer checks the pairing).
+namespace {
+std::atomic<long> g_allocations{0};
+void* CountedMalloc(std::size_t size) noexcept {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return std::malloc(size == 0 ? 1 : size);
+}
+}  // namespace
+
+void* operator new(std::size_t size) {
+  if (void* p = CountedMalloc(size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) {
+  if (void* p = CountedMalloc(size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return CountedMalloc(size); }
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+  return CountedMalloc(size);
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+
+namespace deploysim::model {
+namespace {
+
+using math::Mat3;
+using math::Vec3;
+
+// Tolerances, relative to the scale named at each use.
+constexpr double kRoundoffTolerance = 1e-13;         // Two evaluations of the same sums.
+constexpr double kFiniteDifferenceTolerance = 1e-9;  // 4th-order central differences.
+constexpr double kFiniteDifferenceStep = 1e-3;       // [s] along theta(t) = theta0 + thetadot t.
+/// Rotating the whole model changes the rounding of every sum: a looser roundoff bound.
+constexpr double kRotatedRoundoffTolerance = 1e-11;
+/// The CoM-shift terms must be at least this large relative to J for the CoM-shift test
+/// to be able to fail.
+constexpr double kNonNegligibleShift = 1e-4;
+constexpr int kRandomCases = 200;
+constexpr std::uint64_t kSeed = 20240607;
+
+Mat3 S(const Vec3& d) { return d.squaredNorm() * Mat3::Identity() - d * d.transpose(); }
+
+/// Random unit vector whose components are all at most 0.9 in magnitude (so the hinge
+/// axis is not along a hub axis).
+Vec3 RandomOffAxisUnit(std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (;;) {
+    const Vec3 v(n(rng), n(rng), n(rng));
+    const double norm = v.norm();
+    if (norm < 1e-3) continue;
+    const Vec3 u = v / norm;
+    if (u.cwiseAbs().maxCoeff() <= 0.9) return u;
+  }
+}
+
+Mat3 RandomRotation(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-M_PI, M_PI);
+  return math::ExpSO3(Vec3(u(rng), u(rng), u(rng)));
+}
+
+/// A random valid hub with 1-4 panels: random masses, box sizes, panel orientations at
+/// theta = 0, hinge points, off-axis hinge axes and CoM offsets; hub CoM off the origin.
+HingedBody RandomBody(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  HingedBody b;
+  b.hub.body.mass = 50.0 + 50.0 * u(rng);
+  const Mat3 R_hub = RandomRotation(rng);
+  b.hub.body.inertia_cm =
+      R_hub * BoxInertia(b.hub.body.mass, Vec3(0.3 + u(rng), 0.3 + u(rng), 0.3 + u(rng))) *
+      R_hub.transpose();
+  b.hub.com_B = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 0.2;
+  const int n = 1 + static_cast<int>(u(rng) * 4.0);
+  for (int k = 0; k < n; ++k) {
+    Panel p;
+    p.name = "panel" + std::to_string(k);
+    p.body.mass = 1.0 + 9.0 * u(rng);
+    const Mat3 Q = RandomRotation(rng);
+    p.body.inertia_cm =
+        Q * BoxInertia(p.body.mass, Vec3(0.2 + u(rng), 0.2 + u(rng), 0.01 + 0.05 * u(rng))) *
+        Q.transpose();
+    p.hinge_point_B = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 1.2;
+    p.hinge_axis_B = RandomOffAxisUnit(rng) * (0.5 + u(rng));  // normalized by validation
+    p.com_offset_B = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 1.5;
+    b.panels.push_back(p);
+  }
+  return ValidatedHingedBody(b, "random body");
+}
+
+Eigen::VectorXd RandomVector(std::mt19937_64& rng, std::size_t n, double scale) {
+  std::uniform_real_distribution<double> u(-scale, scale);
+  Eigen::VectorXd v(static_cast<Eigen::Index>(n));
+  for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = u(rng);
+  return v;
+}
+
+/// One rigid part seen in B, computed independently of mass_properties.cc (ExpSO3 for
+/// the rotations, positions from the B origin).
+struct Part {
+  double m;
+  Mat3 I_B;    // inertia about its CoM, B axes
+  Vec3 x;      // CoM in B
+  Vec3 x_dot;  // CoM rate seen in B
+  Vec3 w_rel;  // angular velocity relative to B
+};
+
+std::vector<Part> Parts(const HingedBody& b,
+                        const Eigen::VectorXd& theta,
+                        const Eigen::VectorXd& theta_dot) {
+  std::vector<Part> parts;
+  parts.push_back(
+      {b.hub.body.mass, b.hub.body.inertia_cm, b.hub.com_B, Vec3::Zero(), Vec3::Zero()});
+  for (std::size_t k = 0; k < b.panels.size(); ++k) {
+    const Panel& p = b.panels[k];
+    const Eigen::Index i = static_cast<Eigen::Index>(k);
+    const Mat3 R = math::ExpSO3(p.hinge_axis_B * theta[i]);
+    const Vec3 r = R * p.com_offset_B;
+    parts.push_back({p.body.mass, R * p.body.inertia_cm * R.transpose(), p.hinge_point_B + r,
+                     theta_dot[i] * p.hinge_axis_B.cross(r), theta_dot[i] * p.hinge_axis_B});
+  }
+  return parts;
+}
+
+Vec3 SystemCom(const std::vector<Part>& parts) {
+  double M = 0.0;
+  Vec3 mx = Vec3::Zero();
+  for (const Part& p : parts) {
+    M += p.m;
+    mx += p.m * p.x;
+  }
+  return mx / M;
+}
+
+/// H_direct = sum_i [ I_i (w + w_rel_i) + m_i rho_i x (w x rho_i + rho_i') ] about the
+/// system CoM, with rho_i' the part's CoM rate in B (the CoM-shift part cancels).
+Vec3 DirectMomentum(const std::vector<Part>& parts, const Vec3& w) {
+  const Vec3 c = SystemCom(parts);
+  Vec3 H = Vec3::Zero();
+  for (const Part& p : parts) {
+    const Vec3 rho = p.x - c;
+    H += p.I_B * (w + p.w_rel) + p.m * rho.cross(w.cross(rho) + p.x_dot);
+  }
+  return H;
+}
+
+/// f'(0) by the 4th-order central difference along theta(t) = theta0 + thetadot t.
+template <typename T, typename F>
+T CentralDifference(const F& f, double h) {
+  const T d = (f(-2.0 * h) - 8.0 * f(-h) + 8.0 * f(h) - f(2.0 * h)) / (12.0 * h);
+  return d;
+}
+
+TEST(MassPropertiesTest, JdotAndComRateMatchFiniteDifferences) {
+  std::mt19937_64 rng(kSeed);
+  for (int trial = 0; trial < kRandomCases; ++trial) {
+    const HingedBody b = RandomBody(rng);
+    const Eigen::VectorXd theta0 = RandomVector(rng, b.panels.size(), M_PI);
+    const Eigen::VectorXd theta_dot = RandomVector(rng, b.panels.size(), 2.0);
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(theta0.size());
+    const MassProperties mp = ComputeMassProperties(b, theta0, theta_dot);
+    const auto at = [&](double t) {
+      const Eigen::VectorXd theta = theta0 + theta_dot * t;
+      return ComputeMassProperties(b, theta, zero);
+    };
+    const Mat3 Jdot_fd =
+        CentralDifference<Mat3>([&](double t) -> Mat3 { return at(t).J_B; }, kFiniteDifferenceStep);
+    const Vec3 com_rate_fd = CentralDifference<Vec3>([&](double t) -> Vec3 { return at(t).com_B; },
+                                                     kFiniteDifferenceStep);
+    const double rate_scale = theta_dot.cwiseAbs().maxCoeff();
+    EXPECT_LT((mp.Jdot_B - Jdot_fd).norm(), kFiniteDifferenceTolerance * mp.J_B.norm() * rate_scale)
+        << "trial " << trial << "\n"
+        << mp.Jdot_B << "\nvs\n"
+        << Jdot_fd;
+    EXPECT_LT((mp.com_rate_B - com_rate_fd).norm(), kFiniteDifferenceTolerance * rate_scale)
+        << "trial " << trial;
+    // J_B itself against the independent parallel-axis sum about the system CoM.
+    const std::vector<Part> parts = Parts(b, theta0, theta_dot);
+    const Vec3 c = SystemCom(parts);
+    Mat3 J_direct = Mat3::Zero();
+    for (const Part& p : parts) J_direct += p.I_B + p.m * S(p.x - c);
+    EXPECT_LT((mp.J_B - J_direct).norm(), kRoundoffTolerance * J_direct.norm()) << trial;
+    EXPECT_LT((mp.com_B - c).norm(), kRoundoffTolerance * (1.0 + c.norm())) << trial;
+    EXPECT_EQ(mp.J_B, mp.J_B.transpose());
+    EXPECT_EQ(mp.Jdot_B, mp.Jdot_B.transpose());
+  }
+}
+
+TEST(MassPropertiesTest, RelativeMomentumMatchesFiniteDifferencesOfTheGeometry) {
+  // h_rel = sum_k I_k w_k + sum_i m_i rho_i x rho_i', with w_k from the finite difference
+  // of the panel orientation (LogSO3) and rho_i' from that of rho_i = x_i - c.
+  std::mt19937_64 rng(kSeed + 1);
+  for (int trial = 0; trial < kRandomCases; ++trial) {
+    const HingedBody b = RandomBody(rng);
+    const Eigen::VectorXd theta0 = RandomVector(rng, b.panels.size(), M_PI);
+    const Eigen::VectorXd theta_dot = RandomVector(rng, b.panels.size(), 2.0);
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(theta0.size());
+    const auto parts_at = [&](double t) {
+      return Parts(b, Eigen::VectorXd(theta0 + theta_dot * t), zero);
+    };
+    const std::vector<Part> p0 = parts_at(0.0);
+    const Vec3 c0 = SystemCom(p0);
+    const double h = kFiniteDifferenceStep;
+    Vec3 h_fd = Vec3::Zero();
+    for (std::size_t i = 0; i < p0.size(); ++i) {
+      const auto rho = [&](double t) -> Vec3 {
+        const std::vector<Part> pt = parts_at(t);
+        return pt[i].x - SystemCom(pt);
+      };
+      const Vec3 rho_dot = CentralDifference<Vec3>(rho, h);
+      h_fd += p0[i].m * (p0[i].x - c0).cross(rho_dot);
+      if (i == 0) continue;
+      // Orientation at t: R(t) = ExpSO3(a theta(t)) (times the fixed theta = 0 pose).
+      const Panel& panel = b.panels[i - 1];
+      const Eigen::Index k = static_cast<Eigen::Index>(i - 1);
+      const Mat3 R_minus = math::ExpSO3(panel.hinge_axis_B * (theta0[k] - theta_dot[k] * h));
+      const Mat3 R_plus = math::ExpSO3(panel.hinge_axis_B * (theta0[k] + theta_dot[k] * h));
+      const Vec3 w_fd = math::LogSO3(R_plus * R_minus.transpose()) / (2.0 * h);
+      h_fd += p0[i].I_B * w_fd;
+    }
+    const MassProperties mp = ComputeMassProperties(b, theta0, theta_dot);
+    const double scale = mp.J_B.norm() * theta_dot.cwiseAbs().maxCoeff();
+    EXPECT_LT((mp.h_rel_B - h_fd).norm(), kFiniteDifferenceTolerance * scale)
+        << "trial " << trial << ": " << mp.h_rel_B.transpose() << " vs " << h_fd.transpose();
+  }
+}
+
+TEST(MassPropertiesTest, TotalMomentumMatchesDirectSumOverParts) {
+  // J_B w + h_rel_B = sum_i [ R_i I_i R_i^T (w + thetadot_i a_i) + m_i rho_i x (w x rho_i + rho_i')
+  // ].
+  std::mt19937_64 rng(kSeed + 2);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worst = 0.0;
+  for (int trial = 0; trial < kRandomCases; ++trial) {
+    const HingedBody b = RandomBody(rng);
+    const Eigen::VectorXd theta = RandomVector(rng, b.panels.size(), M_PI);
+    const Eigen::VectorXd theta_dot = RandomVector(rng, b.panels.size(), 2.0);
+    const Vec3 w(u(rng), u(rng), u(rng));
+    const MassProperties mp = ComputeMassProperties(b, theta, theta_dot);
+    const Vec3 H_model = mp.J_B * w + mp.h_rel_B;
+    const Vec3 H_direct = DirectMomentum(Parts(b, theta, theta_dot), w);
+    const double err = (H_model - H_direct).norm() / H_direct.norm();
+    worst = std::max(worst, err);
+    EXPECT_LT(err, kRoundoffTolerance)
+        << "trial " << trial << ": " << H_model.transpose() << " vs " << H_direct.transpose();
+    // And the relative part alone (w = 0) against its direct sum.
+    const Vec3 h_direct = DirectMomentum(Parts(b, theta, theta_dot), Vec3::Zero());
+    EXPECT_LT((mp.h_rel_B - h_direct).norm(), kRoundoffTolerance * H_direct.norm()) << trial;
+  }
+  std::ostringstream os;
+  os << worst;
+  RecordProperty("worst_relative_error", os.str());
+}
+
+TEST(MassPropertiesTest, HubFramePositionsAreWrongByTheComShift) {
+  // DESIGN.md 2.5: measuring from the B origin instead of the system CoM c is wrong by
+  // M S(c) in J and by M c x c' in h_rel. The geometry makes the shift large.
+  std::mt19937_64 rng(kSeed + 3);
+  for (int trial = 0; trial < kRandomCases; ++trial) {
+    const HingedBody b = RandomBody(rng);
+    const Eigen::VectorXd theta = RandomVector(rng, b.panels.size(), M_PI);
+    const Eigen::VectorXd theta_dot = RandomVector(rng, b.panels.size(), 2.0);
+    const MassProperties mp = ComputeMassProperties(b, theta, theta_dot);
+    const std::vector<Part> parts = Parts(b, theta, theta_dot);
+    Mat3 J_origin = Mat3::Zero();
+    Vec3 h_origin = Vec3::Zero();
+    for (const Part& p : parts) {
+      J_origin += p.I_B + p.m * S(p.x);
+      h_origin += p.I_B * p.w_rel + p.m * p.x.cross(p.x_dot);
+    }
+    const Mat3 J_shift = mp.mass * S(mp.com_B);
+    const Vec3 h_shift = mp.mass * mp.com_B.cross(mp.com_rate_B);
+    EXPECT_LT((J_origin - mp.J_B - J_shift).norm(), kRoundoffTolerance * J_origin.norm());
+    EXPECT_LT((h_origin - mp.h_rel_B - h_shift).norm(),
+              kRoundoffTolerance * (h_origin.norm() + J_origin.norm()));
+    // The shift is not negligible here, so this test fails if it were dropped.
+    EXPECT_GT(J_shift.norm(), kNonNegligibleShift * mp.J_B.norm()) << trial;
+  }
+}
+
+TEST(MassPropertiesTest, EquivariantUnderRotationOfTheWholeGeometry) {
+  // Rotating every vector and tensor of the model by Q rotates J by Q J Q^T and h by Q h.
+  std::mt19937_64 rng(kSeed + 4);
+  for (int trial = 0; trial < 50; ++trial) {
+    const HingedBody b = RandomBody(rng);
+    const Mat3 Q = RandomRotation(rng);
+    HingedBody q = b;
+    q.hub.body.inertia_cm = Q * b.hub.body.inertia_cm * Q.transpose();
+    q.hub.com_B = Q * b.hub.com_B;
+    for (Panel& p : q.panels) {
+      p.body.inertia_cm = Q * p.body.inertia_cm * Q.transpose();
+      p.hinge_point_B = Q * p.hinge_point_B;
+      p.hinge_axis_B = Q * p.hinge_axis_B;
+      p.com_offset_B = Q * p.com_offset_B;
+    }
+    q = ValidatedHingedBody(q, "rotated");
+    const Eigen::VectorXd theta = RandomVector(rng, b.panels.size(), M_PI);
+    const Eigen::VectorXd theta_dot = RandomVector(rng, b.panels.size(), 2.0);
+    const MassProperties m1 = ComputeMassProperties(b, theta, theta_dot);
+    const MassProperties m2 = ComputeMassProperties(q, theta, theta_dot);
+    const double scale = m1.J_B.norm();
+    EXPECT_LT((Q * m1.J_B * Q.transpose() - m2.J_B).norm(), kRotatedRoundoffTolerance * scale);
+    EXPECT_LT((Q * m1.Jdot_B * Q.transpose() - m2.Jdot_B).norm(),
+              kRotatedRoundoffTolerance * scale);
+    EXPECT_LT((Q * m1.h_rel_B - m2.h_rel_B).norm(), kRotatedRoundoffTolerance * scale);
+    EXPECT_LT((Q * m1.com_B - m2.com_B).norm(), kRotatedRoundoffTolerance);
+    EXPECT_DOUBLE_EQ(m1.mass, m2.mass);
+  }
+}
+
+TEST(MassPropertiesTest, AtRestTheRatesVanishAndWithoutPanelsTheHubIsTheBody) {
+  std::mt19937_64 rng(kSeed + 5);
+  const HingedBody b = RandomBody(rng);
+  const Eigen::VectorXd theta = RandomVector(rng, b.panels.size(), M_PI);
+  const MassProperties mp = ComputeMassProperties(b, theta, Eigen::VectorXd::Zero(theta.size()));
+  EXPECT_EQ(mp.Jdot_B, Mat3::Zero());
+  EXPECT_EQ(mp.h_rel_B, Vec3::Zero());
+  EXPECT_EQ(mp.com_rate_B, Vec3::Zero());
+  EXPECT_NO_THROW(math::InertiaTensor::FromMatrix(mp.J_B));
+
+  HingedBody hub_only;
+  hub_only.hub = b.hub;
+  const MassProperties h = ComputeMassProperties(hub_only, Eigen::VectorXd(), Eigen::VectorXd());
+  EXPECT_EQ(h.mass, b.hub.body.mass);
+  EXPECT_EQ(h.com_B, b.hub.com_B);
+  EXPECT_LT((h.J_B - b.hub.body.inertia_cm).norm(), kRoundoffTolerance * h.J_B.norm());
+}
+
+TEST(MassPropertiesTest, DoesNotAllocate) {
+  std::mt19937_64 rng(kSeed + 6);
+  const HingedBody b = RandomBody(rng);
+  const Eigen::VectorXd theta = RandomVector(rng, b.panels.size(), M_PI);
+  const Eigen::VectorXd theta_dot = RandomVector(rng, b.panels.size(), 2.0);
+  const long before = g_allocations.load();
+  MassProperties mp;
+  for (int i = 0; i < 100; ++i) mp = ComputeMassProperties(b, theta, theta_dot);
+  const long after = g_allocations.load();
+  EXPECT_EQ(after - before, 0);
+  EXPECT_GT(mp.mass, 0.0);
+}
+
+TEST(MassPropertiesTest, BoxInertiaValues) {
+  // m/12 diag(y^2+z^2, x^2+z^2, x^2+y^2): 12 kg, 1 x 2 x 3 m -> diag(13, 10, 5).
+  const Mat3 J = BoxInertia(12.0, Vec3(1.0, 2.0, 3.0));
+  EXPECT_EQ(J, Vec3(13.0, 10.0, 5.0).asDiagonal().toDenseMatrix());
+  // Cube: m a^2 / 6 about every axis.
+  const Mat3 cube = BoxInertia(6.0, Vec3(0.5, 0.5, 0.5));
+  EXPECT_DOUBLE_EQ(cube(0, 0), 0.25);
+  EXPECT_DOUBLE_EQ(cube(1, 1), 0.25);
+  EXPECT_DOUBLE_EQ(cube(2, 2), 0.25);
+  // Thin plate: the normal moment is the sum of the in-plane ones (perpendicular axes).
+  const Mat3 plate = BoxInertia(6.0, Vec3(0.8, 1.0, 0.0));
+  EXPECT_DOUBLE_EQ(plate(2, 2), plate(0, 0) + plate(1, 1));
+  EXPECT_DOUBLE_EQ(plate(0, 0), 0.5);
+  EXPECT_THROW(BoxInertia(0.0, Vec3(1, 1, 1)), std::invalid_argument);
+  EXPECT_THROW(BoxInertia(1.0, Vec3(1, -1, 1)), std::invalid_argument);
+  EXPECT_THROW(BoxInertia(1.0, Vec3(1, std::nan(""), 1)), std::invalid_argument);
+}
+
+TEST(MassPropertiesTest, AxisAngleIsRodrigues) {
+  const Mat3 Rz = AxisAngle(Vec3::UnitZ(), M_PI / 2);
+  EXPECT_LT((Rz * Vec3::UnitX() - Vec3::UnitY()).norm(), 1e-15);
+  std::mt19937_64 rng(kSeed + 7);
+  std::uniform_real_distribution<double> u(-4.0, 4.0);
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 axis = RandomOffAxisUnit(rng);
+    const double angle = u(rng);
+    const Mat3 R = AxisAngle(3.0 * axis, angle);  // the axis is normalized
+    EXPECT_LT((R - math::ExpSO3(axis * angle)).norm(), 1e-14);
+    EXPECT_LT((R * R.transpose() - Mat3::Identity()).norm(), 1e-14);
+    EXPECT_LT((R * axis - axis).norm(), 1e-14);
+  }
+  EXPECT_THROW(AxisAngle(Vec3::Zero(), 1.0), std::invalid_argument);
+}
+
+// ---- invalid input ---------------------------------------------------------------
+
+HingedBody TwoPanelBody() {
+  HingedBody b;
+  b.hub.body.mass = 80.0;
+  b.hub.body.inertia_cm = BoxInertia(80.0, Vec3(0.6, 0.6, 0.8));
+  for (int s : {1, -1}) {
+    Panel p;
+    p.name = s > 0 ? "wing_a" : "wing_b";
+    p.body.mass = 6.0;
+    p.body.inertia_cm = BoxInertia(6.0, Vec3(1.0, 0.02, 0.7));
+    p.hinge_point_B = Vec3(0.3 * s, 0.0, 0.0);
+    p.hinge_axis_B = Vec3(0.0, 2.0, 0.0);
+    p.com_offset_B = Vec3(0.5 * s, 0.0, 0.0);
+    b.panels.push_back(p);
+  }
+  return b;
+}
+
+/// Expects ValidatedHingedBody to reject `b`, with every string of `parts` in the message.
+void ExpectRejected(const HingedBody& b, const std::vector<std::string>& parts) {
+  try {
+    ValidatedHingedBody(b, "models/test.yaml");
+    ADD_FAILURE() << "accepted an invalid body; expected " << parts.back();
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("models/test.yaml"), std::string::npos) << msg;
+    for (const std::string& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg;
+  }
+}
+
+TEST(ValidatedHingedBodyTest, NormalizesTheHingeAxes) {
+  const HingedBody b = ValidatedHingedBody(TwoPanelBody(), "models/test.yaml");
+  EXPECT_EQ(b.panels[0].hinge_axis_B, Vec3::UnitY());
+  EXPECT_EQ(b.panels[1].hinge_axis_B, Vec3::UnitY());
+}
+
+TEST(ValidatedHingedBodyTest, RejectsBadMasses) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  HingedBody b = TwoPanelBody();
+  b.hub.body.mass = 0.0;
+  ExpectRejected(b, {"hub.mass = 0", "rule: mass > 0"});
+  b = TwoPanelBody();
+  b.panels[1].body.mass = -2.5;
+  ExpectRejected(b, {"panels[1] (wing_b).mass = -2.5", "rule: mass > 0"});
+  b = TwoPanelBody();
+  b.panels[0].body.mass = nan;
+  ExpectRejected(b, {"panels[0] (wing_a).mass = nan", "rule: mass > 0"});
+  b = TwoPanelBody();
+  b.panels[0].body.mass = std::numeric_limits<double>::infinity();
+  ExpectRejected(b, {"panels[0] (wing_a).mass = inf", "rule: mass > 0"});
+}
+
+TEST(ValidatedHingedBodyTest, RejectsBadInertias) {
+  HingedBody b = TwoPanelBody();
+  b.hub.body.inertia_cm(2, 2) = -1.0;
+  ExpectRejected(b, {"hub.inertia", "rule: positive definite"});
+  b = TwoPanelBody();
+  b.panels[1].body.inertia_cm = Vec3(1.0, 1.0, 3.0).asDiagonal();
+  ExpectRejected(b, {"panels[1] (wing_b).inertia", "rule: triangle inequality"});
+  b = TwoPanelBody();
+  b.panels[0].body.inertia_cm(0, 1) = 0.1;  // not symmetric
+  ExpectRejected(b, {"panels[0] (wing_a).inertia", "rule: symmetric"});
+  b = TwoPanelBody();
+  b.panels[0].body.inertia_cm(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  ExpectRejected(b, {"panels[0] (wing_a).inertia", "rule: finite"});
+}
+
+TEST(ValidatedHingedBodyTest, RejectsBadVectors) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  HingedBody b = TwoPanelBody();
+  b.panels[1].hinge_axis_B = Vec3::Zero();
+  ExpectRejected(b, {"panels[1] (wing_b).hinge_axis = [0, 0, 0]", "rule: hinge axis non-zero"});
+  b = TwoPanelBody();
+  b.panels[0].hinge_axis_B = Vec3(0.0, nan, 1.0);
+  ExpectRejected(b, {"panels[0] (wing_a).hinge_axis", "rule: finite"});
+  b = TwoPanelBody();
+  b.panels[0].hinge_point_B.x() = std::numeric_limits<double>::infinity();
+  ExpectRejected(b, {"panels[0] (wing_a).hinge_point = [inf, 0, 0]", "rule: finite"});
+  b = TwoPanelBody();
+  b.panels[1].com_offset_B.z() = nan;
+  ExpectRejected(b, {"panels[1] (wing_b).com_offset", "rule: finite"});
+  b = TwoPanelBody();
+  b.hub.com_B.y() = nan;
+  ExpectRejected(b, {"hub.com", "rule: finite"});
+}
+
+TEST(ValidatedHingedBodyTest, RejectsDuplicatePanelNames) {
+  HingedBody b = TwoPanelBody();
+  b.panels[1].name = "wing_a";
+  ExpectRejected(b, {"panels[1] (wing_a)", "rule: unique panel names"});
+}
+
+TEST(MassPropertiesTest, RejectsMismatchedSizesAndUnnormalizedAxes) {
+  const HingedBody b = ValidatedHingedBody(TwoPanelBody(), "models/test.yaml");
+  EXPECT_THROW(ComputeMassProperties(b, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(2)),
+               std::invalid_argument);
+  EXPECT_THROW(ComputeMassProperties(b, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(3)),
+               std::invalid_argument);
+  Eigen::VectorXd bad = Eigen::VectorXd::Zero(2);
+  bad[1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(ComputeMassProperties(b, bad, Eigen::VectorXd::Zero(2)), std::invalid_argument);
+  try {
+    ComputeMassProperties(TwoPanelBody(), Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2));
+    ADD_FAILURE() << "accepted a non-unit hinge axis";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("not a unit vector"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ModelTest, ConfigurationLookupNamesTheValidOnes) {
+  Model m;
+  m.name = "seed_satellite";
+  m.source = "models/seed_satellite.yaml";
+  m.configurations.push_back({"closed", Mat3::Identity(), Eigen::VectorXd()});
+  m.configurations.push_back({"open", 2.0 * Mat3::Identity(), Eigen::VectorXd()});
+  EXPECT_EQ(m.configuration("open").J_B(0, 0), 2.0);
+  try {
+    m.configuration("half_open");
+    ADD_FAILURE() << "found a configuration that does not exist";
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("models/seed_satellite.yaml"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'half_open'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("closed, open"), std::string::npos) << msg;
+  }
+}
+
+}  // namespace
+}  // namespace deploysim::model
