@@ -1,11 +1,18 @@
 #!/usr/bin/env bash
-# The main job: installs what is missing, builds deploysim (Release) and runs the
-# default simulation. Extra arguments go to `deploysim` (default: the wing-nut demo).
-# Usage: tools/run.sh [deploysim arguments...]
+# The main job: installs what is missing, builds deploysim (Release), simulates the
+# small satellite's three-stage wing deployment (deployment_profiles/smallsat_three_stage.yaml),
+# writes out/smallsat.h5 and its PNG plots in out/smallsat_plots/, and prints the
+# stability summary with the exact vs quasi-rigid coupling comparison.
+# Usage: tools/run.sh [PROFILE.yaml]     (default: the small satellite)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+profile="${1:-deployment_profiles/smallsat_three_stage.yaml}"
+name="$(basename "$profile" .yaml)"
+name="${name%_three_stage}"
 tools/install_deps.sh >/dev/null
+echo "building deploysim (Release)..." >&2
 cmake --preset release >/dev/null
 cmake --build --preset release --target deploysim >/dev/null
-if [ $# -eq 0 ]; then set -- wingnut; fi
-exec build/release/src/cli/deploysim "$@"
+mkdir -p out
+build/release/src/cli/deploysim simulate "$profile" -o "out/$name.h5" --compare-coupling
+/usr/bin/python3 tools/plot_trajectory.py "out/$name.h5" -o "out/${name}_plots"

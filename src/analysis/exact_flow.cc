@@ -29,15 +29,33 @@ ExactFlowStepper::ExactFlowStepper(std::unique_ptr<integrators::Stepper> fallbac
   info_.lie_group = fallback_->info().lie_group;
 }
 
+const FreeBodySolution& ExactFlowStepper::SolutionFor(const integrators::Problem& problem,
+                                                      const integrators::State& y) const {
+  const double begin = problem.segment_begin();
+  const bool same_segment = cache_.solution && cache_.source == &problem.source() &&
+                            cache_.begin == begin && y.t >= begin;
+  // A state at the segment start (the first step, or a new run) rebuilds the solution;
+  // later states of the same segment are the cached solution's own values.
+  const bool at_start = y.t == begin;
+  const bool new_start =
+      at_start && (y.H_B != cache_.H_B0 || y.q_NB.coeffs() != cache_.q_NB0.coeffs());
+  if (!same_segment || new_start) {
+    const dynamics::InertiaSample s = problem.source().Evaluate(y.t);
+    cache_.begin = begin;
+    cache_.source = &problem.source();
+    cache_.H_B0 = y.H_B;
+    cache_.q_NB0 = y.q_NB;
+    cache_.solution.emplace(math::InertiaTensor::FromMatrix(s.J_B), y.H_B, y.q_NB, y.t);
+  }
+  return *cache_.solution;
+}
+
 integrators::StepAttempt ExactFlowStepper::Step(const integrators::Problem& problem,
                                                 const integrators::State& y,
                                                 double h,
                                                 const integrators::Tolerances& tol) const {
   if (!problem.source().IsRigidOn(y.t, y.t + h)) return fallback_->Step(problem, y, h, tol);
-  const dynamics::InertiaSample s = problem.Sample(y.t);
-  // The sample's J_B was validated when the source was built; wrap it without re-checking
-  // the physics (FromMatrix validates again, cheaply, and symmetrizes).
-  const FreeBodySolution sol(math::InertiaTensor::FromMatrix(s.J_B), y.H_B, y.q_NB, y.t);
+  const FreeBodySolution& sol = SolutionFor(problem, y);
   integrators::StepAttempt out;
   out.result.t = y.t + h;
   out.result.H_B = sol.H_B(out.result.t);
@@ -50,9 +68,7 @@ double ExactFlowStepper::MaxStep(const integrators::Problem& problem,
                                  const integrators::State& y) const {
   const double end = problem.segment_end();
   if (!problem.source().IsRigidOn(y.t, end)) return fallback_->MaxStep(problem, y);
-  const dynamics::InertiaSample s = problem.source().Evaluate(y.t);
-  const FreeBodySolution sol(math::InertiaTensor::FromMatrix(s.J_B), y.H_B, y.q_NB, y.t);
-  const double T = sol.period();
+  const double T = SolutionFor(problem, y).period();
   return std::isfinite(T) ? T / kStepsPerPeriod : std::numeric_limits<double>::infinity();
 }
 

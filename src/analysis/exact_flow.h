@@ -6,13 +6,21 @@
 /// elliptic integral of the third kind for the attitude), so a piecewise-constant
 /// inertia schedule is integrated without truncation error. Elsewhere it delegates to a
 /// numerical fallback stepper (default rkmk-rkf78).
+///
+/// The closed-form solution is built once per rigid segment, from the state at the
+/// segment's start, and evaluated at every later time of the segment: restarting it
+/// from each step's end state would add a rounding error per step, which the
+/// near-separatrix motion amplifies. A stepper therefore holds a cache and must not be
+/// shared between threads (make one per thread).
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "integrators/integrate.h"
 #include "integrators/stepper.h"
+#include "analysis/free_body_solution.h"
 #include "math/inertia.h"
 
 namespace deploysim::analysis {
@@ -31,8 +39,20 @@ class ExactFlowStepper final : public integrators::Stepper {
                  const integrators::State& y) const override;
 
  private:
+  /// The solution of the rigid segment that starts at `begin`, if y lies on it.
+  const FreeBodySolution& SolutionFor(const integrators::Problem& problem,
+                                      const integrators::State& y) const;
+
   std::unique_ptr<integrators::Stepper> fallback_;
   integrators::StepperInfo info_;
+  struct Cache {
+    double begin = 0.0;
+    const dynamics::InertiaSource* source = nullptr;
+    math::Vec3 H_B0 = math::Vec3::Zero();
+    math::Quat q_NB0 = math::Quat::Identity();
+    std::optional<FreeBodySolution> solution;
+  };
+  mutable Cache cache_;
 };
 
 /// All stepper names: the numerical ones and "exact".

@@ -19,6 +19,9 @@ using math::Vec3;
 using Ld = long double;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Boost.Math evaluates double special functions in long double by default (10x slower
+/// here); R_J in double is accurate to a few ulp, all the periodic part of psi needs.
+using FastPolicy = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
 constexpr double kPi = 3.14159265358979323846;
 /// Accepted deviation of |q_NB0| from 1.
 constexpr double kUnitQuatTol = 1e-12;
@@ -79,6 +82,62 @@ void RefinePrincipal(const math::Mat3& J, const math::PrincipalAxes& p, Vec3L* m
   if (axes->determinant() < 0) axes->col(2) = -axes->col(2);
 }
 
+/// P2 = h1^2 (I2-I1)/I1 - h3^2 (I3-I2)/I3 with error-free transformations (a pair of
+/// long doubles, ~128 bits): near the separatrix P2 can be a tiny difference of its two
+/// terms, and 1 - k^2 is proportional to it. Exact inputs (a diagonal J_B) then give
+/// 1 - k^2 to long-double accuracy however deep the cancellation.
+class Wide {
+ public:
+  explicit Wide(Ld hi, Ld lo = 0) : hi_(hi), lo_(lo) {}
+  Ld value() const { return hi_ + lo_; }
+  static Wide Sum(Ld a, Ld b) {  // Knuth's TwoSum
+    const Ld s = a + b;
+    const Ld bb = s - a;
+    return Wide(s, (a - (s - bb)) + (b - bb));
+  }
+  static Wide Product(Ld a, Ld b) {  // Dekker's TwoProduct
+    Ld ah, al, bh, bl;
+    Split(a, &ah, &al);
+    Split(b, &bh, &bl);
+    const Ld p = a * b;
+    return Wide(p, ((ah * bh - p) + ah * bl + al * bh) + al * bl);
+  }
+  Wide operator-(const Wide& o) const {
+    const Wide s = Sum(hi_, -o.hi_);
+    return Normalized(s.hi_, s.lo_ + (lo_ - o.lo_));
+  }
+  Wide operator*(const Wide& o) const {
+    const Wide p = Product(hi_, o.hi_);
+    return Normalized(p.hi_, p.lo_ + (hi_ * o.lo_ + lo_ * o.hi_));
+  }
+  Wide operator/(Ld b) const {
+    const Ld q1 = hi_ / b;
+    const Wide r = *this - Product(q1, b);
+    return Normalized(q1, r.value() / b);
+  }
+
+ private:
+  static void Split(Ld a, Ld* hi, Ld* lo) {
+    static const Ld kSplitter =
+        std::ldexp(1.0L, (std::numeric_limits<Ld>::digits + 1) / 2) + 1.0L;
+    const Ld t = kSplitter * a;
+    *hi = t - (t - a);
+    *lo = a - *hi;
+  }
+  static Wide Normalized(Ld hi, Ld lo) {
+    const Ld s = hi + lo;
+    return Wide(s, lo - (s - hi));
+  }
+  Ld hi_;
+  Ld lo_;
+};
+
+Ld SeparatrixDistance(Ld I1, Ld I2, Ld I3, Ld h1, Ld h3) {
+  const Wide a = Wide::Product(h1, h1) * Wide::Sum(I2, -I1) / I1;
+  const Wide b = Wide::Product(h3, h3) * Wide::Sum(I3, -I2) / I3;
+  return (a - b).value();
+}
+
 /// Rotation R_{P'P} taking the reference principal axis to the third axis of P':
 /// identity for axis 2, the cyclic permutation (x, y, z) -> (y, z, x) for axis 0.
 Quat PermutationQuat(int ref_axis) {
@@ -110,6 +169,16 @@ const char* ToString(Regime regime) {
   return "unknown";
 }
 
+/// Principal moments and momentum components and the quadratic invariants, in long
+/// double (see the class comment for P1, P2, P3).
+struct FreeBodySolution::Invariants {
+  Ld I1, I2, I3;     ///< Principal moments, ascending, equal ones merged.
+  Ld h1, h2, h3;     ///< Principal components of H_B0.
+  Ld g21, g32, g31;  ///< I2 - I1, I3 - I2, I3 - I1.
+  Ld M2, T2;         ///< |H|^2, 2T.
+  Ld P1, P2, P3;     ///< M^2 - 2T I1, 2T I2 - M^2 (error-free), 2T I3 - M^2.
+};
+
 FreeBodySolution::FreeBodySolution(const math::InertiaTensor& J_B,
                                    const Vec3& H_B0,
                                    const Quat& q_NB0,
@@ -125,103 +194,110 @@ FreeBodySolution::FreeBodySolution(const math::InertiaTensor& J_B,
     throw std::invalid_argument(os.str());
   }
   q_NB0_.normalize();
-  Vec3L IL;
-  Mat3L VL;
-  RefinePrincipal(J_B.matrix(), principal_, &IL, &VL);
-  const Ld tol = kEqualMomentsRelTol * IL[2];
-  const bool eq01 = IL[1] - IL[0] <= tol;
-  const bool eq12 = IL[2] - IL[1] <= tol;
+  Vec3L I;
+  Mat3L V;
+  RefinePrincipal(J_B.matrix(), principal_, &I, &V);
+  const Ld tol = kEqualMomentsRelTol * I[2];
+  const bool eq01 = I[1] - I[0] <= tol;
+  const bool eq12 = I[2] - I[1] <= tol;
   if (eq01 && eq12) {
-    IL.setConstant(IL.mean());
+    I.setConstant(I.mean());
   } else if (eq01) {
-    IL[0] = IL[1] = (IL[0] + IL[1]) / 2;
+    I[0] = I[1] = (I[0] + I[1]) / 2;
   } else if (eq12) {
-    IL[1] = IL[2] = (IL[1] + IL[2]) / 2;
+    I[1] = I[2] = (I[1] + I[2]) / 2;
   }
-  const Vec3L hL = VL.transpose() * H_B0.cast<Ld>();
-  principal_.moments = IL.cast<double>();
-  principal_.axes = VL.cast<double>();
-  h0_ = hL.cast<double>();
-  const Vec3& I = principal_.moments;
+  const Vec3L h = V.transpose() * H_B0.cast<Ld>();
+  principal_.moments = I.cast<double>();
+  principal_.axes = V.cast<double>();
+  h0_ = h.cast<double>();
+  w0_B_ = principal_.axes * h0_.cwiseQuotient(principal_.moments);
 
-  // Invariants in long double: P2 may be a small difference (near the separatrix).
-  const Ld I1 = IL[0], I2 = IL[1], I3 = IL[2];
-  const Ld h1 = hL[0], h2 = hL[1], h3 = hL[2];
-  const Ld g21 = I2 - I1, g32 = I3 - I2, g31 = I3 - I1;
-  const Ld M2 = h1 * h1 + h2 * h2 + h3 * h3;
-  const Ld T2 = h1 * h1 / I1 + h2 * h2 / I2 + h3 * h3 / I3;
-  const Ld P1 = h2 * h2 * g21 / I2 + h3 * h3 * g31 / I3;
-  const Ld P3 = h1 * h1 * g31 / I1 + h2 * h2 * g32 / I2;
-  const Ld P2 = h1 * h1 * g21 / I1 - h3 * h3 * g32 / I3;
-  M_ = static_cast<double>(std::sqrt(M2));
-  energy_ = static_cast<double>(0.5L * T2);
-  D_ = M2 > 0 ? static_cast<double>(M2 / T2) : 0.0;
-  w0_B_ = principal_.axes * h0_.cwiseQuotient(I);
+  Invariants v;
+  v.I1 = I[0], v.I2 = I[1], v.I3 = I[2];
+  v.h1 = h[0], v.h2 = h[1], v.h3 = h[2];
+  v.g21 = v.I2 - v.I1, v.g32 = v.I3 - v.I2, v.g31 = v.I3 - v.I1;
+  v.M2 = v.h1 * v.h1 + v.h2 * v.h2 + v.h3 * v.h3;
+  v.T2 = v.h1 * v.h1 / v.I1 + v.h2 * v.h2 / v.I2 + v.h3 * v.h3 / v.I3;
+  v.P1 = v.h2 * v.h2 * v.g21 / v.I2 + v.h3 * v.h3 * v.g31 / v.I3;
+  v.P3 = v.h1 * v.h1 * v.g31 / v.I1 + v.h2 * v.h2 * v.g32 / v.I2;
+  v.P2 = SeparatrixDistance(v.I1, v.I2, v.I3, v.h1, v.h3);
+  M_ = static_cast<double>(std::sqrt(v.M2));
+  energy_ = static_cast<double>(v.T2 / 2);
+  D_ = v.M2 > 0 ? static_cast<double>(v.M2 / v.T2) : 0.0;
 
-  period_ = kInf;
-  if (M2 == 0) {
+  const bool triaxial = v.g21 != 0 && v.g32 != 0;
+  if (v.M2 == 0) {
     regime_ = Regime::kAtRest;
-  } else if (g31 == 0) {
+  } else if (v.g31 == 0) {
     regime_ = Regime::kSpherical;
-  } else if (g21 != 0 && g32 != 0 && P2 == 0 && (h1 == 0 || h3 == 0)) {
+  } else if (triaxial && v.P2 == 0 && (v.h1 == 0 || v.h3 == 0)) {
     regime_ = Regime::kIntermediateAxisSpin;
-  } else if (g21 != 0 && g32 != 0 && P2 == 0) {
-    // Separatrix: h1 = s1 A1 sech u, h2 = s1 s3 A2 tanh u, h3 = s3 A3 sech u.
-    regime_ = Regime::kSeparatrix;
-    constant_ = false;
-    mc_ = 0.0;
-    jacobi_ = math::JacobiElliptic(0.0);
-    const double A1 = static_cast<double>(std::sqrt(I1 * P3 / g31));
-    const double A3 = static_cast<double>(std::sqrt(I3 * P1 / g31));
-    const double A2 = static_cast<double>(std::sqrt(I2 * P1 / g21));
-    const double s1 = Sign(h0_[0]), s3 = Sign(h0_[2]);
-    coef_ = Vec3(s1 * A1, s1 * s3 * A2, s3 * A3);
-    dn_axis_ = 0;
-    cn_axis_ = 2;
-    lambda_ = static_cast<double>(std::sqrt(g21 * P3 / (I1 * I2 * I3)));
-    const double sech0 = (std::abs(h0_[0]) + std::abs(h0_[2])) / (A1 + A3);
-    u0_ = std::asinh(h0_[1] / coef_[1] / sech0);
+  } else if (triaxial && v.P2 == 0) {
+    SetUpSeparatrix(v);
   } else {
-    // Periodic (or constant in the degenerate axisymmetric cases).
-    const bool minor = g32 == 0 || (g21 != 0 && P2 > 0);  // circulation about axis 0
-    regime_ = (g21 == 0 || g32 == 0) ? Regime::kAxisymmetric
-                                     : (minor ? Regime::kMinorAxis : Regime::kMajorAxis);
-    dn_axis_ = minor ? 0 : 2;
-    cn_axis_ = minor ? 2 : 0;
-    const Ld lambda2 = minor ? g21 * P3 / (I1 * I2 * I3) : g32 * P1 / (I1 * I2 * I3);
-    if (lambda2 > 0) {
-      constant_ = false;
-      Ld mc = 1;
-      if (regime_ != Regime::kAxisymmetric) mc = minor ? g31 * P2 / (g21 * P3) : g31 * -P2 / (g32 * P1);
-      mc_ = std::min(1.0, std::max(0.0, static_cast<double>(mc)));
-      jacobi_ = math::JacobiElliptic(mc_);
-      const double A1 = static_cast<double>(std::sqrt(I1 * P3 / g31));
-      const double A3 = static_cast<double>(std::sqrt(I3 * P1 / g31));
-      const double A2 = static_cast<double>(minor ? std::sqrt(I2 * P1 / g21)
-                                                  : std::sqrt(I2 * P3 / g32));
-      const double s = Sign(h0_[dn_axis_]);
-      coef_[0] = minor ? s * A1 : A1;
-      coef_[1] = s * A2;
-      coef_[2] = minor ? A3 : s * A3;
-      lambda_ = static_cast<double>(std::sqrt(lambda2));
-      period_ = 4.0 * jacobi_.K() / lambda_;
-      if (A2 > 0.0) {
-        const double A_cn = std::abs(coef_[cn_axis_]);
-        const double A_dn = std::abs(coef_[dn_axis_]);
-        u0_ = math::InverseJacobi(h0_[1] / coef_[1], h0_[cn_axis_] / A_cn,
-                                  std::abs(h0_[dn_axis_]) / A_dn, mc_);
-      }
-    }
+    SetUpPeriodic(v);
   }
   if (constant_) {
     mc_ = regime_ == Regime::kIntermediateAxisSpin ? 0.0 : 1.0;
     lambda_ = 0.0;
+  } else {
+    SetUpAttitude(q_NB0_);
   }
-  SetUpAttitude(q_NB0_);
+}
+
+void FreeBodySolution::SetUpSeparatrix(const Invariants& v) {
+  // h1 = s1 A1 sech u, h2 = s1 s3 A2 tanh u, h3 = s3 A3 sech u: two independent signs.
+  regime_ = Regime::kSeparatrix;
+  constant_ = false;
+  mc_ = 0.0;
+  jacobi_ = math::JacobiElliptic(0.0);
+  const double A1 = static_cast<double>(std::sqrt(v.I1 * v.P3 / v.g31));
+  const double A3 = static_cast<double>(std::sqrt(v.I3 * v.P1 / v.g31));
+  const double A2 = static_cast<double>(std::sqrt(v.I2 * v.P1 / v.g21));
+  const double s1 = Sign(h0_[0]), s3 = Sign(h0_[2]);
+  coef_ = Vec3(s1 * A1, s1 * s3 * A2, s3 * A3);
+  dn_axis_ = 0;
+  cn_axis_ = 2;
+  lambda_ = static_cast<double>(std::sqrt(v.g21 * v.P3 / (v.I1 * v.I2 * v.I3)));
+  period_ = kInf;
+  // sinh u0 = tanh u0 / sech u0, with sech u0 from both decaying components.
+  const double sech0 = (std::abs(h0_[0]) + std::abs(h0_[2])) / (A1 + A3);
+  u0_ = std::asinh(h0_[1] / coef_[1] / sech0);
+}
+
+void FreeBodySolution::SetUpPeriodic(const Invariants& v) {
+  // Circulation about axis 0 (minor) or 2 (major); an axisymmetric body is the k = 0 limit
+  // of the branch whose circulation axis is its symmetry axis.
+  const bool minor = v.g32 == 0 || (v.g21 != 0 && v.P2 > 0);
+  const bool axisymmetric = v.g21 == 0 || v.g32 == 0;
+  regime_ = axisymmetric ? Regime::kAxisymmetric : (minor ? Regime::kMinorAxis : Regime::kMajorAxis);
+  dn_axis_ = minor ? 0 : 2;
+  cn_axis_ = minor ? 2 : 0;
+  const Ld lambda2 = (minor ? v.g21 * v.P3 : v.g32 * v.P1) / (v.I1 * v.I2 * v.I3);
+  if (!(lambda2 > 0)) return;  // axisymmetric with H in the plane of equal moments: constant
+  constant_ = false;
+  Ld mc = 1;  // 1 - k^2 = (I3-I1) P2 / ((I2-I1) P3) or (I3-I1)(-P2) / ((I3-I2) P1)
+  if (!axisymmetric) mc = minor ? v.g31 * v.P2 / (v.g21 * v.P3) : v.g31 * -v.P2 / (v.g32 * v.P1);
+  mc_ = std::clamp(static_cast<double>(mc), 0.0, 1.0);
+  jacobi_ = math::JacobiElliptic(mc_);
+  const double A1 = static_cast<double>(std::sqrt(v.I1 * v.P3 / v.g31));
+  const double A3 = static_cast<double>(std::sqrt(v.I3 * v.P1 / v.g31));
+  const double A2 = static_cast<double>(minor ? std::sqrt(v.I2 * v.P1 / v.g21)
+                                              : std::sqrt(v.I2 * v.P3 / v.g32));
+  const double s = Sign(h0_[dn_axis_]);
+  coef_[0] = minor ? s * A1 : A1;
+  coef_[1] = s * A2;
+  coef_[2] = minor ? A3 : s * A3;
+  lambda_ = static_cast<double>(std::sqrt(lambda2));
+  period_ = 4.0 * jacobi_.K() / lambda_;
+  if (A2 > 0.0) {  // else a pure spin about the dn axis, u0 = 0
+    u0_ = math::InverseJacobi(h0_[1] / coef_[1], h0_[cn_axis_] / std::abs(coef_[cn_axis_]),
+                              std::abs(h0_[dn_axis_]) / std::abs(coef_[dn_axis_]), mc_);
+  }
 }
 
 void FreeBodySolution::SetUpAttitude(const Quat& q_NB0) {
-  if (constant_) return;
   const Vec3& I = principal_.moments;
   const double A1 = std::abs(coef_[0]);
   const double A3 = std::abs(coef_[2]);
@@ -291,7 +367,8 @@ double FreeBodySolution::PeriodicPi(double r, const SnCnDn& f) const {
   const double s3_rj =
       s == 0.0 ? 0.0
                : s * s * s *
-                     boost::math::ellint_rj(f.cn * f.cn, f.dn * f.dn, 1.0, 1.0 - n_char_ * s * s);
+                     boost::math::ellint_rj(f.cn * f.cn, f.dn * f.dn, 1.0, 1.0 - n_char_ * s * s,
+                                            FastPolicy());
   return s3_rj - rj_over_k_ * r;
 }
 
@@ -303,8 +380,8 @@ Quat FreeBodySolution::AlignQuat(const Vec3& h) const {
   return q;
 }
 
-FreeBodySolution::Principal FreeBodySolution::Evaluate(double t, bool with_gamma) const {
-  Principal out{h0_, 0.0};
+FreeBodySolution::State FreeBodySolution::Evaluate(double t, bool with_gamma) const {
+  State out{h0_, 0.0};
   if (constant_) return out;
   const double tau = t - t0_;
   const double u = lambda_ * tau + u0_;
@@ -343,7 +420,7 @@ Vec3 FreeBodySolution::w_NB_B(double t) const {
 
 Quat FreeBodySolution::q_NB(double t) const {
   if (constant_) return q_NB0_ * math::ExpQuat((t - t0_) * w0_B_);
-  const Principal p = Evaluate(t, true);
+  const State p = Evaluate(t, true);
   const Quat qz(std::cos(0.5 * p.gamma), 0.0, 0.0, std::sin(0.5 * p.gamma));
   Quat q = q_left_ * qz * AlignQuat(p.h).conjugate() * q_right_;
   q.normalize();

@@ -125,13 +125,16 @@ class FreeBodySolution {
   double flip_half_period() const;
 
  private:
-  struct Principal {
-    math::Vec3 h;   ///< Momentum in principal components.
-    double gamma;   ///< Rotation angle about h_N, relative to t0 (see Quat assembly).
+  struct Invariants;
+  struct State {
+    math::Vec3 h;  ///< Momentum in principal components [kg m^2/s].
+    double gamma;  ///< Rotation angle about h_N [rad] (see q_NB), 0 at t0.
   };
-  /// Momentum in principal components and, if with_gamma, the attitude angle gamma(t).
-  Principal Evaluate(double t, bool with_gamma) const;
+  void SetUpSeparatrix(const Invariants& v);
+  void SetUpPeriodic(const Invariants& v);
   void SetUpAttitude(const math::Quat& q_NB0);
+  /// Momentum in principal components and, if with_gamma, the attitude angle gamma(t).
+  State Evaluate(double t, bool with_gamma) const;
   /// Continuous angle of the h-component orthogonal to the reference axis, measured from
   /// the direction of its value at u = 0 (|result| <= pi/2 within a half period).
   double PerpAngle(const math::Vec3& h) const;

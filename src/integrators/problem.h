@@ -12,6 +12,9 @@ struct State {
   double t = 0.0;
   math::Vec3 H_B = math::Vec3::Zero();       ///< [kg m^2/s] total momentum, B components.
   math::Quat q_NB = math::Quat::Identity();  ///< Attitude of B in N (unit).
+  /// Compensated-summation carry of H_B (Kahan): the rounding error of the last
+  /// update, added back in the next one by the vector-space steppers. Zero elsewhere.
+  math::Vec3 H_B_carry = math::Vec3::Zero();
 };
 
 /// The source of J(t), h_rel(t) plus what is fixed for a whole run: the inertial

@@ -11,18 +11,19 @@
 
 namespace deploysim::integrators {
 
-/// One step of the tableau for y' = f(t, y) from (t, y) with step h.
-/// Stage times with c_i = 1 are exactly t + h (`t_end`), so a step that ends on a
-/// breakpoint evaluates those stages at the breakpoint itself.
+/// The increment y1 - y0 = h sum b_i k_i of one step of the tableau for y' = f(t, y)
+/// from (t, y) with step h (returned separately from y0 so that callers can add it with
+/// compensated summation). Stage times with c_i = 1 are exactly t + h, so a step that
+/// ends on a breakpoint evaluates those stages at the breakpoint itself.
 /// If `error` is non-null and the tableau has an embedded solution, it receives
 /// h * sum (b_i - b_hat_i) k_i.
 template <int N, class F>
-Eigen::Matrix<double, N, 1> RkStep(const ButcherTableau& tab,
-                                   F&& f,
-                                   double t,
-                                   const Eigen::Matrix<double, N, 1>& y,
-                                   double h,
-                                   Eigen::Matrix<double, N, 1>* error = nullptr) {
+Eigen::Matrix<double, N, 1> RkIncrement(const ButcherTableau& tab,
+                                        F&& f,
+                                        double t,
+                                        const Eigen::Matrix<double, N, 1>& y,
+                                        double h,
+                                        Eigen::Matrix<double, N, 1>* error = nullptr) {
   using Vec = Eigen::Matrix<double, N, 1>;
   constexpr int kMaxStages = 16;
   const int s = tab.stages();
@@ -37,9 +38,9 @@ Eigen::Matrix<double, N, 1> RkStep(const ButcherTableau& tab,
     const double ci = tab.c[i];
     k[i] = f(ci == 1.0 ? t_end : t + ci * h, yi);
   }
-  Vec y1 = y;
+  Vec dy = Vec::Zero();
   for (int i = 0; i < s; ++i) {
-    if (tab.b[i] != 0.0) y1 += (h * tab.b[i]) * k[i];
+    if (tab.b[i] != 0.0) dy += (h * tab.b[i]) * k[i];
   }
   if (error != nullptr && !tab.b_hat.empty()) {
     error->setZero();
@@ -48,7 +49,18 @@ Eigen::Matrix<double, N, 1> RkStep(const ButcherTableau& tab,
       if (d != 0.0) *error += (h * d) * k[i];
     }
   }
-  return y1;
+  return dy;
+}
+
+/// One step of the tableau: y0 + RkIncrement(...).
+template <int N, class F>
+Eigen::Matrix<double, N, 1> RkStep(const ButcherTableau& tab,
+                                   F&& f,
+                                   double t,
+                                   const Eigen::Matrix<double, N, 1>& y,
+                                   double h,
+                                   Eigen::Matrix<double, N, 1>* error = nullptr) {
+  return y + RkIncrement<N>(tab, f, t, y, h, error);
 }
 
 }  // namespace deploysim::integrators

@@ -147,8 +147,8 @@ JacobiElliptic::Extended JacobiElliptic::Landen(long double x) const {
     return {x * (1.0L - (1.0L + m_) * x2 / 6.0L), 1.0L - 0.5L * x2, 1.0L - 0.5L * m_ * x2};
   }
   // Bulirsch (1965), sncndn: descend with cot(agm x), ascend through the AGM table.
-  const long double v = x * agm_;
-  long double a = std::cos(v) / std::sin(v);
+  const long double v = x * agm_;  // in (0, pi/4]
+  long double a = 1 / std::tan(v);
   long double c = agm_ * a;
   long double dn = 1.0L;
   for (int i = levels_ - 1; i >= 0; --i) {

@@ -16,8 +16,8 @@ struct MassProperties {
   math::Vec3 com_rate_B = math::Vec3::Zero();  ///< [m/s] its rate seen in B.
   math::Mat3 J_B = math::Mat3::Zero();         ///< [kg m^2] about the system CoM.
   math::Mat3 Jdot_B = math::Mat3::Zero();      ///< [kg m^2/s] dJ_B/dt seen in B.
-  math::Vec3 h_rel_B =
-      math::Vec3::Zero();  ///< [kg m^2/s] momentum of the relative motion about the system CoM.
+  /// [kg m^2/s] angular momentum of the motion relative to B, about the system CoM.
+  math::Vec3 h_rel_B = math::Vec3::Zero();
 };
 
 /// Mass properties at hinge angles theta [rad] and rates theta_dot [rad/s] (one entry

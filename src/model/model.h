@@ -16,8 +16,8 @@ namespace deploysim::model {
 /// A rigid element: mass and inertia about its own centre of mass.
 struct MassElement {
   double mass = 0.0;  ///< [kg] > 0.
-  math::Mat3 inertia_cm =
-      math::Mat3::Zero();  ///< [kg m^2] about its CoM, B axes (panels: at hinge angle 0).
+  /// [kg m^2] about its CoM, B axes (panels: at hinge angle 0).
+  math::Mat3 inertia_cm = math::Mat3::Zero();
 };
 
 /// The hub: the body whose frame is B.

@@ -26,20 +26,20 @@ namespace fs = std::filesystem;
 constexpr double kMomentumTolerance = 1e-10;  // issue 3 acceptance 1: h_N constant
 constexpr double kFlipTolerance = 1e-7;       // [s] issue 3 acceptance 1
 
-struct Run {
+struct CliRun {
   int exit_code = -1;
   std::string out;
   std::string err;
 };
 
 // Runs the CLI with arguments (shell-quoted by the caller), capturing stdout and stderr.
-Run RunCli(const std::string& args, const fs::path& dir) {
+CliRun RunCli(const std::string& args, const fs::path& dir) {
   const fs::path out = dir / "stdout.txt";
   const fs::path err = dir / "stderr.txt";
   const std::string cmd = std::string("'") + DEPLOYSIM_CLI + "' " + args + " >'" + out.string() +
                           "' 2>'" + err.string() + "'";
   const int status = std::system(cmd.c_str());
-  Run r;
+  CliRun r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   auto slurp = [](const fs::path& p) {
     std::ifstream f(p);
@@ -60,21 +60,21 @@ fs::path TempDir(const std::string& name) {
 
 TEST(CliTest, HelpAndVersion) {
   const fs::path d = TempDir("help");
-  const Run help = RunCli("--help", d);
+  const CliRun help = RunCli("--help", d);
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.out.find("Examples:"), std::string::npos) << help.out;
   EXPECT_NE(help.out.find("simulate"), std::string::npos);
-  const Run version = RunCli("--version", d);
+  const CliRun version = RunCli("--version", d);
   EXPECT_EQ(version.exit_code, 0);
   EXPECT_NE(version.out.find("deploysim "), std::string::npos);
-  const Run none = RunCli("", d);
+  const CliRun none = RunCli("", d);
   EXPECT_NE(none.exit_code, 0);
   fs::remove_all(d);
 }
 
 TEST(CliTest, MissingProfileFileIsOneLineError) {
   const fs::path d = TempDir("missing");
-  const Run r = RunCli("simulate '" + (d / "nope.yaml").string() + "' -o '" +
+  const CliRun r = RunCli("simulate '" + (d / "nope.yaml").string() + "' -o '" +
                            (d / "out.h5").string() + "'",
                        d);
   EXPECT_NE(r.exit_code, 0);
@@ -96,7 +96,7 @@ TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
     const std::string name = entry.path().stem().string();
     SCOPED_TRACE(name);
     const fs::path out = d / (name + ".h5");
-    const Run r = RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
+    const CliRun r = RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const io::TrajectoryFile f = io::ReadTrajectoryFile(out.string());
     const analysis::Trajectory& tr = f.trajectory;
@@ -158,7 +158,7 @@ TEST(CliTest, MalformedProfilesFailCleanly) {
       continue;
     }
     const fs::path out = d / "out.h5";
-    const Run r = RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
+    const CliRun r = RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
     SCOPED_TRACE(entry.path().filename().string());
     ++count;
     EXPECT_NE(r.exit_code, 0);
