@@ -253,10 +253,10 @@ def free_body_main():
                             (name,) + tuple(J) + tuple(H) + tuple(q) + (FREE_BODY_T0, t) +
                             tuple(dstr(v) for v in y)))
         print("%s: done" % name)
-    block = (BEGIN_MARK + " (mpmath %s, 38 digits, checked against\n// 30 digits to 1e-20). Do not "
-             "edit; rerun the script.\n" % mpmath.__version__ +
+    block = (BEGIN_MARK + "\n// (mpmath %s, 38 digits, checked against 30 digits to 1e-20). "
+             "Do not edit; rerun the script.\n" % mpmath.__version__ + "// clang-format off\n" +
              "const MultiprecisionSample kMultiprecisionSamples[] = {\n" + "\n".join(rows) +
-             "\n};\n" + END_MARK)
+             "\n};\n// clang-format on\n" + END_MARK)
     with open(FREE_BODY_TEST) as f:
         text = f.read()
     begin = text.index(BEGIN_MARK)

@@ -1,7 +1,7 @@
 #include "analysis/free_body_solution.h"
 
-#include <boost/math/special_functions/ellint_rj.hpp>
 #include <algorithm>
+#include <boost/math/special_functions/ellint_rj.hpp>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -45,7 +45,9 @@ using Mat3L = Eigen::Matrix<Ld, 3, 3>;
 /// cyclic Jacobi rotations in long double. Near the separatrix the motion is sensitive to
 /// the moments like 1/(1 - k^2), so the double decomposition's O(eps) perturbation of a
 /// full tensor would cost ~eps/(1 - k^2); a diagonal J_B is exact either way.
-void RefinePrincipal(const math::Mat3& J, const math::PrincipalAxes& p, Vec3L* moments,
+void RefinePrincipal(const math::Mat3& J,
+                     const math::PrincipalAxes& p,
+                     Vec3L* moments,
                      Mat3L* axes) {
   Mat3L V = p.axes.cast<Ld>();
   V.col(0).normalize();
@@ -118,8 +120,7 @@ class Wide {
 
  private:
   static void Split(Ld a, Ld* hi, Ld* lo) {
-    static const Ld kSplitter =
-        std::ldexp(1.0L, (std::numeric_limits<Ld>::digits + 1) / 2) + 1.0L;
+    static const Ld kSplitter = std::ldexp(1.0L, (std::numeric_limits<Ld>::digits + 1) / 2) + 1.0L;
     const Ld t = kSplitter * a;
     *hi = t - (t - a);
     *lo = a - *hi;
@@ -132,10 +133,16 @@ class Wide {
   Ld lo_;
 };
 
+/// Below this fraction of its terms P2 is not resolved by the ~128-bit evaluation and is
+/// taken as 0 (the separatrix); 1 - k^2 < ~1e-30 would give K > 35 anyway. Exact
+/// separatrix data (e.g. I2 the harmonic mean of I1, I3 and |h1| = |h3|) then land on it.
+constexpr Ld kSeparatrixRelTol = 1e-30L;
+
 Ld SeparatrixDistance(Ld I1, Ld I2, Ld I3, Ld h1, Ld h3) {
   const Wide a = Wide::Product(h1, h1) * Wide::Sum(I2, -I1) / I1;
   const Wide b = Wide::Product(h3, h3) * Wide::Sum(I3, -I2) / I3;
-  return (a - b).value();
+  const Ld d = (a - b).value();
+  return std::abs(d) <= kSeparatrixRelTol * (a.value() + b.value()) ? 0 : d;
 }
 
 /// Rotation R_{P'P} taking the reference principal axis to the third axis of P':
@@ -271,7 +278,8 @@ void FreeBodySolution::SetUpPeriodic(const Invariants& v) {
   // of the branch whose circulation axis is its symmetry axis.
   const bool minor = v.g32 == 0 || (v.g21 != 0 && v.P2 > 0);
   const bool axisymmetric = v.g21 == 0 || v.g32 == 0;
-  regime_ = axisymmetric ? Regime::kAxisymmetric : (minor ? Regime::kMinorAxis : Regime::kMajorAxis);
+  regime_ =
+      axisymmetric ? Regime::kAxisymmetric : (minor ? Regime::kMinorAxis : Regime::kMajorAxis);
   dn_axis_ = minor ? 0 : 2;
   cn_axis_ = minor ? 2 : 0;
   const Ld lambda2 = (minor ? v.g21 * v.P3 : v.g32 * v.P1) / (v.I1 * v.I2 * v.I3);
@@ -283,8 +291,8 @@ void FreeBodySolution::SetUpPeriodic(const Invariants& v) {
   jacobi_ = math::JacobiElliptic(mc_);
   const double A1 = static_cast<double>(std::sqrt(v.I1 * v.P3 / v.g31));
   const double A3 = static_cast<double>(std::sqrt(v.I3 * v.P1 / v.g31));
-  const double A2 = static_cast<double>(minor ? std::sqrt(v.I2 * v.P1 / v.g21)
-                                              : std::sqrt(v.I2 * v.P3 / v.g32));
+  const double A2 =
+      static_cast<double>(minor ? std::sqrt(v.I2 * v.P1 / v.g21) : std::sqrt(v.I2 * v.P3 / v.g32));
   const double s = Sign(h0_[dn_axis_]);
   coef_[0] = minor ? s * A1 : A1;
   coef_[1] = s * A2;
@@ -328,8 +336,7 @@ void FreeBodySolution::SetUpAttitude(const Quat& q_NB0) {
     winding_ = false;
   } else {
     const double K = jacobi_.K();
-    const double rj_c =
-        n_char_ == 0.0 ? 0.0 : boost::math::ellint_rj(0.0, mc_, 1.0, 1.0 - n_char_);
+    const double rj_c = n_char_ == 0.0 ? 0.0 : boost::math::ellint_rj(0.0, mc_, 1.0, 1.0 - n_char_);
     rj_over_k_ = rj_c / K;
     pi_coef_ = C_r * n_char_ / (3.0 * lambda_);
     const double omega_avg = rate_o + C_r * n_char_ / 3.0 * rj_over_k_;
@@ -364,11 +371,10 @@ double FreeBodySolution::PerpAngle(const Vec3& h) const {
 double FreeBodySolution::PeriodicPi(double r, const SnCnDn& f) const {
   if (n_char_ == 0.0) return 0.0;
   const double s = f.sn;
-  const double s3_rj =
-      s == 0.0 ? 0.0
-               : s * s * s *
-                     boost::math::ellint_rj(f.cn * f.cn, f.dn * f.dn, 1.0, 1.0 - n_char_ * s * s,
-                                            FastPolicy());
+  const double s3_rj = s == 0.0 ? 0.0
+                                : s * s * s *
+                                      boost::math::ellint_rj(f.cn * f.cn, f.dn * f.dn, 1.0,
+                                                             1.0 - n_char_ * s * s, FastPolicy());
   return s3_rj - rj_over_k_ * r;
 }
 
@@ -410,9 +416,7 @@ FreeBodySolution::State FreeBodySolution::Evaluate(double t, bool with_gamma) co
   return out;
 }
 
-Vec3 FreeBodySolution::H_B(double t) const {
-  return principal_.axes * Evaluate(t, false).h;
-}
+Vec3 FreeBodySolution::H_B(double t) const { return principal_.axes * Evaluate(t, false).h; }
 
 Vec3 FreeBodySolution::w_NB_B(double t) const {
   return principal_.axes * Evaluate(t, false).h.cwiseQuotient(principal_.moments);

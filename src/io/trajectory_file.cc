@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "io/atomic_file.h"
+#include "io/hdf5_writer.h"
 #include "io/number_format.h"
 #include "math/quaternion.h"
 
@@ -56,44 +56,6 @@ H5::StrType TextType() {
   H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
   type.setCset(H5T_CSET_UTF8);
   return type;
-}
-
-void WriteTextAttribute(const H5::H5Object& object,
-                        const std::string& name,
-                        const std::string& value) {
-  const H5::StrType type = TextType();
-  const H5::Attribute a = object.createAttribute(name, type, H5::DataSpace(H5S_SCALAR));
-  a.write(type, value);
-}
-
-void Describe(const H5::DataSet& ds, const std::string& units, const std::string& description) {
-  WriteTextAttribute(ds, "units", units);
-  WriteTextAttribute(ds, "description", description);
-}
-
-void WriteDoubles(const H5::Group& group,
-                  const std::string& name,
-                  const std::vector<hsize_t>& dims,
-                  const std::vector<double>& data,
-                  const std::string& units,
-                  const std::string& description) {
-  const H5::DataSpace space(static_cast<int>(dims.size()), dims.data());
-  const H5::DataSet ds = group.createDataSet(name, H5::PredType::IEEE_F64LE, space);
-  if (!data.empty()) ds.write(data.data(), H5::PredType::NATIVE_DOUBLE);
-  Describe(ds, units, description);
-}
-
-void WriteStrings(const H5::Group& group,
-                  const std::string& name,
-                  const std::vector<std::string>& values,
-                  const std::string& description) {
-  const hsize_t n = values.size();
-  const H5::StrType type = TextType();
-  const H5::DataSet ds = group.createDataSet(name, type, H5::DataSpace(1, &n));
-  std::vector<const char*> pointers;
-  for (const std::string& v : values) pointers.push_back(v.c_str());
-  if (!pointers.empty()) ds.write(pointers.data(), type);
-  Describe(ds, kTextUnits, description);
 }
 
 std::vector<double> Flatten(const std::vector<math::Vec3>& v) {
@@ -185,7 +147,7 @@ std::string StatisticsText(const integrators::Statistics& s) {
 }
 
 /// The /stages table: one row per profile stage.
-void WriteStageTable(const H5::Group& stages, const schedule::Profile& p) {
+void WriteStageTable(Hdf5Writer& w, const schedule::Profile& p) {
   std::vector<double> t_begin, t_end;
   std::vector<std::string> names, laws, from, to;
   for (const schedule::Stage& s : p.stages) {
@@ -196,67 +158,65 @@ void WriteStageTable(const H5::Group& stages, const schedule::Profile& p) {
     from.push_back(s.from);
     to.push_back(s.to);
   }
-  const hsize_t count = p.stages.size();
-  WriteDoubles(stages, "t_begin", {count}, t_begin, "s", "stage start time");
-  WriteDoubles(stages, "t_end", {count}, t_end, "s", "stage end time");
-  WriteStrings(stages, "name", names, "stage name");
-  WriteStrings(stages, "law", laws, "interpolation law (hold for a hold)");
-  WriteStrings(stages, "from", from, "configuration at the stage start");
-  WriteStrings(stages, "to", to, "configuration at the stage end");
+  const std::size_t count = p.stages.size();
+  w.Doubles("/stages/t_begin", {count}, t_begin, "s", "stage start time");
+  w.Doubles("/stages/t_end", {count}, t_end, "s", "stage end time");
+  w.Strings("/stages/name", names, "stage name");
+  w.Strings("/stages/law", laws, "interpolation law (hold for a hold)");
+  w.Strings("/stages/from", from, "configuration at the stage start");
+  w.Strings("/stages/to", to, "configuration at the stage end");
 }
 
-void WriteContents(const std::string& file_path, const analysis::MissionResult& r) {
-  H5::H5File file(file_path, H5F_ACC_TRUNC);
+void WriteContents(Hdf5Writer& w, const analysis::MissionResult& r) {
   const Trajectory& t = r.trajectory;
-  const hsize_t n = t.size();
+  const std::size_t n = t.size();
 
-  WriteDoubles(file, "time", {n}, t.time, "s", "output grid");
-  WriteDoubles(file, "H_B", {n, 3}, Flatten(t.H_B), "kg m^2/s",
+  w.Doubles("/time", {n}, t.time, "s", "output grid");
+  w.Doubles("/H_B", {n, 3}, Flatten(t.H_B), "kg m^2/s",
                "total angular momentum about the system centre of mass, body (B) components");
-  WriteDoubles(file, "w_NB_B", {n, 3}, Flatten(t.w_NB_B), "rad/s",
+  w.Doubles("/w_NB_B", {n, 3}, Flatten(t.w_NB_B), "rad/s",
                "angular velocity of B in N, B components");
-  WriteDoubles(file, "q_NB", {n, 4}, FlattenWxyz(t.q_NB), "1",
+  w.Doubles("/q_NB", {n, 4}, FlattenWxyz(t.q_NB), "1",
                "attitude quaternion q_NB (v_N = q_NB v_B), Hamilton, scalar first (w, x, y, z)");
-  WriteDoubles(file, "J_B", {n, 3, 3}, FlattenRowMajor(t.J_B), "kg m^2",
+  w.Doubles("/J_B", {n, 3, 3}, FlattenRowMajor(t.J_B), "kg m^2",
                "inertia tensor about the system centre of mass, B components; J_B[n][i][j]");
-  WriteDoubles(file, "principal_moments", {n, 3}, Flatten(t.principal_moments), "kg m^2",
+  w.Doubles("/principal_moments", {n, 3}, Flatten(t.principal_moments), "kg m^2",
                "eigenvalues of J_B, ascending");
-  WriteDoubles(file, "h_rel_B", {n, 3}, Flatten(t.h_rel_B), "kg m^2/s",
+  w.Doubles("/h_rel_B", {n, 3}, Flatten(t.h_rel_B), "kg m^2/s",
                "momentum of the panels' motion relative to B, B components");
-  WriteDoubles(file, "h_N", {n, 3}, Flatten(t.h_N), "kg m^2/s",
+  w.Doubles("/h_N", {n, 3}, Flatten(t.h_N), "kg m^2/s",
                "total angular momentum, inertial (N) components (constant in exact arithmetic)");
-  WriteDoubles(file, "energy", {n}, t.energy, "J", "rotational kinetic energy 1/2 w.J w");
-  WriteDoubles(file, "euler_313", {n, 3}, Flatten(t.euler_313), "rad",
+  w.Doubles("/energy", {n}, t.energy, "J", "rotational kinetic energy 1/2 w.J w");
+  w.Doubles("/euler_313", {n, 3}, Flatten(t.euler_313), "rad",
                "3-1-3 Euler angles (precession, nutation, spin) of B relative to a frame whose "
                "third axis is h_N");
-  WriteDoubles(file, "spin_axis_angle", {n}, t.spin_axis_angle, "rad",
+  w.Doubles("/spin_axis_angle", {n}, t.spin_axis_angle, "rad",
                "angle between the initial spin axis (fixed in B) and h_N");
-  const hsize_t panels = HingeColumns(r);
+  const std::size_t panels = HingeColumns(r);
   if (r.profile.mode == schedule::Mode::kGeometry) {
-    WriteDoubles(file, "hinge_angles", {n, panels}, FlattenRows(t.hinge_angles), "rad",
+    w.Doubles("/hinge_angles", {n, panels}, FlattenRows(t.hinge_angles), "rad",
                  "hinge angle of each panel, in panel order (geometry mode)");
   }
 
-  WriteDoubles(file.createGroup("events"), "flip_time", {r.flip_times.size()}, r.flip_times, "s",
+  w.Doubles("/events/flip_time", {r.flip_times.size()}, r.flip_times, "s",
                "sign changes of the momentum along the intermediate principal axis");
-  WriteStageTable(file.createGroup("stages"), r.profile);
+  WriteStageTable(w, r.profile);
 
   const schedule::Profile& p = r.profile;
-  WriteTextAttribute(file, "deploysim_version", DEPLOYSIM_VERSION);
-  WriteTextAttribute(file, "schema_version", std::to_string(kTrajectorySchemaVersion));
-  WriteTextAttribute(file, "profile_name", p.name);
-  WriteTextAttribute(file, "profile_source", p.source);
-  WriteTextAttribute(file, "profile_text", p.text);
-  WriteTextAttribute(file, "model_name", p.model.name);
-  WriteTextAttribute(file, "integrator", p.integrator.method);
-  WriteTextAttribute(file, "integrator_settings", IntegratorSettings(p));
-  WriteTextAttribute(file, "mode", schedule::ToString(p.mode));
-  WriteTextAttribute(file, "coupling", schedule::ToString(p.coupling));
-  WriteTextAttribute(file, "termination", integrators::ToString(r.termination));
-  WriteTextAttribute(file, "termination_message", r.message);
-  WriteTextAttribute(file, "statistics", StatisticsText(r.stats));
-  WriteTextAttribute(file, "max_h_N_drift", FormatNumber(r.max_h_N_drift));
-  file.close();
+  w.Attribute("/", "deploysim_version", DEPLOYSIM_VERSION);
+  w.Attribute("/", "schema_version", std::to_string(kTrajectorySchemaVersion));
+  w.Attribute("/", "profile_name", p.name);
+  w.Attribute("/", "profile_source", p.source);
+  w.Attribute("/", "profile_text", p.text);
+  w.Attribute("/", "model_name", p.model.name);
+  w.Attribute("/", "integrator", p.integrator.method);
+  w.Attribute("/", "integrator_settings", IntegratorSettings(p));
+  w.Attribute("/", "mode", schedule::ToString(p.mode));
+  w.Attribute("/", "coupling", schedule::ToString(p.coupling));
+  w.Attribute("/", "termination", integrators::ToString(r.termination));
+  w.Attribute("/", "termination_message", r.message);
+  w.Attribute("/", "statistics", StatisticsText(r.stats));
+  w.Attribute("/", "max_h_N_drift", FormatNumber(r.max_h_N_drift));
 }
 
 // ---- reading ----
@@ -437,18 +397,9 @@ TrajectoryFile ReadContents(const std::string& path) {
 
 void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult& r) {
   CheckConsistent(path, r);
-  AtomicFile out(path);
-  {
-    const QuietHdf5Errors quiet;
-    // The one place the HDF5 C++ API's exceptions are translated (they do not derive
-    // from std::exception); the AtomicFile removes the temporary during unwinding.
-    try {
-      WriteContents(out.temporary_path(), r);
-    } catch (const H5::Exception& e) {
-      ThrowHdf5(path, e);
-    }
-  }
-  out.Commit();
+  Hdf5Writer w(path);  // atomic: nothing is left at `path` unless Commit() succeeds
+  WriteContents(w, r);
+  w.Commit();
 }
 
 TrajectoryFile ReadTrajectoryFile(const std::string& path) {

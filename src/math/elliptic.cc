@@ -172,8 +172,7 @@ SnCnDn JacobiElliptic::OfReduced(long double r) const {
   }
   if (x <= 0.5L * K_ld_) {
     const Extended f = Landen(x);
-    return {sign * static_cast<double>(f.sn), static_cast<double>(f.cn),
-            static_cast<double>(f.dn)};
+    return {sign * static_cast<double>(f.sn), static_cast<double>(f.cn), static_cast<double>(f.dn)};
   }
   // x = K - y: sn(x) = cd(y), cn(x) = sqrt(mc) sd(y), dn(x) = sqrt(mc) nd(y). y < 0 only by
   // rounding (x a hair above K), where the odd sn(y) gives cn its correct sign.

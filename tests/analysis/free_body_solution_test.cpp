@@ -1,3 +1,22 @@
+// Tests of analysis::FreeBodySolution, the closed-form torque-free motion (DESIGN.md 2.3).
+//
+// (a) The wing nut against the 40-digit reference numbers of DESIGN.md 6.
+// (b) 1032 seeded random bodies (diagonal in any axis order, and full tensors from random
+//     rotations) and momenta in all 8 sign patterns: generic, near the separatrix
+//     (1 - k^2 from 1e-3 to 1e-12, built deliberately both near the intermediate axis and
+//     by cancellation far from it), exactly on it, axisymmetric, pure and perturbed spins,
+//     against an independent Boost.Odeint RKF78 integration of Euler's equations and the
+//     quaternion kinematics. Well-conditioned cases must agree to 1e-9 over 3 periods;
+//     closer to the separatrix the tolerance is derived from the measured amplification
+//     of the problem (see Amplification and kSafety): there no double or long double
+//     integrator resolves 1 - k^2, so the strong check is (e).
+// (c) Axisymmetric bodies against the independent sin/cos solution (thesis 3.16-3.23),
+//     and the general solution converging to it linearly in the moment gap.
+// (d) Invariants, restarts from late states, continuity of q_NB(t), flips, regimes.
+// (e) Near and on the separatrix against 38-digit mpmath Taylor integrations.
+//
+// Every tolerance is a named constant; every random generator has a fixed seed.
+
 #include "analysis/free_body_solution.h"
 
 #include <gtest/gtest.h>
@@ -50,10 +69,10 @@ struct Trajectory {
   long steps = 0;
 };
 
-/// Projections of y onto the energy level are skipped when the gradients y and J^-1 y are
-/// this close to parallel (sin^2 of their angle): a pure spin, where both constraints
-/// coincide and the norm alone is projected.
-constexpr double kParallelGradients = 1e-12;
+/// The projection onto the energy level is skipped (the norm alone is projected) when the
+/// gradients y and J^-1 y are nearly parallel, sin^2(angle) <= sqrt(eps) of the reference's
+/// precision: near a pure spin the two constraints nearly coincide and the projection
+/// would amplify rounding by 1/sin(angle) at every step.
 
 template <class S>
 Trajectory IntegrateReference(const Mat3& J_B,
@@ -90,7 +109,7 @@ Trajectory IntegrateReference(const Mat3& J_B,
       const S g1 = y.dot(y) - 1, g2 = y.dot(W * y) - e0;
       const S aa = a.dot(a), ab = a.dot(b), bb = b.dot(b);
       const S det = aa * bb - ab * ab;
-      if (det <= static_cast<S>(kParallelGradients) * aa * bb) {
+      if (det <= std::sqrt(std::numeric_limits<S>::epsilon()) * aa * bb) {
         y -= g1 / aa * a;
       } else {
         y -= ((bb * g1 - ab * g2) / det) * a + ((aa * g2 - ab * g1) / det) * b;
@@ -99,12 +118,17 @@ Trajectory IntegrateReference(const Mat3& J_B,
     const S qn = std::sqrt(x[3] * x[3] + x[4] * x[4] + x[5] * x[5] + x[6] * x[6]);
     x = State{y[0], y[1], y[2], x[3] / qn, x[4] / qn, x[5] / qn, x[6] / qn};
   };
-  State x{y0[0], y0[1], y0[2], static_cast<S>(q0.w()), static_cast<S>(q0.x()),
-          static_cast<S>(q0.y()), static_cast<S>(q0.z())};
+  State x{y0[0],
+          y0[1],
+          y0[2],
+          static_cast<S>(q0.w()),
+          static_cast<S>(q0.x()),
+          static_cast<S>(q0.y()),
+          static_cast<S>(q0.z())};
   namespace odeint = boost::numeric::odeint;
   using Stepper = odeint::runge_kutta_fehlberg78<State, S>;
-  using Checker =
-      odeint::default_error_checker<S, typename Stepper::algebra_type, typename Stepper::operations_type>;
+  using Checker = odeint::default_error_checker<S, typename Stepper::algebra_type,
+                                                typename Stepper::operations_type>;
   odeint::controlled_runge_kutta<Stepper> stepper{Checker(tol, tol)};
   Trajectory out;
   S t = 0;
@@ -193,8 +217,8 @@ Vec3 RandomMoments(std::mt19937_64& rng) {
 /// Principal momentum on an orbit with 1 - k^2 ~= mc on the chosen side of the separatrix.
 /// near_axis: start close to the intermediate axis (the wing nut's situation, P2 small
 /// because h1, h3 are); otherwise far from it (P2 small by cancellation).
-Vec3 NearSeparatrixMomentum(const Vec3& I, double mc, bool minor, bool near_axis,
-                            std::mt19937_64& rng) {
+Vec3 NearSeparatrixMomentum(
+    const Vec3& I, double mc, bool minor, bool near_axis, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const double g21 = I[1] - I[0], g32 = I[2] - I[1], g31 = I[2] - I[0];
   if (near_axis) {
@@ -202,8 +226,9 @@ Vec3 NearSeparatrixMomentum(const Vec3& I, double mc, bool minor, bool near_axis
     const double rho_sep = std::sqrt(g21 / I[0] * I[2] / g32);
     const double rho = rho_sep * (minor ? 0.3 + 0.6 * u(rng) : 1.5 + 2.0 * u(rng));
     const double c = g21 / I[0] - rho * rho * g32 / I[2];
-    const double a2 = minor ? mc * g21 * g32 / (I[1] * (g31 * c - mc * g21 * g31 / I[0]))
-                            : mc * g32 * g21 / (I[1] * (-g31 * c - mc * g32 * rho * rho * g31 / I[2]));
+    const double a2 =
+        minor ? mc * g21 * g32 / (I[1] * (g31 * c - mc * g21 * g31 / I[0]))
+              : mc * g32 * g21 / (I[1] * (-g31 * c - mc * g32 * rho * rho * g31 / I[2]));
     const double a = std::sqrt(a2);
     return Vec3(a, 1.0, a * rho);
   }
@@ -249,7 +274,9 @@ Deviation Compare(const FreeBodySolution& s, const Trajectory& ref) {
 /// this bounds how far a reference with local errors tol may be from the exact solution.
 /// eps is small against 1 - k^2 (linear regime) and, as far as doubles allow, large
 /// against rounding.
-Deviation Amplification(const Case& c, const FreeBodySolution& s, const std::vector<double>& times,
+Deviation Amplification(const Case& c,
+                        const FreeBodySolution& s,
+                        const std::vector<double>& times,
                         std::mt19937_64& rng) {
   constexpr int kRestarts = 6;
   const double mc = s.complementary_parameter();
@@ -308,10 +335,11 @@ TEST(FreeBodySolutionTest, WingNutMatchesReferenceNumbers) {
     EXPECT_NEAR(flips[i], expected[i], kWingNutTimeTol) << i;
     worst = std::max(worst, std::abs(flips[i] - expected[i]));
   }
-  std::printf("[ measured ] wing nut: 1-k^2 rel err %.2g, lambda %.2g, period %.2g s, flips %.2g s\n",
-              std::abs(s.complementary_parameter() / 6.6492854004460934e-6 - 1.0),
-              std::abs(s.lambda() / 4.1308713587499453 - 1.0),
-              std::abs(s.period() - 7.1140491749608600), worst);
+  std::printf(
+      "[ measured ] wing nut: 1-k^2 rel err %.2g, lambda %.2g, period %.2g s, flips %.2g s\n",
+      std::abs(s.complementary_parameter() / 6.6492854004460934e-6 - 1.0),
+      std::abs(s.lambda() / 4.1308713587499453 - 1.0), std::abs(s.period() - 7.1140491749608600),
+      worst);
   // The intermediate component does change sign at each flip.
   for (double t : flips) {
     EXPECT_LT(s.H_B(t - 1e-3)[1] * s.H_B(t + 1e-3)[1], 0.0) << t;
@@ -356,7 +384,7 @@ std::vector<Case> RandomCases() {
     const Vec3 I = RandomMoments(rng);
     Vec3 h = Vec3::Zero();
     h[i % 3] = 1.0 + u(rng);
-    if ((i / 3) % 3 == 1) h += 1e-7 * Vec3(n(rng), n(rng), n(rng));
+    if ((i / 3) % 3 == 1) h += 1e-5 * Vec3(n(rng), n(rng), n(rng));
     if ((i / 3) % 3 == 2) h += 1e-3 * Vec3(n(rng), n(rng), n(rng));
     cases.push_back(MakeCase("spin", I, h, (i / 9) % 8, false, rng));
   }
@@ -372,8 +400,14 @@ constexpr double kStrictMc = 1e-6;
 constexpr double kStrictPeriods = 3.0;
 /// Closer to the separatrix the comparison runs over one period (separatrix: 12/lambda),
 /// and the allowed deviation is kSafety * amplification * steps * tol_reference: the bound
-/// on the reference's own global error (see Amplification), never below kStrictTol.
+/// on the reference's own global error (see Amplification), never below kStrictTol. As
+/// the amplification is measured with the solution under test, a wrong formula can inflate
+/// it; kSanityTol caps the tolerance so that such errors, which are O(1), still fail. (The
+/// long-double reference's error there is ~1e-19 sqrt(steps) / (1 - k^2): measured
+/// <= 1e-5 for 1 - k^2 >= 1e-12. Deeper cases are checked against 38-digit trajectories
+/// in NearSeparatrixMatchesMultiprecisionIntegration.)
 constexpr double kSafety = 10.0;
+constexpr double kSanityTol = 1e-3;
 /// Reference tolerances: double where the problem is well conditioned, long double near
 /// the separatrix (its energy is then resolved to ~1e-19 instead of ~1e-16) and for long
 /// runs (the double reference accumulates ~4e-15 per 1000 steps).
@@ -396,6 +430,9 @@ TEST(FreeBodySolutionTest, RandomCasesMatchHighAccuracyIntegration) {
     const double mc = s.complementary_parameter();
     const bool separatrix = s.regime() == Regime::kSeparatrix;
     const bool sensitive = separatrix || mc < kStrictMc;
+    if (c.kind == "separatrix") {
+      EXPECT_TRUE(separatrix) << i << " " << ToString(s.regime());
+    }
     double horizon = 0.0;
     int samples = 0;
     if (separatrix) {
@@ -416,16 +453,18 @@ TEST(FreeBodySolutionTest, RandomCasesMatchHighAccuracyIntegration) {
     // Long double where the double reference's own error would show: near the separatrix,
     // and over many turns (a slowly precessing, fast-spinning axisymmetric body).
     const bool use_long = sensitive || mc < 1e-3 || turns > 100.0;
-    const Trajectory ref =
-        use_long ? IntegrateReference<long double>(c.J_B, c.H_B0, c.q_NB0, c.t0, times, kReferenceTolLong)
-                 : IntegrateReference<double>(c.J_B, c.H_B0, c.q_NB0, c.t0, times, kReferenceTolDouble);
+    const Trajectory ref = use_long ? IntegrateReference<long double>(c.J_B, c.H_B0, c.q_NB0, c.t0,
+                                                                      times, kReferenceTolLong)
+                                    : IntegrateReference<double>(c.J_B, c.H_B0, c.q_NB0, c.t0,
+                                                                 times, kReferenceTolDouble);
     const Deviation dev = Compare(s, ref);
     Deviation tol{kStrictTol, kStrictTol * turns};
     if (sensitive) {
       const Deviation amp = Amplification(c, s, times, rng);
       const double ref_tol = static_cast<double>(kReferenceTolLong);
-      tol.H = std::max(kStrictTol, kSafety * amp.H * static_cast<double>(ref.steps) * ref_tol);
-      tol.q = std::max(kStrictTol * turns, kSafety * amp.q * static_cast<double>(ref.steps) * ref_tol);
+      const double steps = static_cast<double>(ref.steps);
+      tol.H = std::clamp(kSafety * amp.H * steps * ref_tol, kStrictTol, kSanityTol);
+      tol.q = std::clamp(kSafety * amp.q * steps * ref_tol, kStrictTol * turns, kSanityTol);
     }
     EXPECT_LE(dev.H, tol.H) << "case " << i << " (" << c.kind << ", " << ToString(s.regime())
                             << ", 1-k^2 = " << mc << ")";
@@ -433,7 +472,8 @@ TEST(FreeBodySolutionTest, RandomCasesMatchHighAccuracyIntegration) {
                             << ", 1-k^2 = " << mc << ")";
     std::string cat = c.kind;
     if (cat == "near-separatrix" || cat == "spin") cat += sensitive ? " (mc<1e-6)" : " (mc>=1e-6)";
-    auto it = std::find_if(stats.begin(), stats.end(), [&](const auto& p) { return p.first == cat; });
+    auto it =
+        std::find_if(stats.begin(), stats.end(), [&](const auto& p) { return p.first == cat; });
     if (it == stats.end()) {
       stats.push_back({cat, Stats{}});
       it = stats.end() - 1;
@@ -470,7 +510,8 @@ struct Axisymmetric {
   Quat q_NB(double t) const {
     const double tau = t - t0;
     const Vec3 h_N = q0 * H0;
-    return math::ExpQuat(tau / I_t * h_N) * q0 * math::ExpQuat(tau * (1.0 / I_s - 1.0 / I_t) * e.dot(H0) * e);
+    return math::ExpQuat(tau / I_t * h_N) * q0 *
+           math::ExpQuat(tau * (1.0 / I_s - 1.0 / I_t) * e.dot(H0) * e);
   }
 };
 
@@ -517,13 +558,14 @@ TEST(FreeBodySolutionTest, AxisymmetricMatchesSinCosSolution) {
     const double h_s = std::abs(c.H_B0[e_index]);
     const double thesis_h_s = i % 2 == 0 ? std::sqrt(T2 * Jmin * (Jmaj - D) / (Jmaj - Jmin))
                                          : std::sqrt(T2 * Jmaj * (D - Jmin) / (Jmaj - Jmin));
-    const double thesis_rate = i % 2 == 0
-                                   ? std::sqrt(T2 * (Jmaj - D) * (Jmaj - Jmin) / (Jmaj * Jmaj * Jmin))
-                                   : std::sqrt(T2 * (Jmaj - Jmin) * (D - Jmin) / (Jmin * Jmin * Jmaj));
+    const double thesis_rate =
+        i % 2 == 0 ? std::sqrt(T2 * (Jmaj - D) * (Jmaj - Jmin) / (Jmaj * Jmaj * Jmin))
+                   : std::sqrt(T2 * (Jmaj - Jmin) * (D - Jmin) / (Jmin * Jmin * Jmaj));
     EXPECT_NEAR(h_s, thesis_h_s, 1e-12 * s.momentum_magnitude());
     EXPECT_NEAR(s.lambda(), thesis_rate, 1e-12 * thesis_rate);
     const double turn = 2.0 * M_PI / s.w_NB_B(c.t0).norm();
-    const Deviation d = MaxDeviation(s, ref, c.t0 - 5 * turn, c.t0 + 5 * turn, 200, s.momentum_magnitude());
+    const Deviation d =
+        MaxDeviation(s, ref, c.t0 - 5 * turn, c.t0 + 5 * turn, 200, s.momentum_magnitude());
     EXPECT_LE(d.H, kAxisymmetricTol) << i;
     EXPECT_LE(d.q, kAxisymmetricTol) << i;
     worst = std::max({worst, d.H, d.q});
@@ -554,15 +596,17 @@ TEST(FreeBodySolutionTest, GeneralSolutionTendsToAxisymmetricLimit) {
       const int sym = i % 2 == 0 ? 0 : 2;
       const Axisymmetric ref{Vec3::Unit(sym), I_limit[sym], I_limit[1], h, q0, 0.3};
       const double turn = 2.0 * M_PI / s.w_NB_B(0.3).norm();
-      const Deviation d = MaxDeviation(s, ref, 0.3 - 3 * turn, 0.3 + 3 * turn, 120, s.momentum_magnitude());
+      const Deviation d =
+          MaxDeviation(s, ref, 0.3 - 3 * turn, 0.3 + 3 * turn, 120, s.momentum_magnitude());
       const double ratio = std::max(d.H, d.q) / (delta * (1.0 + 3.0));
       EXPECT_LE(ratio, kContinuityConstant) << "i = " << i << " delta = " << delta;
       worst_ratio = std::max(worst_ratio, ratio);
       if (delta == 1e-9) dev_at_1e9 = std::max({dev_at_1e9, d.H, d.q});
     }
   }
-  std::printf("[ measured ] general vs axisymmetric: max dev/(delta turns) %.2f; at delta = 1e-9 %.1e\n",
-              worst_ratio, dev_at_1e9);
+  std::printf(
+      "[ measured ] general vs axisymmetric: max dev/(delta turns) %.2f; at delta = 1e-9 %.1e\n",
+      worst_ratio, dev_at_1e9);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -688,7 +732,8 @@ TEST(FreeBodySolutionTest, FlipTimesAreSignChangesOfTheIntermediateComponent) {
           const double d = 1e-3 * half;
           EXPECT_LT(s.H_B(flips[k] - d).dot(e) * s.H_B(flips[k] + d).dot(e), 0.0) << i;
           if (k > 0) {
-            EXPECT_NEAR(flips[k] - flips[k - 1], half, 1e-12 * half + 8 * kEps * std::abs(flips[k]));
+            EXPECT_NEAR(flips[k] - flips[k - 1], half,
+                        1e-12 * half + 8 * kEps * std::abs(flips[k]));
           }
           // No sign change between flips.
           const double mid = k + 1 < flips.size() ? 0.5 * (flips[k] + flips[k + 1]) : t_b;
@@ -697,7 +742,9 @@ TEST(FreeBodySolutionTest, FlipTimesAreSignChangesOfTheIntermediateComponent) {
         break;
       case Regime::kSeparatrix:
         ASSERT_EQ(flips.size(), 1u) << i;
-        EXPECT_LT(s.H_B(flips[0] - 1.0 / s.lambda()).dot(e) * s.H_B(flips[0] + 1.0 / s.lambda()).dot(e), 0.0);
+        EXPECT_LT(
+            s.H_B(flips[0] - 1.0 / s.lambda()).dot(e) * s.H_B(flips[0] + 1.0 / s.lambda()).dot(e),
+            0.0);
         EXPECT_TRUE(s.FlipTimes(flips[0] + 1e-9, kInf).empty());
         break;
       default:
@@ -708,15 +755,17 @@ TEST(FreeBodySolutionTest, FlipTimesAreSignChangesOfTheIntermediateComponent) {
 }
 
 TEST(FreeBodySolutionTest, RegimesAndDegenerateMotions) {
-  const InertiaTensor J = InertiaTensor::FromPrincipalMoments(Vec3(2.0, 1.0, 3.0));  // y minor, x intermediate
+  const InertiaTensor J =
+      InertiaTensor::FromPrincipalMoments(Vec3(2.0, 1.0, 3.0));  // y minor, x intermediate
   const Quat q0 = math::ExpQuat(Vec3(0.1, -0.2, 0.3));
   // Pure spins: constant H_B, uniform rotation about it.
   struct Spin {
     Vec3 H;
     Regime regime;
   };
-  for (const Spin& sp : {Spin{Vec3(0, 2, 0), Regime::kMinorAxis}, Spin{Vec3(0, 0, -2), Regime::kMajorAxis},
-                         Spin{Vec3(2, 0, 0), Regime::kIntermediateAxisSpin}}) {
+  for (const Spin& sp :
+       {Spin{Vec3(0, 2, 0), Regime::kMinorAxis}, Spin{Vec3(0, 0, -2), Regime::kMajorAxis},
+        Spin{Vec3(2, 0, 0), Regime::kIntermediateAxisSpin}}) {
     const FreeBodySolution s(J, sp.H, q0, 1.0);
     EXPECT_EQ(s.regime(), sp.regime);
     EXPECT_EQ(s.intermediate_axis(), 0);
@@ -725,7 +774,8 @@ TEST(FreeBodySolutionTest, RegimesAndDegenerateMotions) {
     const Vec3 w = J.inverse() * sp.H;
     for (double t : {-3.0, 1.0, 2.5, 40.0}) {
       EXPECT_LE((s.H_B(t) - sp.H).norm(), 1e-15 * sp.H.norm());
-      EXPECT_LE(math::AngleBetween(s.q_NB(t), q0 * math::ExpQuat((t - 1.0) * w)), 1e-14 * (1 + std::abs(t)));
+      EXPECT_LE(math::AngleBetween(s.q_NB(t), q0 * math::ExpQuat((t - 1.0) * w)),
+                1e-14 * (1 + std::abs(t)));
     }
   }
   EXPECT_EQ(FreeBodySolution(J, Vec3(2, 0, 0)).complementary_parameter(), 0.0);
@@ -740,7 +790,8 @@ TEST(FreeBodySolutionTest, RegimesAndDegenerateMotions) {
   const FreeBodySolution sph(S, Vec3(1, -2, 0.5), q0);
   EXPECT_EQ(sph.regime(), Regime::kSpherical);
   EXPECT_EQ(sph.intermediate_axis(), -1);
-  EXPECT_LE(math::AngleBetween(sph.q_NB(3.0), q0 * math::ExpQuat(3.0 * Vec3(1, -2, 0.5) / 2.0)), 1e-15);
+  EXPECT_LE(math::AngleBetween(sph.q_NB(3.0), q0 * math::ExpQuat(3.0 * Vec3(1, -2, 0.5) / 2.0)),
+            1e-15);
   // Both sides of the separatrix and on it (I2 = 4 is the harmonic mean of 3 and 6).
   const InertiaTensor H = InertiaTensor::FromPrincipalMoments(Vec3(4.0, 6.0, 3.0));
   EXPECT_EQ(FreeBodySolution(H, Vec3(1.0, 0.5, 0.5)).regime(), Regime::kSeparatrix);
@@ -764,7 +815,7 @@ TEST(FreeBodySolutionTest, RejectsInvalidInput) {
 }
 
 // ---------------------------------------------------------------------------------------
-// Near and on the separatrix, against 38-digit integrations (the strong check there).
+// (e) Near and on the separatrix, against 38-digit integrations (the strong check there).
 // ---------------------------------------------------------------------------------------
 struct MultiprecisionSample {
   const char* name;
@@ -777,8 +828,9 @@ struct MultiprecisionSample {
   double q_NB[4];    ///< q_NB(t), (w, x, y, z)
 };
 
-// BEGIN generated by tools/make_elliptic_reference.py --free-body (mpmath 1.2.1, 38 digits, checked against
-// 30 digits to 1e-20). Do not edit; rerun the script.
+// BEGIN generated by tools/make_elliptic_reference.py --free-body
+// (mpmath 1.2.1, 38 digits, checked against 30 digits to 1e-20). Do not edit; rerun the script.
+// clang-format off
 const MultiprecisionSample kMultiprecisionSamples[] = {
     {"near intermediate axis, 1-k^2 ~ 2e-12", {3.5, 2.0, 3.0}, {1.3e-05, 1e-05, 10.0}, {1.0, 0.0, 0.0, 0.0}, 0.25, 8.876763579851447,
      {-6.2111560459970917112e-3, 3.3200103454109995738e-3, 9.9999975199667364036}, {-2.3845276215342006797e-1, -3.4043230989415644503e-4, 8.7489299704385803150e-5, 9.7115403344313475360e-1}},
@@ -819,6 +871,7 @@ const MultiprecisionSample kMultiprecisionSamples[] = {
     {"generic, minor-axis circulation", {1.0, 2.5, 2.0}, {0.3, -0.5, 0.8}, {0.9, 0.1, -0.3, 0.2}, 0.25, 37.29536494113454,
      {2.9999999999999991436e-1, -4.9999999999999977637e-1, 8.0000000000000021213e-1}, {8.1967004417071987676e-1, -5.1111456132355539088e-2, 2.2113162134339397788e-1, -5.2595574317925481370e-1}},
 };
+// clang-format on
 // END generated
 
 /// Agreement with the 38-digit trajectories: |dH|/M and attitude [rad]. Measured ~1e-15;
@@ -828,16 +881,17 @@ constexpr double kMultiprecisionTol = 1e-13;
 TEST(FreeBodySolutionTest, NearSeparatrixMatchesMultiprecisionIntegration) {
   double worst_H = 0.0, worst_q = 0.0;
   for (const MultiprecisionSample& m : kMultiprecisionSamples) {
-    const InertiaTensor J = InertiaTensor::FromPrincipalMoments(
-        Vec3(m.J_diag[0], m.J_diag[1], m.J_diag[2]));
-    const Quat q0 = math::FromWxyz(math::Vec4(m.q_NB0[0], m.q_NB0[1], m.q_NB0[2], m.q_NB0[3])).normalized();
+    const InertiaTensor J =
+        InertiaTensor::FromPrincipalMoments(Vec3(m.J_diag[0], m.J_diag[1], m.J_diag[2]));
+    const Quat q0 =
+        math::FromWxyz(math::Vec4(m.q_NB0[0], m.q_NB0[1], m.q_NB0[2], m.q_NB0[3])).normalized();
     const FreeBodySolution s(J, Vec3(m.H_B0[0], m.H_B0[1], m.H_B0[2]), q0, m.t0);
     const Vec3 H_ref(m.H_B[0], m.H_B[1], m.H_B[2]);
     const Quat q_ref = math::FromWxyz(math::Vec4(m.q_NB[0], m.q_NB[1], m.q_NB[2], m.q_NB[3]));
     const double dH = (s.H_B(m.t) - H_ref).norm() / s.momentum_magnitude();
     const double dq = math::AngleBetween(s.q_NB(m.t), q_ref);
-    EXPECT_LE(dH, kMultiprecisionTol) << m.name << " t = " << m.t << " 1-k^2 = "
-                                      << s.complementary_parameter();
+    EXPECT_LE(dH, kMultiprecisionTol)
+        << m.name << " t = " << m.t << " 1-k^2 = " << s.complementary_parameter();
     EXPECT_LE(dq, kMultiprecisionTol) << m.name << " t = " << m.t;
     worst_H = std::max(worst_H, dH);
     worst_q = std::max(worst_q, dq);
