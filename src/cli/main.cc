@@ -18,6 +18,11 @@
 #include "cli/report.h"
 #include "io/trajectory_file.h"
 #include "io/yaml_loader.h"
+#ifdef DEPLOYSIM_HAVE_CROSSCHECK
+#include "crosscheck/crosscheck.h"
+#include "crosscheck/crosscheck_file.h"
+#include "crosscheck/speed_study.h"
+#endif
 
 namespace {
 
@@ -81,6 +86,7 @@ int main(int argc, char** argv) {
       "  deploysim simulate deployment_profiles/wing_nut.yaml --method exact -o wing_nut.h5\n"
       "  deploysim analyze deployment_profiles/seed_satellite.yaml\n"
       "  deploysim analyze deployment_profiles/smallsat_three_stage.yaml --json\n"
+      "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml -o smallsat_cc.h5\n"
       "  deploysim methods\n"
       "File formats: docs/file_formats.md. Plots: /usr/bin/python3 tools/plot_trajectory.py OUT.h5");
 
@@ -102,6 +108,33 @@ int main(int argc, char** argv) {
   ana->add_flag("--json", json, "print JSON instead of the table");
   AddOverrideOptions(ana, ov);
   ana->footer("Example: deploysim analyze deployment_profiles/seed_satellite.yaml --json");
+
+#ifdef DEPLOYSIM_HAVE_CROSSCHECK
+  double cc_accuracy = 1e-12;
+  std::optional<double> cc_until;
+  bool speed_study = false;
+  std::string speed_csv;
+  CLI::App* cc = app.add_subcommand(
+      "crosscheck", "compare the reduced model with a Simbody multibody model (table + HDF5)");
+  cc->add_option("profile", profile_path, "deployment profile (YAML)")->required();
+  cc->add_option("-o,--output", out_path,
+                 "output HDF5 file (default: <profile stem>_crosscheck.h5 in the current folder)");
+  cc->add_option("--accuracy", cc_accuracy, "Simbody Runge-Kutta-Merson accuracy (default 1e-12)")
+      ->check(CLI::Range(1e-16, 0.1));
+  cc->add_option("--until", cc_until, "stop at this time [s] (inside a hold stage or on a stage end)");
+  cc->add_option("--dt", ov.dt, "output sampling interval [s]");
+  cc->add_flag("--speed-study", speed_study,
+               "also run the deployment-speed study: quasi-rigid coupling vs Simbody for "
+               "deployments of 1 to 1000 s (geometry-mode profiles)");
+  cc->add_option("--csv", speed_csv, "speed-study CSV (default: <profile stem>_speed_study.csv)");
+  cc->footer(
+      "Examples:\n"
+      "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml -o smallsat_cc.h5\n"
+      "  deploysim crosscheck deployment_profiles/wing_nut.yaml --accuracy 1e-14\n"
+      "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml --until 300 "
+      "--speed-study --csv speed.csv\n"
+      "  /usr/bin/python3 tools/plot_speed_study.py speed.csv -o speed.png");
+#endif
 
   CLI::App* meth = app.add_subcommand("methods", "list the integrators");
 
@@ -138,6 +171,32 @@ int main(int argc, char** argv) {
       }
       return 0;
     }
+#ifdef DEPLOYSIM_HAVE_CROSSCHECK
+    if (cc->parsed()) {
+      namespace xc = deploysim::crosscheck;
+      if (speed_study && !geometry) {
+        throw std::invalid_argument(profile_path + ": --speed-study needs a geometry-mode profile");
+      }
+      const std::string stem = std::filesystem::path(profile_path).stem().string();
+      if (out_path.empty()) out_path = stem + "_crosscheck.h5";
+      xc::CrosscheckOptions o;
+      o.accuracy = cc_accuracy;
+      o.t_end = cc_until;
+      const xc::CrosscheckResult r = xc::RunCrosscheck(profile, o);
+      xc::WriteCrosscheckFile(out_path, r);
+      std::cout << xc::FormatCrosscheckTable(r) << "\nwrote " << out_path << "\n";
+      if (speed_study) {
+        xc::SpeedStudyOptions so;
+        so.accuracy = cc_accuracy;
+        const xc::SpeedStudyResult st = xc::SpeedStudy(profile, so);
+        if (speed_csv.empty()) speed_csv = stem + "_speed_study.csv";
+        xc::WriteSpeedStudyCsv(speed_csv, st);
+        std::cout << "\n" << xc::FormatSpeedStudyTable(st) << "\nwrote " << speed_csv
+                  << " (plot: /usr/bin/python3 tools/plot_speed_study.py " << speed_csv << ")\n";
+      }
+      return 0;
+    }
+#endif
     if (ana->parsed()) {
       const MissionResult r = deploysim::analysis::RunMission(profile);
       std::optional<deploysim::analysis::CouplingComparison> c;
