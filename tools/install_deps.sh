@@ -11,6 +11,7 @@ packages=(
   libyaml-cpp-dev libhdf5-dev hdf5-tools
   libsimbody-dev libcli11-dev libfmt-dev
   python3-matplotlib python3-h5py python3-numpy python3-mpmath
+  libopenmpi-dev openmpi-bin        # optional MPI sweeps (cmake -DDEPLOYSIM_WITH_MPI=ON)
 )
 
 missing=()

@@ -18,6 +18,12 @@
 #include "cli/report.h"
 #include "io/trajectory_file.h"
 #include "io/yaml_loader.h"
+#ifdef DEPLOYSIM_HAVE_SWEEP
+#include "sweep/interrupt.h"
+#include "sweep/mpi_session.h"
+#include "sweep/runner.h"
+#include "sweep/sweep_file.h"
+#endif
 #ifdef DEPLOYSIM_HAVE_CROSSCHECK
 #include "crosscheck/crosscheck.h"
 #include "crosscheck/crosscheck_file.h"
@@ -29,6 +35,7 @@ namespace {
 using deploysim::analysis::MissionResult;
 
 constexpr int kExitBadInput = 1;
+constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as shells report it
 
 struct Overrides {
   std::optional<std::string> method, coupling, mode;
@@ -75,6 +82,10 @@ std::function<void(double)> Progress(bool quiet) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef DEPLOYSIM_HAVE_SWEEP
+  // First: under mpirun, MPI_Init may consume arguments. A no-op otherwise.
+  deploysim::sweep::MpiSession mpi(&argc, &argv);
+#endif
   CLI::App app{
       "deploysim: does a spinning spacecraft stay put when it deploys its panels, or "
       "does it start to tumble? (Dzhanibekov effect with time-varying inertia)"};
@@ -87,6 +98,7 @@ int main(int argc, char** argv) {
       "  deploysim analyze deployment_profiles/seed_satellite.yaml\n"
       "  deploysim analyze deployment_profiles/smallsat_three_stage.yaml --json\n"
       "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml -o smallsat_cc.h5\n"
+      "  deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5\n"
       "  deploysim methods\n"
       "File formats: docs/file_formats.md. Plots: /usr/bin/python3 tools/plot_trajectory.py OUT.h5");
 
@@ -136,6 +148,30 @@ int main(int argc, char** argv) {
       "  /usr/bin/python3 tools/plot_speed_study.py speed.csv -o speed.png");
 #endif
 
+#ifdef DEPLOYSIM_HAVE_SWEEP
+  std::string sweep_path;
+  int sweep_threads = 0;
+  bool resume = false;
+  CLI::App* swp = app.add_subcommand(
+      "sweep", "run a parameter sweep (grid and/or Monte Carlo) and write one results table (HDF5)");
+  swp->add_option("sweep", sweep_path, "sweep file (YAML, docs/sweeps.md)")->required();
+  swp->add_option("-o,--output", out_path, "results HDF5 file")->required();
+  swp->add_option("--threads", sweep_threads,
+                  "worker threads (default: all hardware threads; per rank under mpirun)")
+      ->check(CLI::NonNegativeNumber);
+  swp->add_flag("--resume", resume, "finish an interrupted sweep from its journal <output>.partial");
+  swp->add_flag("--csv", csv, "also write <output>.csv");
+  swp->add_flag("-q,--quiet", quiet, "no progress and no summary");
+  swp->footer(
+      "Examples:\n"
+      "  deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5\n"
+      "  deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5 --resume\n"
+      "  mpirun -np 4 deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5\n"
+      "  /usr/bin/python3 tools/plot_stability_map.py smallsat_map.h5 -o smallsat_map.png\n"
+      "Ctrl-C stops after the cases at hand (exit 130); --resume finishes the sweep.\n"
+      "Sweep files and results: docs/sweeps.md");
+#endif
+
   CLI::App* meth = app.add_subcommand("methods", "list the integrators");
 
   CLI11_PARSE(app, argc, argv);
@@ -150,6 +186,29 @@ int main(int argc, char** argv) {
       }
       return 0;
     }
+#ifdef DEPLOYSIM_HAVE_SWEEP
+    if (swp->parsed()) {
+      const deploysim::sweep::SweepSpec spec = deploysim::sweep::LoadSweep(sweep_path);
+      deploysim::sweep::RunOptions o;
+      o.output = out_path;
+      o.csv = csv;
+      o.resume = resume;
+      o.threads = sweep_threads;
+      o.progress = quiet ? nullptr : &std::cerr;
+      o.progress_tty = isatty(fileno(stderr)) != 0;
+      o.cancel = &deploysim::sweep::InstallInterruptHandlers();
+      o.mpi = &mpi;
+      const deploysim::sweep::RunSummary s = deploysim::sweep::RunSweep(spec, o);
+      if (!s.complete) {
+        if (mpi.rank() == 0) {
+          std::cerr << "deploysim: interrupted: " << deploysim::sweep::FormatSummary(s, o) << "\n";
+        }
+        return kExitInterrupted;
+      }
+      if (!quiet && mpi.rank() == 0) std::cout << deploysim::sweep::FormatSummary(s, o) << "\n";
+      return 0;
+    }
+#endif
     const deploysim::schedule::Profile profile = Load(profile_path, ov);
     const bool geometry = profile.mode == deploysim::schedule::Mode::kGeometry;
     if (sim->parsed()) {

@@ -174,5 +174,28 @@ TEST(CliTest, MalformedProfilesFailCleanly) {
   fs::remove_all(d);
 }
 
+TEST(CliTest, SweepRunsAndRejectsBadSweepFiles) {
+  const fs::path d = TempDir("sweep");
+  const std::string src = DEPLOYSIM_SOURCE_DIR;
+  const CliRun help = RunCli("--help", d);
+  if (help.out.find("sweep") == std::string::npos) GTEST_SKIP() << "built without the sweep module";
+  const CliRun ok = RunCli("sweep '" + src + "/sweeps/smallsat_duration_spin.yaml' -q -o '" +
+                               (d / "map.h5").string() + "' --csv",
+                           d);
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_TRUE(fs::exists(d / "map.h5") && fs::exists(d / "map.h5.csv"));
+  EXPECT_FALSE(fs::exists(d / "map.h5.partial"));
+  std::ofstream(d / "bad.yaml") << "name: bad\nbase: " << src
+                                << "/deployment_profiles/smallsat_three_stage.yaml\ngrid:\n  - "
+                                   "{parameter: spin_rate_rpm, values: [1, -2]}\n";
+  const CliRun bad =
+      RunCli("sweep '" + (d / "bad.yaml").string() + "' -o '" + (d / "bad.h5").string() + "'", d);
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_EQ(bad.err, "deploysim: error: " + (d / "bad.yaml").string() +
+                         ": grid[0].values[1] = -2: spin_rate_rpm must be > 0 [rpm]\n");
+  EXPECT_FALSE(fs::exists(d / "bad.h5") || fs::exists(d / "bad.h5.partial"));
+  fs::remove_all(d);
+}
+
 }  // namespace
 }  // namespace deploysim

@@ -1,0 +1,67 @@
+// tools/plot_stability_map.py renders a results file of a small sweep (grid with Monte
+// Carlo samples, a third grid axis held fixed) as a PNG.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "sweep/runner.h"
+#include "sweep/sweep_file.h"
+#include "sweep_test_support.h"
+
+namespace deploysim::sweep {
+namespace {
+
+using testing::SmallsatProfile;
+using testing::SweepDirTest;
+
+int Shell(const std::string& cmd) {
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST_F(SweepDirTest, StabilityMapRendersAsPng) {
+  if (Shell("/usr/bin/python3 -c 'import matplotlib, h5py, numpy' 2>/dev/null") != 0) {
+    GTEST_SKIP() << "python3-matplotlib, python3-h5py or python3-numpy missing";
+  }
+  const SweepSpec spec = LoadSweep(Write("s.yaml", "name: map test\nbase: " + SmallsatProfile() + R"(
+integrator: {method: exact, rtol: 1.0e-9, atol: 1.0e-11}
+grid:
+  - {parameter: deploy_duration_scale, logspace: [0.2, 2, 3]}
+  - {parameter: spin_rate_rpm, logspace: [0.3, 3, 4]}
+  - {parameter: coupling, values: [exact, quasi-rigid]}
+monte_carlo:
+  samples: 2
+  seed: 1
+  parameters:
+    - {parameter: nutation_deg, uniform: [0.5, 2]}
+)"));
+  RunOptions o;
+  o.output = Path("r.h5");
+  ASSERT_TRUE(RunSweep(spec, o).complete);
+  const std::string script = std::string(DEPLOYSIM_SOURCE_DIR) + "/tools/plot_stability_map.py";
+  ASSERT_EQ(Shell("/usr/bin/python3 '" + script + "' '" + Path("r.h5") + "' -o '" +
+                  Path("map.png") + "' --fix coupling=quasi-rigid > '" + Path("log") + "' 2>&1"),
+            0);
+  std::ifstream png(Path("map.png"), std::ios::binary);
+  char magic[8] = {};
+  png.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  EXPECT_GT(std::filesystem::file_size(Path("map.png")), 20000u);
+  // A sweep without two grid axes is refused with a message.
+  const SweepSpec one = LoadSweep(Write("one.yaml", "name: one\nbase: " + SmallsatProfile() +
+                                                        "\ngrid:\n  - {parameter: spin_rate_rpm, "
+                                                        "values: [1, 2]}\n"));
+  o.output = Path("one.h5");
+  ASSERT_TRUE(RunSweep(one, o).complete);
+  EXPECT_NE(Shell("/usr/bin/python3 '" + script + "' '" + Path("one.h5") + "' > '" + Path("log") +
+                  "' 2>&1"),
+            0);
+}
+
+}  // namespace
+}  // namespace deploysim::sweep

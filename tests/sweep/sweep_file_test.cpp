@@ -1,0 +1,334 @@
+// Sweep files (docs/sweeps.md): reading, case numbering, parameter application, the
+// Monte Carlo streams, and the rejection of invalid files (one line naming the file, the
+// key, the value and the rule, as for profiles).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <ostream>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "analysis/mission.h"
+#include "io/yaml_loader.h"
+#include "sweep/rng.h"
+#include "sweep/sweep_file.h"
+#include "sweep/sweep_spec.h"
+#include "sweep_test_support.h"
+
+namespace deploysim::sweep {
+namespace {
+
+using testing::SmallsatProfile;
+using testing::SweepDirTest;
+
+constexpr double kRpm = 2.0 * M_PI / 60.0;
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kTight = 1e-12;  // relative: values that are computed, not measured
+
+std::string Header() {
+  return "name: test\nbase: " + SmallsatProfile() +
+         "\nintegrator: {method: exact, rtol: 1.0e-9, atol: 1.0e-11}\n";
+}
+
+const char* const kGridAndMonteCarlo = R"(
+grid:
+  - {parameter: deploy_duration_scale, values: [0.5, 1, 2]}
+  - {parameter: spin_rate_rpm, linspace: [2, 6, 3]}
+monte_carlo:
+  samples: 4
+  seed: 7
+  parameters:
+    - {parameter: panel_mass_scale, panel: wing_plus_x, normal: {mean: 1, sigma: 0.05, min: 0.8, max: 1.2}}
+    - {parameter: nutation_deg, uniform: [0.5, 3]}
+    - {parameter: law, choice: [smoothstep, minimum-jerk]}
+)";
+
+TEST(RngTest, StreamsArePureFunctionsOfTheirKey) {
+  Rng a(7, 3, 1), b(7, 3, 1), c(7, 4, 1), d(7, 3, 2);
+  for (int k = 0; k < 100; ++k) {
+    const std::uint64_t x = a.NextU64();
+    EXPECT_EQ(x, b.NextU64());
+    EXPECT_NE(x, c.NextU64());
+    EXPECT_NE(x, d.NextU64());
+  }
+  // Moments of the transforms (loose: 20000 draws).
+  Rng r(1, 0, 0);
+  double sum = 0, sum2 = 0;
+  const int n = 20000;
+  for (int k = 0; k < n; ++k) {
+    const double z = r.Normal();
+    sum += z;
+    sum2 += z * z;
+  }
+  EXPECT_NEAR(sum / n, 0.0, 0.03);
+  EXPECT_NEAR(sum2 / n, 1.0, 0.04);
+  std::vector<int> counts(3, 0);
+  for (int k = 0; k < 3000; ++k) ++counts[r.Below(3)];
+  for (int c3 : counts) EXPECT_NEAR(c3, 1000, 120);
+}
+
+TEST_F(SweepDirTest, ReadsGridAndMonteCarlo) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", Header() + kGridAndMonteCarlo));
+  EXPECT_EQ(spec.name, "test");
+  EXPECT_EQ(spec.grid_points(), 9u);
+  EXPECT_EQ(spec.samples(), 4u);
+  EXPECT_EQ(spec.case_count(), 36u);
+  std::vector<std::string> columns;
+  for (const Target& t : spec.targets()) columns.push_back(t.column);
+  EXPECT_EQ(columns, (std::vector<std::string>{"deploy_duration_scale", "spin_rate",
+                                               "panel_mass_scale[wing_plus_x]", "nutation",
+                                               "law"}));
+  EXPECT_EQ(spec.base.integrator.method, "exact");
+  EXPECT_EQ(spec.base.integrator.rtol, 1e-9);
+  ASSERT_EQ(spec.grid[1].values.size(), 3u);
+  EXPECT_NEAR(spec.grid[1].values[1], 4 * kRpm, kTight);
+  EXPECT_EQ(spec.grid[1].values[2], 6 * kRpm);
+
+  // Case 21 = grid point 5 (axis 0 index 1, axis 1 index 2), sample 1.
+  const CaseParameters p = ParametersOf(spec, 21);
+  EXPECT_EQ(p.grid_index, 5u);
+  EXPECT_EQ(p.sample_index, 1u);
+  EXPECT_EQ(p.values[0], 1.0);
+  EXPECT_EQ(p.values[1], 6 * kRpm);
+  // Common random numbers: sample 1 has the same draws at every grid point.
+  const CaseParameters q = ParametersOf(spec, 1);
+  for (std::size_t k = 2; k < 5; ++k) EXPECT_EQ(p.values[k], q.values[k]);
+  // Draws within their bounds.
+  for (std::size_t i = 0; i < spec.case_count(); ++i) {
+    const CaseParameters c = ParametersOf(spec, i);
+    EXPECT_GE(c.values[2], 0.8);
+    EXPECT_LE(c.values[2], 1.2);
+    EXPECT_GE(c.values[3], 0.5 * kDeg);
+    EXPECT_LT(c.values[3], 3 * kDeg);
+    EXPECT_TRUE(c.values[4] == 2.0 || c.values[4] == 3.0);  // smoothstep, minimum-jerk
+  }
+  EXPECT_THROW(ParametersOf(spec, 36), std::out_of_range);
+}
+
+TEST_F(SweepDirTest, ChoicesAreEquallyLikely) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", Header() + R"(
+monte_carlo:
+  samples: 400
+  seed: 3
+  parameters:
+    - {parameter: law, choice: [linear, smoothstep, minimum-jerk]}
+)"));
+  std::vector<int> counts(4, 0);
+  for (std::size_t i = 0; i < spec.case_count(); ++i) {
+    ++counts[static_cast<std::size_t>(ParametersOf(spec, i).values[0])];
+  }
+  EXPECT_EQ(counts[0], 0);  // step is not among the choices
+  for (int k = 1; k < 4; ++k) EXPECT_NEAR(counts[k], 133, 40) << k;
+}
+
+TEST_F(SweepDirTest, CaseProfilesApplyTheParameters) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", Header() + kGridAndMonteCarlo));
+  const schedule::Profile& base = spec.base;
+  for (std::size_t i : {0u, 21u, 35u}) {
+    const Case c = BuildCase(spec, i);
+    const std::vector<double>& v = c.parameters.values;
+    const schedule::Profile& p = c.profile;
+    // Timing: move stages scaled, holds kept, stages contiguous from 0.
+    ASSERT_EQ(p.stages.size(), base.stages.size());
+    EXPECT_EQ(p.stages[0].t_begin, 0.0);
+    for (std::size_t k = 0; k < p.stages.size(); ++k) {
+      const double d0 = base.stages[k].t_end - base.stages[k].t_begin;
+      const double d = p.stages[k].t_end - p.stages[k].t_begin;
+      EXPECT_NEAR(d, base.stages[k].is_hold() ? d0 : d0 * v[0], kTight * 600) << "stage " << k;
+      if (k > 0) {
+        EXPECT_EQ(p.stages[k].t_begin, p.stages[k - 1].t_end);
+        if (!p.stages[k].is_hold()) {
+          EXPECT_EQ(schedule::ToString(p.stages[k].law),
+                    CategoriesOf(Parameter::kLaw)[static_cast<std::size_t>(v[4])]);
+        }
+      }
+    }
+    // Model: wing_plus_x mass scaled, the other wing kept.
+    EXPECT_NEAR(p.model.hinged.panels[0].body.mass, 6.0 * v[2], kTight);
+    EXPECT_EQ(p.model.hinged.panels[1].body.mass, 6.0);
+    // Initial state: spin rate about s and nutation of H_B from s.
+    const dynamics::InertiaSample s0 = c.schedule->Evaluate(0.0);
+    ASSERT_TRUE(p.initial.H_B.has_value());
+    EXPECT_FALSE(p.initial.w_NB_B.has_value());
+    const math::Vec3 H = *p.initial.H_B;
+    const math::Vec3 w = s0.J_inv_B * H;
+    EXPECT_NEAR(w.dot(c.spin_axis_B), v[1], kTight * v[1]);
+    EXPECT_NEAR(std::acos(H.normalized().dot(c.spin_axis_B)), v[3], 1e-9);
+    // The spin axis is body y (the smallsat spins about y).
+    EXPECT_NEAR(c.spin_axis_B.y(), 1.0, kTight);
+  }
+}
+
+TEST_F(SweepDirTest, StageDurationAndCouplingAndAzimuth) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", Header() + R"(
+grid:
+  - {parameter: stage_duration, stage: full deploy, values: [5, 40]}
+  - {parameter: coupling, values: [quasi-rigid, exact]}
+  - {parameter: nutation_azimuth_deg, values: [0, 90]}
+)"));
+  EXPECT_EQ(spec.case_count(), 8u);
+  EXPECT_EQ(spec.targets()[0].column, "stage_duration[3]");
+  const Case a = BuildCase(spec, 0);  // 5 s, quasi-rigid, azimuth 0
+  const Case b = BuildCase(spec, 7);  // 40 s, exact, azimuth 90
+  EXPECT_EQ(a.profile.stages[3].t_end - a.profile.stages[3].t_begin, 5.0);
+  EXPECT_EQ(b.profile.stages[3].t_end - b.profile.stages[3].t_begin, 40.0);
+  EXPECT_EQ(a.profile.stages[4].t_end - a.profile.stages[4].t_begin, 440.0);  // hold kept
+  EXPECT_EQ(a.profile.coupling, schedule::Coupling::kQuasiRigid);
+  EXPECT_EQ(b.profile.coupling, schedule::Coupling::kExact);
+  // Azimuth turns the transverse momentum about s by 90 deg, keeping the nutation.
+  const math::Vec3 s = a.spin_axis_B;
+  const math::Vec3 ta = *a.profile.initial.H_B - a.profile.initial.H_B->dot(s) * s;
+  const math::Vec3 tb = *b.profile.initial.H_B - b.profile.initial.H_B->dot(s) * s;
+  EXPECT_NEAR(ta.normalized().dot(tb.normalized()), 0.0, 1e-12);
+  EXPECT_NEAR(ta.norm(), tb.norm(), 1e-12 * ta.norm());
+}
+
+TEST_F(SweepDirTest, LogspaceEndpointsAreExact) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", Header() + R"(
+grid:
+  - {parameter: deploy_duration_scale, logspace: [0.1, 3, 5]}
+)"));
+  ASSERT_EQ(spec.grid[0].values.size(), 5u);
+  EXPECT_EQ(spec.grid[0].values.front(), 0.1);
+  EXPECT_EQ(spec.grid[0].values.back(), 3.0);
+  EXPECT_NEAR(spec.grid[0].values[2], std::sqrt(0.3), 1e-15);
+}
+
+TEST_F(SweepDirTest, TheExampleSweepLoads) {
+  const SweepSpec spec =
+      LoadSweep(std::string(DEPLOYSIM_SOURCE_DIR) + "/sweeps/smallsat_duration_spin.yaml");
+  EXPECT_EQ(spec.case_count(), 480u);
+  EXPECT_EQ(spec.grid.size(), 2u);
+}
+
+struct BadSweep {
+  const char* name;
+  std::string body;       // appended to the header (or the whole file if `whole`)
+  std::string expected;   // substring of the message after "<file>: "
+  bool whole = false;
+};
+
+// Test names show the case's name, not its bytes.
+void PrintTo(const BadSweep& bad, std::ostream* os) { *os << bad.name; }
+
+class BadSweepTest : public SweepDirTest, public ::testing::WithParamInterface<BadSweep> {};
+
+TEST_P(BadSweepTest, IsRejectedWithOneLine) {
+  const BadSweep& bad = GetParam();
+  const std::string path =
+      Write("bad.yaml", bad.whole ? bad.body : Header() + bad.body);
+  std::string message;
+  try {
+    (void)LoadSweep(path);
+    FAIL() << "accepted: " << bad.name;
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
+  EXPECT_NE(message.find(bad.expected), std::string::npos)
+      << "expected '" << bad.expected << "' in: " << message;
+  // Nothing was written next to the file.
+  EXPECT_EQ(Entries(), std::vector<std::string>{"bad.yaml"});
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Corpus, BadSweepTest,
+    ::testing::Values(
+        BadSweep{"UnknownTopKey", "grids: []\n", "grids = []: unknown key (allowed: name,"},
+        BadSweep{"MissingName", "base: " + SmallsatProfile() + "\ngrid: []\n",
+                 "name: required key is missing", true},
+        BadSweep{"MissingBase", "name: t\ngrid: []\n", "base: required key is missing", true},
+        BadSweep{"BaseNotFound", "name: t\nbase: nope.yaml\n", "base = nope.yaml: cannot read",
+                 true},
+        BadSweep{"NoAxes", "", "grid: required key is missing: a sweep needs a grid, monte_carlo"},
+        BadSweep{"UnknownParameter", "grid:\n  - {parameter: spin, values: [1]}\n",
+                 "grid[0].parameter = spin: unknown parameter (valid: deploy_duration_scale"},
+        BadSweep{"NegativeSpin", "grid:\n  - {parameter: spin_rate_rpm, values: [1, 2, -3]}\n",
+                 "grid[0].values[2] = -3: spin_rate_rpm must be > 0 [rpm]"},
+        BadSweep{"QuotedNumber", "grid:\n  - {parameter: spin_rate_rpm, values: [\"2\"]}\n",
+                 "grid[0].values[0] = \"2\": expected a number, not a quoted string"},
+        BadSweep{"LinspaceLength", "grid:\n  - {parameter: spin_rate_rpm, linspace: [1, 2]}\n",
+                 "grid[0].linspace = [1, 2]: must be [first, last, count]"},
+        BadSweep{"LinspaceCount",
+                 "grid:\n  - {parameter: spin_rate_rpm, linspace: [1, 2, 2.5]}\n",
+                 "grid[0].linspace[2] = 2.5: must be an integer in [2, "},
+        BadSweep{"ValuesAndLinspace",
+                 "grid:\n  - {parameter: spin_rate_rpm, values: [1], linspace: [1, 2, 3]}\n",
+                 "grid[0] = {parameter: spin_rate_rpm, values: [1], linspace: [1, 2, 3]}: exactly "
+                 "one of values, linspace, logspace"},
+        BadSweep{"LogspaceZero",
+                 "grid:\n  - {parameter: nutation_deg, logspace: [0, 2, 3]}\n",
+                 "grid[0].logspace = [0, 2, 3]: logspace needs first and last > 0"},
+        BadSweep{"StageDurationWithoutStage",
+                 "grid:\n  - {parameter: stage_duration, values: [10]}\n",
+                 "grid[0].stage: required key is missing"},
+        BadSweep{"UnknownStage",
+                 "grid:\n  - {parameter: stage_duration, stage: nope, values: [10]}\n",
+                 "grid[0].stage = nope: no stage of that name"},
+        BadSweep{"StageIndexOutOfRange",
+                 "grid:\n  - {parameter: stage_duration, stage: 5, values: [10]}\n",
+                 "grid[0].stage = 5: a stage index must be in [0, 5)"},
+        BadSweep{"LawOnHold", "grid:\n  - {parameter: law, stage: 0, values: [linear]}\n",
+                 "grid[0].stage = 0: stage 0 of"},
+        BadSweep{"UnknownLaw", "grid:\n  - {parameter: law, values: [linear, cubic]}\n",
+                 "grid[0].values[1] = cubic: unknown law (valid: step, linear, smoothstep, "
+                 "minimum-jerk)"},
+        BadSweep{"UnknownPanel",
+                 "grid:\n  - {parameter: panel_mass_scale, panel: wing_z, values: [1]}\n",
+                 "grid[0].panel = wing_z: no panel of that name (panels: wing_plus_x, "
+                 "wing_minus_x)"},
+        BadSweep{"QualifierNotUsed",
+                 "grid:\n  - {parameter: spin_rate, stage: 1, values: [1]}\n",
+                 "grid[0].stage = 1: not used by parameter spin_rate"},
+        BadSweep{"InertiaScaleOnHingedModel",
+                 "grid:\n  - {parameter: inertia_scale, values: [1]}\n",
+                 "grid[0].parameter = inertia_scale: inertia_scale needs a tensors model"},
+        BadSweep{"SameColumnTwice",
+                 "grid:\n  - {parameter: spin_rate, values: [1]}\n"
+                 "  - {parameter: spin_rate_rpm, values: [5]}\n",
+                 "grid[1].parameter = spin_rate_rpm: sets column spin_rate again (already set "
+                 "by grid[0])"},
+        BadSweep{"NutationTooLarge", "grid:\n  - {parameter: nutation_deg, values: [90]}\n",
+                 "grid[0].values[0] = 90: nutation_deg must be in [0, 90) [deg]"},
+        BadSweep{"ZeroSamples",
+                 "monte_carlo: {samples: 0, seed: 1, parameters: [{parameter: nutation_deg, "
+                 "uniform: [0, 1]}]}\n",
+                 "monte_carlo.samples = 0: must be an integer in [1, "},
+        BadSweep{"FractionalSeed",
+                 "monte_carlo: {samples: 2, seed: 1.5, parameters: [{parameter: nutation_deg, "
+                 "uniform: [0, 1]}]}\n",
+                 "monte_carlo.seed = 1.5: must be an integer in [0, 2^53]"},
+        BadSweep{"NormalWithoutMin",
+                 "monte_carlo: {samples: 2, seed: 1, parameters: [{parameter: panel_mass_scale, "
+                 "normal: {mean: 1, sigma: 0.1}}]}\n",
+                 "monte_carlo.parameters[0].normal.min: required key is missing: a normal "
+                 "distribution of panel_mass_scale needs a truncation bound min"},
+        BadSweep{"UniformReversed",
+                 "monte_carlo: {samples: 2, seed: 1, parameters: [{parameter: nutation_deg, "
+                 "uniform: [2, 1]}]}\n",
+                 "monte_carlo.parameters[0].uniform = [2, 1]: low must be < high"},
+        BadSweep{"CategoricalUniform",
+                 "monte_carlo: {samples: 2, seed: 1, parameters: [{parameter: coupling, "
+                 "uniform: [0, 1]}]}\n",
+                 "monte_carlo.parameters[0].uniform = [0, 1]: coupling is categorical: use "
+                 "choice"},
+        BadSweep{"InvalidCase", "grid:\n  - {parameter: law, values: [minimum-jerk, step]}\n",
+                 "case 1 {law=step}: "},
+        BadSweep{"UnknownMethod",
+                 "name: t\nbase: " + SmallsatProfile() +
+                     "\nintegrator: {method: rk5}\ngrid:\n  - {parameter: spin_rate, values: "
+                     "[1]}\n",
+                 "integrator.method = rk5: unknown integrator (valid: ", true},
+        BadSweep{"TumbleAngle",
+                 "grid:\n  - {parameter: spin_rate, values: [1]}\noutcome: {tumble_angle_deg: "
+                 "0}\n",
+                 "outcome.tumble_angle_deg = 0: must be in (0, 90) [deg]"},
+        BadSweep{"YamlSyntax", "grid: [\n", "YAML syntax error"}),
+    [](const ::testing::TestParamInfo<BadSweep>& param) { return std::string(param.param.name); });
+
+}  // namespace
+}  // namespace deploysim::sweep
