@@ -76,7 +76,9 @@ void PrintRows(const char* title,
                const std::vector<Measured>& simbody,
                const std::vector<Measured>& ours) {
   std::printf("\n%s\n\n", title);
-  std::printf("| Simbody run | Simbody error | Simbody [s] | matched deploysim run | deploysim error | deploysim [ms] | speed-up |\n");
+  std::printf(
+      "| Simbody run | Simbody error | Simbody [s] | matched deploysim run | deploysim error | "
+      "deploysim [ms] | speed-up |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   for (const Measured& s : simbody) {
     for (bool numerical_only : {false, true}) {
@@ -116,7 +118,8 @@ int main(int argc, char** argv) {
     const std::vector<double> grid = integrators::UniformGrid(0.0, 40.0, 1.0);
     auto error_of = [&](const std::vector<double>& t, const std::vector<math::Vec3>& H) {
       double e = 0;
-      for (std::size_t i = 0; i < t.size(); ++i) e = std::max(e, (H[i] - exact.H_B(t[i])).norm() / M);
+      for (std::size_t i = 0; i < t.size(); ++i)
+        e = std::max(e, (H[i] - exact.H_B(t[i])).norm() / M);
       return e;
     };
     std::vector<Measured> simbody;
@@ -129,7 +132,8 @@ int main(int argc, char** argv) {
       o.locate_flips = false;
       const auto t0 = std::chrono::steady_clock::now();
       const crosscheck::SimbodyRun run = crosscheck::RunSimbodyPrescribed(p, grid, spin, o);
-      const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double sec =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       char label[64];
       std::snprintf(label, sizeof label, "Free body, accuracy %g", a);
       simbody.push_back({label, error_of(run.trajectory.time, run.trajectory.H_B), sec});
@@ -137,15 +141,20 @@ int main(int argc, char** argv) {
     std::vector<Measured> ours;
     const dynamics::ConstantInertia source(J);
     const integrators::State s0{0.0, H0, math::Quat::Identity()};
-    for (const auto& [method, rtol] : std::vector<std::pair<std::string, double>>{
-             {"rkf78", 1e-6}, {"rkf78", 1e-8}, {"rkf78", 1e-10}, {"rkf78", 1e-12},
-             {"rkmk-rkf78", 1e-8}, {"rkmk-rkf78", 1e-10}, {"exact", 1e-12}}) {
+    for (const auto& [method, rtol] :
+         std::vector<std::pair<std::string, double>>{{"rkf78", 1e-6},
+                                                     {"rkf78", 1e-8},
+                                                     {"rkf78", 1e-10},
+                                                     {"rkf78", 1e-12},
+                                                     {"rkmk-rkf78", 1e-8},
+                                                     {"rkmk-rkf78", 1e-10},
+                                                     {"exact", 1e-12}}) {
       integrators::IntegratorSettings st;
       st.tolerances = {rtol, rtol * 1e-2};
       const auto stepper = analysis::MakeStepper(method);
       integrators::IntegrationResult r;
-      const double sec = BestTime(
-          [&] { r = integrators::Integrate(*stepper, st, source, s0, 40.0, grid); }, 0.2);
+      const double sec =
+          BestTime([&] { r = integrators::Integrate(*stepper, st, source, s0, 40.0, grid); }, 0.2);
       std::vector<double> t;
       std::vector<math::Vec3> H;
       for (const auto& y : r.samples) {
@@ -160,8 +169,10 @@ int main(int argc, char** argv) {
       ours.push_back({method == "exact" ? std::string("exact (closed form)") : label,
                       method == "exact" ? kClosedFormError : error_of(t, H), sec});
     }
-    PrintRows("A. Wing nut, free rigid body, 40 s (11 flips), output every 1 s; error: max |H_B - closed form| / |H|",
-              simbody, ours);
+    PrintRows(
+        "A. Wing nut, free rigid body, 40 s (11 flips), output every 1 s; error: max |H_B - closed "
+        "form| / |H|",
+        simbody, ours);
   }
 
   // ---- B. small satellite deployment, 300 s ----
@@ -189,15 +200,21 @@ int main(int argc, char** argv) {
       o.locate_flips = false;
       const auto t0 = std::chrono::steady_clock::now();
       const crosscheck::SimbodyRun run = crosscheck::RunSimbodyPrescribed(p, grid, spin, o);
-      const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double sec =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       char label[64];
       std::snprintf(label, sizeof label, "hinged, accuracy %g", a);
       simbody.push_back({label, (run.trajectory.H_B.back() - H_ref).norm() / M, sec});
     }
     std::vector<Measured> ours;
-    for (const auto& [method, rtol] : std::vector<std::pair<std::string, double>>{
-             {"exact", 1e-6}, {"exact", 1e-8}, {"exact", 1e-10}, {"exact", 1e-11},
-             {"rkmk-rkf78", 1e-8}, {"rkmk-rkf78", 1e-10}, {"rkf78", 1e-10}}) {
+    for (const auto& [method, rtol] :
+         std::vector<std::pair<std::string, double>>{{"exact", 1e-6},
+                                                     {"exact", 1e-8},
+                                                     {"exact", 1e-10},
+                                                     {"exact", 1e-11},
+                                                     {"rkmk-rkf78", 1e-8},
+                                                     {"rkmk-rkf78", 1e-10},
+                                                     {"rkf78", 1e-10}}) {
       integrators::IntegratorSettings st;
       st.tolerances = {rtol, rtol * 1e-2};
       const auto stepper = analysis::MakeStepper(method);
@@ -208,8 +225,10 @@ int main(int argc, char** argv) {
       std::snprintf(label, sizeof label, "%s rtol %g", method.c_str(), rtol);
       ours.push_back({label, std::max((r.samples.back().H_B - H_ref).norm() / M, 1e-16), sec});
     }
-    PrintRows("B. Small satellite, wings deployed in two stages, 300 s (2 flips), exact coupling; error: |H_B(300 s) - reference| / |H|",
-              simbody, ours);
+    PrintRows(
+        "B. Small satellite, wings deployed in two stages, 300 s (2 flips), exact coupling; error: "
+        "|H_B(300 s) - reference| / |H|",
+        simbody, ours);
   }
   std::printf("\ntargets: A >= 10,000x, B >= 1,000x at matched accuracy\n");
   return 0;

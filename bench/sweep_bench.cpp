@@ -43,8 +43,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace deploysim;
 
-constexpr double kTargetRate = 2000.0;      // [simulations/s] on 2 cores
-constexpr double kTargetEfficiency = 0.9;   // at 2 workers
+constexpr double kTargetRate = 2000.0;     // [simulations/s] on 2 cores
+constexpr double kTargetEfficiency = 0.9;  // at 2 workers
 
 std::string CpuModel() {
   std::ifstream f("/proc/cpuinfo");
@@ -153,16 +153,20 @@ Row TimeSweep(const sweep::SweepSpec& spec, const fs::path& dir, int threads, in
 
 /// 2 MPI ranks x 1 thread, through mpiexec running this program as the worker; the
 /// wall time is rank 0's RunSweep (MPI start-up excluded), read from its output.
-bool TimeMpi(const std::string& sweep_path, const fs::path& dir, const char* self, int repeats,
-             std::size_t cases, Row& best) {
+bool TimeMpi(const std::string& sweep_path,
+             const fs::path& dir,
+             const char* self,
+             int repeats,
+             std::size_t cases,
+             Row& best) {
   if (!sweep::MpiBuilt() || sweep::MpiExecutable().empty()) return false;
   for (int r = 0; r < repeats; ++r) {
     const fs::path out = dir / "bench_mpi.h5";
     const fs::path log = dir / "mpi.log";
-    const std::string cmd = "'" + sweep::MpiExecutable() +
-                            "' --allow-run-as-root --oversubscribe -np 2 --mca btl self,vader,tcp '" +
-                            self + "' --mpi-worker '" + sweep_path + "' '" + out.string() +
-                            "' > '" + log.string() + "' 2>&1";
+    const std::string cmd =
+        "'" + sweep::MpiExecutable() +
+        "' --allow-run-as-root --oversubscribe -np 2 --mca btl self,vader,tcp '" + self +
+        "' --mpi-worker '" + sweep_path + "' '" + out.string() + "' > '" + log.string() + "' 2>&1";
     const int status = std::system(cmd.c_str());
     std::ifstream f(log);
     std::string line;
@@ -249,16 +253,18 @@ int main(int argc, char** argv) {
     }
   }
   const fs::path root = FindRoot(root_arg, argv[0]);
-  const fs::path dir = fs::temp_directory_path() / ("deploysim_sweep_bench." + std::to_string(getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("deploysim_sweep_bench." + std::to_string(getpid()));
   fs::create_directories(dir);
   const std::string sweep_path = WriteSweep(dir, root, cases);
   const sweep::SweepSpec spec = sweep::LoadSweep(sweep_path);
   const int repeats = quick ? 2 : 3;
   const std::string load_before = LoadAverage();
 
-  std::printf("deploysim sweep throughput: smallsat wing deployment, 300 s per simulation, exact "
-              "coupling, method exact, rtol 1e-9, atol 1e-11; %zu cases\n",
-              spec.case_count());
+  std::printf(
+      "deploysim sweep throughput: smallsat wing deployment, 300 s per simulation, exact "
+      "coupling, method exact, rtol 1e-9, atol 1e-11; %zu cases\n",
+      spec.case_count());
   std::printf("machine: %s, %u hardware threads; load average (1, 5, 15 min) before: %s\n\n",
               CpuModel().c_str(), std::thread::hardware_concurrency(), load_before.c_str());
 
@@ -307,16 +313,19 @@ int main(int argc, char** argv) {
       "worker / with N (1.0: the workers do not slow each other down; the wall-clock figure\n"
       "also counts time the OS gave to other processes). serial: share of the wall time\n"
       "outside the worker phase (journal setup, HDF5 results).\n\n");
-  std::printf("lean sweep path vs mission pipeline (1 thread): %.1fx\n", one.rate() / rows[0].rate());
-  std::printf("target >= %.0f simulations/s on 2 cores: %s (%.0f/s, %.2fx the target)\n", kTargetRate,
-              two.rate() >= kTargetRate ? "met" : "MISSED", two.rate(), two.rate() / kTargetRate);
-  std::printf("target parallel efficiency >= %.2f at 2 threads: %s (%.2f wall clock, %.2f CPU time)%s\n",
-              kTargetEfficiency, eff >= kTargetEfficiency ? "met" : "MISSED", eff, work_eff,
-              two.cpu_use() < 0.95 ? ("; the 2-thread run had only " +
-                                      std::to_string(static_cast<int>(100 * two.cpu_use())) +
-                                      "% of 2 cores: the machine is shared")
-                                         .c_str()
-                                   : "");
+  std::printf("lean sweep path vs mission pipeline (1 thread): %.1fx\n",
+              one.rate() / rows[0].rate());
+  std::printf("target >= %.0f simulations/s on 2 cores: %s (%.0f/s, %.2fx the target)\n",
+              kTargetRate, two.rate() >= kTargetRate ? "met" : "MISSED", two.rate(),
+              two.rate() / kTargetRate);
+  std::printf(
+      "target parallel efficiency >= %.2f at 2 threads: %s (%.2f wall clock, %.2f CPU time)%s\n",
+      kTargetEfficiency, eff >= kTargetEfficiency ? "met" : "MISSED", eff, work_eff,
+      two.cpu_use() < 0.95 ? ("; the 2-thread run had only " +
+                              std::to_string(static_cast<int>(100 * two.cpu_use())) +
+                              "% of 2 cores: the machine is shared")
+                                 .c_str()
+                           : "");
   if (have_mpi) {
     std::printf("2 MPI ranks: %.0f simulations/s, efficiency %.2f\n", mpi.rate(),
                 mpi.rate() / (2.0 * one.rate()));

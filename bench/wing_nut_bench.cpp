@@ -72,14 +72,17 @@ std::vector<math::Vec3> LongDoubleReference(const math::Vec3& I,
     d[2] = H[0] * w1 - H[1] * w0;
   };
   namespace ode = boost::numeric::odeint;
-  auto stepper = ode::make_controlled(1e-19L, 1e-19L, ode::runge_kutta_fehlberg78<LState, long double>());
+  auto stepper =
+      ode::make_controlled(1e-19L, 1e-19L, ode::runge_kutta_fehlberg78<LState, long double>());
   LState y{H0[0], H0[1], H0[2]};
   std::vector<math::Vec3> out;
   long double t = 0;
   for (double target : times) {
-    if (target > t) ode::integrate_adaptive(stepper, f, y, t, static_cast<long double>(target), 1e-4L);
+    if (target > t)
+      ode::integrate_adaptive(stepper, f, y, t, static_cast<long double>(target), 1e-4L);
     t = target;
-    out.emplace_back(static_cast<double>(y[0]), static_cast<double>(y[1]), static_cast<double>(y[2]));
+    out.emplace_back(static_cast<double>(y[0]), static_cast<double>(y[1]),
+                     static_cast<double>(y[2]));
   }
   return out;
 }
@@ -90,21 +93,22 @@ std::vector<math::Vec3> LongDoubleReference(const math::Vec3& I,
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const double min_seconds = quick ? 0.05 : 0.3;
-  const auto J = math::InertiaTensor::FromPrincipalMoments(math::Vec3(3.036e-6, 2.741e-6, 0.699e-6));
+  const auto J =
+      math::InertiaTensor::FromPrincipalMoments(math::Vec3(3.036e-6, 2.741e-6, 0.699e-6));
   deploysim::dynamics::ConstantInertia source(J);
   const State s0{0.0, math::Vec3(1e-8, 2.1252e-5, 1e-8), math::Quat::Identity()};
   const FreeBodySolution exact(J, s0.H_B, s0.q_NB, 0.0);
   const double M = s0.H_B.norm();
 
   std::vector<Config> configs = {
-      {"thesis-euler", 2e-5, 0}, {"thesis-euler", 2e-4, 0},                         //
-      {"rk4", 1e-3, 0},          {"rk4", 1e-4, 0},                                  //
-      {"rkmk4", 1e-3, 0},        {"rkmk4", 1e-4, 0},                                //
-      {"dopri5", 0, 1e-8},       {"dopri5", 0, 1e-10},     {"dopri5", 0, 1e-12},    //
-      {"rkf78", 0, 1e-8},        {"rkf78", 0, 1e-10},      {"rkf78", 0, 1e-12},     //
-      {"rkf78", 0, 1e-13},                                                          //
-      {"rkmk-dopri5", 0, 1e-10}, {"rkmk-dopri5", 0, 1e-12},                         //
-      {"rkmk-rkf78", 0, 1e-8},   {"rkmk-rkf78", 0, 1e-10}, {"rkmk-rkf78", 0, 1e-12},//
+      {"thesis-euler", 2e-5, 0}, {"thesis-euler", 2e-4, 0},                            //
+      {"rk4", 1e-3, 0},          {"rk4", 1e-4, 0},                                     //
+      {"rkmk4", 1e-3, 0},        {"rkmk4", 1e-4, 0},                                   //
+      {"dopri5", 0, 1e-8},       {"dopri5", 0, 1e-10},      {"dopri5", 0, 1e-12},      //
+      {"rkf78", 0, 1e-8},        {"rkf78", 0, 1e-10},       {"rkf78", 0, 1e-12},       //
+      {"rkf78", 0, 1e-13},                                                             //
+      {"rkmk-dopri5", 0, 1e-10}, {"rkmk-dopri5", 0, 1e-12},                            //
+      {"rkmk-rkf78", 0, 1e-8},   {"rkmk-rkf78", 0, 1e-10},  {"rkmk-rkf78", 0, 1e-12},  //
       {"rkmk-rkf78", 0, 1e-13},  {"exact", 0, 1e-12}};
 
   // Accuracy of the closed form itself, against the long-double reference.
@@ -130,7 +134,8 @@ int main(int argc, char** argv) {
       r.err_H = std::max(r.err_H, (y.H_B - exact.H_B(y.t)).norm() / M);
       r.err_att = std::max(r.err_att, math::AngleBetween(y.q_NB, exact.q_NB(y.t)));
     };
-    const auto acc = deploysim::integrators::Integrate(*stepper, st, source, s0, kHorizon, {}, {}, observer);
+    const auto acc =
+        deploysim::integrators::Integrate(*stepper, st, source, s0, kHorizon, {}, {}, observer);
     r.steps = acc.stats.steps;
     r.evals = acc.stats.evaluations;
     // Timing runs: no observer, no output; best of repetitions.
@@ -139,8 +144,10 @@ int main(int argc, char** argv) {
     while (total < min_seconds || reps < 3) {
       const auto t0 = std::chrono::steady_clock::now();
       const auto res = deploysim::integrators::Integrate(*stepper, st, source, s0, kHorizon);
-      const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      if (res.final_state.t != kHorizon) std::fprintf(stderr, "%s did not finish\n", c.method.c_str());
+      const double dt =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (res.final_state.t != kHorizon)
+        std::fprintf(stderr, "%s did not finish\n", c.method.c_str());
       best = std::min(best, dt);
       total += dt;
       ++reps;
@@ -151,21 +158,30 @@ int main(int argc, char** argv) {
   }
 
   const double base = rows.front().seconds;
-  std::printf("Wing nut, 40 s, J = (3.036, 2.741, 0.699)e-6 kg m^2, H_B(0) = (1e-8, 2.1252e-5, 1e-8)\n");
-  std::printf("Machine: %s, %u hardware threads; errors against the analytic solution at every step\n\n",
-              CpuModel().c_str(), std::thread::hardware_concurrency());
-  std::printf("| method | step / rtol | max rel err H_B | max attitude err [rad] | steps | rhs evals | wall time [ms] | speed-up vs thesis-euler h=2e-5 |\n");
+  std::printf(
+      "Wing nut, 40 s, J = (3.036, 2.741, 0.699)e-6 kg m^2, H_B(0) = (1e-8, 2.1252e-5, 1e-8)\n");
+  std::printf(
+      "Machine: %s, %u hardware threads; errors against the analytic solution at every step\n\n",
+      CpuModel().c_str(), std::thread::hardware_concurrency());
+  std::printf(
+      "| method | step / rtol | max rel err H_B | max attitude err [rad] | steps | rhs evals | "
+      "wall time [ms] | speed-up vs thesis-euler h=2e-5 |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     char setting[32];
-    if (r.c.method == "exact") std::snprintf(setting, sizeof setting, "closed form");
-    else if (r.c.step > 0) std::snprintf(setting, sizeof setting, "h = %g s", r.c.step);
-    else std::snprintf(setting, sizeof setting, "rtol = %g", r.c.rtol);
-    std::printf("| %s | %s | %.2e | %.2e | %ld | %ld | %.4g | %.4g |\n", r.c.method.c_str(), setting,
-                r.err_H, r.err_att, r.steps, r.evals, r.seconds * 1e3, base / r.seconds);
+    if (r.c.method == "exact")
+      std::snprintf(setting, sizeof setting, "closed form");
+    else if (r.c.step > 0)
+      std::snprintf(setting, sizeof setting, "h = %g s", r.c.step);
+    else
+      std::snprintf(setting, sizeof setting, "rtol = %g", r.c.rtol);
+    std::printf("| %s | %s | %.2e | %.2e | %ld | %ld | %.4g | %.4g |\n", r.c.method.c_str(),
+                setting, r.err_H, r.err_att, r.steps, r.evals, r.seconds * 1e3, base / r.seconds);
   }
-  std::printf("\nThe errors are measured against the closed-form solution; the exact row is that solution\n"
-              "itself, whose own max error over a 0.01 s grid against a long-double Fehlberg 7(8)\n"
-              "integration (tolerance 1e-19) is %.2e.\n", exact_vs_ld);
+  std::printf(
+      "\nThe errors are measured against the closed-form solution; the exact row is that solution\n"
+      "itself, whose own max error over a 0.01 s grid against a long-double Fehlberg 7(8)\n"
+      "integration (tolerance 1e-19) is %.2e.\n",
+      exact_vs_ld);
   return 0;
 }

@@ -88,7 +88,8 @@ std::unique_ptr<integrators::Stepper> MakeStepper(const std::string& name) {
 integrators::EventFunction FlipEvent(const math::InertiaTensor& J_B) {
   const math::PrincipalAxes p = J_B.Principal();
   const double spread = p.moments[2] - p.moments[0];
-  if (!(p.moments[1] - p.moments[0] > 1e-12 * spread && p.moments[2] - p.moments[1] > 1e-12 * spread)) {
+  if (!(p.moments[1] - p.moments[0] > 1e-12 * spread &&
+        p.moments[2] - p.moments[1] > 1e-12 * spread)) {
     throw std::invalid_argument(
         "flip event: two principal moments are equal, so there is no intermediate axis "
         "and no Dzhanibekov flip");

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "analysis/free_body_solution.h"
 #include "integrators/integrate.h"
 #include "integrators/stepper.h"
-#include "analysis/free_body_solution.h"
 #include "math/inertia.h"
 
 namespace deploysim::analysis {
@@ -35,8 +35,7 @@ class ExactFlowStepper final : public integrators::Stepper {
                                 const integrators::Tolerances& tol) const override;
   /// An eighth of the period of H_B on rigid segments, so that every flip (every half
   /// period) is seen by the event detection; the fallback's limit elsewhere.
-  double MaxStep(const integrators::Problem& problem,
-                 const integrators::State& y) const override;
+  double MaxStep(const integrators::Problem& problem, const integrators::State& y) const override;
 
  private:
   /// The solution of the rigid segment that starts at `begin`, if y lies on it.

@@ -54,19 +54,20 @@ SpinAxisRole LocateSpinAxis(const math::Mat3& J_B, const math::Vec3& spin_axis_B
 struct StageReport {
   int index = 0;
   std::string name;
-  std::string law;             ///< "hold" or the law's name.
+  std::string law;  ///< "hold" or the law's name.
   double t_begin = 0.0;
   double t_end = 0.0;
-  bool rigid = false;          ///< J constant and h_rel = 0 over the stage.
-  math::Vec3 moments_end = math::Vec3::Zero();  ///< Principal moments at the stage end [kg m^2].
+  bool rigid = false;                              ///< J constant and h_rel = 0 over the stage.
+  math::Vec3 moments_end = math::Vec3::Zero();     ///< Principal moments at the stage end [kg m^2].
   AxisRole spin_axis_end = AxisRole::kDegenerate;  ///< Role of the spin axis in J at the stage end.
-  std::string regime;          ///< Rigid stages: the analytic regime (FreeBodySolution).
-  double one_minus_k2 = 0.0;   ///< Rigid stages: complementary parameter (0 on the separatrix).
-  double separatrix_distance = 0.0;  ///< (D - I2)/(I3 - I1): 0 on the separatrix, < 0 minor-axis side.
+  std::string regime;         ///< Rigid stages: the analytic regime (FreeBodySolution).
+  double one_minus_k2 = 0.0;  ///< Rigid stages: complementary parameter (0 on the separatrix).
+  double separatrix_distance =
+      0.0;  ///< (D - I2)/(I3 - I1): 0 on the separatrix, < 0 minor-axis side.
   double predicted_flip_half_period = 0.0;  ///< [s] rigid stages; +inf when no flips.
   std::vector<double> predicted_flips;      ///< [s] analytic flip times within the stage.
   std::vector<double> observed_flips;       ///< [s] located by the integrator within the stage.
-  double max_flip_time_difference = 0.0;   ///< [s] |observed - predicted| where both exist.
+  double max_flip_time_difference = 0.0;    ///< [s] |observed - predicted| where both exist.
 };
 
 /// A time interval in which the spin is about the intermediate axis (flips possible).
@@ -78,15 +79,15 @@ struct DangerWindow {
 struct MissionResult {
   schedule::Profile profile;
   Trajectory trajectory;
-  std::vector<double> flip_times;   ///< [s] located flips: sign changes of H_B along the
-                                    ///< spin axis while it is the intermediate axis.
+  std::vector<double> flip_times;  ///< [s] located flips: sign changes of H_B along the
+                                   ///< spin axis while it is the intermediate axis.
   math::Vec3 spin_axis_B = math::Vec3::Zero();  ///< InitialSpinAxis of the run.
   std::vector<StageReport> stages;
   std::vector<DangerWindow> danger_windows;
   integrators::Statistics stats;
   integrators::Termination termination = integrators::Termination::kReachedEnd;
   std::string message;
-  double max_h_N_drift = 0.0;       ///< max |h_N(t) - h_N(0)| / |h_N(0)| over the output grid.
+  double max_h_N_drift = 0.0;  ///< max |h_N(t) - h_N(0)| / |h_N(0)| over the output grid.
   double wall_seconds = 0.0;
 };
 

@@ -1,9 +1,8 @@
 // deploysim: the command-line front end. Parses, runs, reports; the only place that
 // catches exceptions (one line on stderr, non-zero exit).
 
-#include <unistd.h>
-
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -100,22 +99,29 @@ int main(int argc, char** argv) {
       "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml -o smallsat_cc.h5\n"
       "  deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5\n"
       "  deploysim methods\n"
-      "File formats: docs/file_formats.md. Plots: /usr/bin/python3 tools/plot_trajectory.py OUT.h5");
+      "File formats: docs/file_formats.md. Plots: /usr/bin/python3 tools/plot_trajectory.py "
+      "OUT.h5");
 
   std::string profile_path, out_path;
   bool csv = false, quiet = false, json = false, compare = false;
   Overrides ov;
 
-  CLI::App* sim = app.add_subcommand("simulate", "run a deployment profile and write its trajectory (HDF5)");
+  CLI::App* sim =
+      app.add_subcommand("simulate", "run a deployment profile and write its trajectory (HDF5)");
   sim->add_option("profile", profile_path, "deployment profile (YAML)")->required();
-  sim->add_option("-o,--output", out_path, "output HDF5 file (default: <profile stem>.h5 in the current folder)");
+  sim->add_option("-o,--output", out_path,
+                  "output HDF5 file (default: <profile stem>.h5 in the current folder)");
   sim->add_flag("--csv", csv, "also write <output>.csv");
   sim->add_flag("-q,--quiet", quiet, "no progress bar and no summary");
-  sim->add_flag("--compare-coupling", compare, "also run the other coupling and report the difference (geometry mode)");
+  sim->add_flag("--compare-coupling", compare,
+                "also run the other coupling and report the difference (geometry mode)");
   AddOverrideOptions(sim, ov);
-  sim->footer("Example: deploysim simulate deployment_profiles/wing_nut.yaml -o wing_nut.h5 --method rkf78 --rtol 1e-12");
+  sim->footer(
+      "Example: deploysim simulate deployment_profiles/wing_nut.yaml -o wing_nut.h5 --method rkf78 "
+      "--rtol 1e-12");
 
-  CLI::App* ana = app.add_subcommand("analyze", "stability per stage, predicted flips, danger windows");
+  CLI::App* ana =
+      app.add_subcommand("analyze", "stability per stage, predicted flips, danger windows");
   ana->add_option("profile", profile_path, "deployment profile (YAML)")->required();
   ana->add_flag("--json", json, "print JSON instead of the table");
   AddOverrideOptions(ana, ov);
@@ -133,7 +139,8 @@ int main(int argc, char** argv) {
                  "output HDF5 file (default: <profile stem>_crosscheck.h5 in the current folder)");
   cc->add_option("--accuracy", cc_accuracy, "Simbody Runge-Kutta-Merson accuracy (default 1e-12)")
       ->check(CLI::Range(1e-16, 0.1));
-  cc->add_option("--until", cc_until, "stop at this time [s] (inside a hold stage or on a stage end)");
+  cc->add_option("--until", cc_until,
+                 "stop at this time [s] (inside a hold stage or on a stage end)");
   cc->add_option("--dt", ov.dt, "output sampling interval [s]");
   cc->add_flag("--speed-study", speed_study,
                "also run the deployment-speed study: quasi-rigid coupling vs Simbody for "
@@ -153,13 +160,15 @@ int main(int argc, char** argv) {
   int sweep_threads = 0;
   bool resume = false;
   CLI::App* swp = app.add_subcommand(
-      "sweep", "run a parameter sweep (grid and/or Monte Carlo) and write one results table (HDF5)");
+      "sweep",
+      "run a parameter sweep (grid and/or Monte Carlo) and write one results table (HDF5)");
   swp->add_option("sweep", sweep_path, "sweep file (YAML, docs/sweeps.md)")->required();
   swp->add_option("-o,--output", out_path, "results HDF5 file")->required();
   swp->add_option("--threads", sweep_threads,
                   "worker threads (default: all hardware threads; per rank under mpirun)")
       ->check(CLI::NonNegativeNumber);
-  swp->add_flag("--resume", resume, "finish an interrupted sweep from its journal <output>.partial");
+  swp->add_flag("--resume", resume,
+                "finish an interrupted sweep from its journal <output>.partial");
   swp->add_flag("--csv", csv, "also write <output>.csv");
   swp->add_flag("-q,--quiet", quiet, "no progress and no summary");
   swp->footer(
@@ -180,9 +189,9 @@ int main(int argc, char** argv) {
     if (meth->parsed()) {
       for (const std::string& name : deploysim::analysis::StepperNames()) {
         const auto s = deploysim::analysis::MakeStepper(name);
-        std::cout << fmt::format("{:<13} {}\n{:<13} order {}{}; {}\n", name, s->info().summary, "",
-                                 s->info().order, s->info().adaptive ? ", adaptive" : ", fixed step",
-                                 s->info().reference);
+        std::cout << fmt::format(
+            "{:<13} {}\n{:<13} order {}{}; {}\n", name, s->info().summary, "", s->info().order,
+            s->info().adaptive ? ", adaptive" : ", fixed step", s->info().reference);
       }
       return 0;
     }
@@ -223,8 +232,9 @@ int main(int argc, char** argv) {
       if (!quiet) {
         std::cout << deploysim::cli::FormatSummary(r);
         if (compare && geometry) {
-          std::cout << "\n" << deploysim::cli::FormatCouplingComparison(
-                                   deploysim::analysis::CompareCouplings(profile));
+          std::cout << "\n"
+                    << deploysim::cli::FormatCouplingComparison(
+                           deploysim::analysis::CompareCouplings(profile));
         }
         std::cout << "\nwrote " << out_path << (csv ? " and " + out_path + ".csv" : "") << "\n";
       }
@@ -250,7 +260,8 @@ int main(int argc, char** argv) {
         const xc::SpeedStudyResult st = xc::SpeedStudy(profile, so);
         if (speed_csv.empty()) speed_csv = stem + "_speed_study.csv";
         xc::WriteSpeedStudyCsv(speed_csv, st);
-        std::cout << "\n" << xc::FormatSpeedStudyTable(st) << "\nwrote " << speed_csv
+        std::cout << "\n"
+                  << xc::FormatSpeedStudyTable(st) << "\nwrote " << speed_csv
                   << " (plot: /usr/bin/python3 tools/plot_speed_study.py " << speed_csv << ")\n";
       }
       return 0;

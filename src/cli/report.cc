@@ -49,11 +49,12 @@ std::string FormatSummary(const analysis::MissionResult& r) {
   o += fmt::format("deploysim analysis of '{}' ({}; model '{}', mode {}, coupling {})\n", p.name,
                    p.source, p.model.name, schedule::ToString(p.mode),
                    schedule::ToString(p.coupling));
-  o += fmt::format("integrator {}: {} steps, {} rejected, {} rhs evaluations, {:.3g} s wall; {}\n\n",
-                   p.integrator.method, r.stats.steps, r.stats.rejected, r.stats.evaluations,
-                   r.wall_seconds, r.message);
-  o += fmt::format("{:>2}  {:<18} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>12} {:>14} {:>9}\n", "#",
-                   "stage", "law", "t0 [s]", "t1 [s]", "spin axis", "regime", "1-k^2",
+  o +=
+      fmt::format("integrator {}: {} steps, {} rejected, {} rhs evaluations, {:.3g} s wall; {}\n\n",
+                  p.integrator.method, r.stats.steps, r.stats.rejected, r.stats.evaluations,
+                  r.wall_seconds, r.message);
+  o += fmt::format("{:>2}  {:<18} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>12} {:>14} {:>9}\n",
+                   "#", "stage", "law", "t0 [s]", "t1 [s]", "spin axis", "regime", "1-k^2",
                    "sep. dist.", "flip every [s]", "flips");
   for (const auto& s : r.stages) {
     const std::string flips =
@@ -80,7 +81,8 @@ std::string FormatSummary(const analysis::MissionResult& r) {
     o += "danger windows (spin axis = intermediate axis): none\n";
   } else {
     o += "danger windows (spin axis = intermediate axis):";
-    for (const auto& w : r.danger_windows) o += fmt::format(" [{}, {}] s", Num(w.t_begin), Num(w.t_end));
+    for (const auto& w : r.danger_windows)
+      o += fmt::format(" [{}, {}] s", Num(w.t_begin), Num(w.t_end));
     o += "\n";
   }
   o += fmt::format("invariants: max |h_N(t) - h_N(0)|/|h_N| = {}\n", Num(r.max_h_N_drift));

@@ -80,7 +80,8 @@ void WriteCrosscheckFile(const std::string& path, const CrosscheckResult& r) {
   Quats(w, "/simbody/q_NB", sb.q_NB);
   Scalars(w, "/simbody/flip_time", r.simbody.flip_times, "s", "located Dzhanibekov flips");
   if (p.mode == schedule::Mode::kGeometry) {
-    Rows(w, "/simbody/hinge_angles", sb.hinge_angles, "rad", "pin coordinates, one column per panel");
+    Rows(w, "/simbody/hinge_angles", sb.hinge_angles, "rad",
+         "pin coordinates, one column per panel");
     Rows(w, "/simbody/hinge_rates", sb.hinge_rates, "rad/s", "pin speeds, one column per panel");
   }
 
@@ -99,9 +100,9 @@ void WriteCrosscheckFile(const std::string& path, const CrosscheckResult& r) {
   w.Attribute("/", "profile_source", p.source);
   w.Attribute("/", "profile_text", p.text);
   w.Attribute("/", "accuracy", Num(r.accuracy));
-  w.Attribute("/", "reduced_integrator",
-              p.integrator.method + " rtol=" + Num(p.integrator.rtol) +
-                  " atol=" + Num(p.integrator.atol));
+  w.Attribute(
+      "/", "reduced_integrator",
+      p.integrator.method + " rtol=" + Num(p.integrator.rtol) + " atol=" + Num(p.integrator.atol));
   w.Attribute("/", "max_H_B_relative_difference", Num(r.difference.max_H_B_relative));
   w.Attribute("/", "max_attitude_difference", Num(r.difference.max_attitude));
   w.Attribute("/", "max_w_difference", Num(r.difference.max_w));

@@ -14,8 +14,7 @@ std::vector<double> InertiaSource::Breakpoints(double /*t0*/, double /*t1*/) con
 bool InertiaSource::IsRigidOn(double /*t0*/, double /*t1*/) const { return false; }
 
 ConstantInertia::ConstantInertia(const math::InertiaTensor& J_B)
-    : J_B_(J_B),
-      sample_{J_B.matrix(), math::Mat3::Zero(), math::Vec3::Zero(), J_B.inverse()} {}
+    : J_B_(J_B), sample_{J_B.matrix(), math::Mat3::Zero(), math::Vec3::Zero(), J_B.inverse()} {}
 
 InertiaSample ConstantInertia::Evaluate(double /*t*/, Side /*side*/) const { return sample_; }
 

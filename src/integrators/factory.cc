@@ -20,8 +20,8 @@ std::unique_ptr<Stepper> MakeNumericalStepper(const std::string& name) {
                                                "classic fourth-order Runge-Kutta, fixed step");
   }
   if (name == "dopri5") {
-    return std::make_unique<ExplicitRkStepper>(
-        DormandPrince54(), name, "Dormand-Prince 5(4), adaptive, on (H_B, q_NB)");
+    return std::make_unique<ExplicitRkStepper>(DormandPrince54(), name,
+                                               "Dormand-Prince 5(4), adaptive, on (H_B, q_NB)");
   }
   if (name == "rkf78") {
     return std::make_unique<ExplicitRkStepper>(Fehlberg78(), name,
@@ -36,8 +36,8 @@ std::unique_ptr<Stepper> MakeNumericalStepper(const std::string& name) {
         DormandPrince54(), name, "Runge-Kutta-Munthe-Kaas with Dormand-Prince 5(4), adaptive");
   }
   if (name == "rkmk-rkf78") {
-    return std::make_unique<RkmkStepper>(
-        Fehlberg78(), name, "Runge-Kutta-Munthe-Kaas with Fehlberg 7(8), adaptive");
+    return std::make_unique<RkmkStepper>(Fehlberg78(), name,
+                                         "Runge-Kutta-Munthe-Kaas with Fehlberg 7(8), adaptive");
   }
   if (name == "split4") return std::make_unique<SplittingStepper>();
   std::string list;

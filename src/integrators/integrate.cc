@@ -40,9 +40,9 @@ void ValidateSettings(const StepperInfo& info, const IntegratorSettings& s) {
     r.precision(17);
     r << "integrator " << info.name << ": rtol = " << s.tolerances.rtol
       << " (rule: 1e-16 <= rtol < 1)";
-    Require(std::isfinite(s.tolerances.rtol) && s.tolerances.rtol >= 1e-16 &&
-                s.tolerances.rtol < 1.0,
-            r.str());
+    Require(
+        std::isfinite(s.tolerances.rtol) && s.tolerances.rtol >= 1e-16 && s.tolerances.rtol < 1.0,
+        r.str());
     std::ostringstream a;
     a.precision(17);
     a << "integrator " << info.name << ": atol = " << s.tolerances.atol
@@ -98,8 +98,10 @@ std::vector<double> UniformGrid(double t0, double t_end, double dt) {
   std::vector<double> grid;
   grid.reserve(static_cast<std::size_t>(n) + 2);
   for (std::int64_t i = 0; i <= n; ++i) grid.push_back(t0 + static_cast<double>(i) * dt);
-  if (t_end - grid.back() > kTimeEps * std::max(1.0, std::abs(t_end))) grid.push_back(t_end);
-  else grid.back() = t_end;
+  if (t_end - grid.back() > kTimeEps * std::max(1.0, std::abs(t_end)))
+    grid.push_back(t_end);
+  else
+    grid.back() = t_end;
   return grid;
 }
 
@@ -123,9 +125,9 @@ IntegrationResult Integrate(const Stepper& stepper,
   Require(std::isfinite(t_end) && t_end > initial.t, "end time must be finite and > start time");
   Require(std::is_sorted(output_times.begin(), output_times.end()),
           "output times must be ascending");
-  Require(output_times.empty() ||
-              (output_times.front() >= initial.t && output_times.back() <= t_end),
-          "output times must lie within [t0, t_end]");
+  Require(
+      output_times.empty() || (output_times.front() >= initial.t && output_times.back() <= t_end),
+      "output times must lie within [t0, t_end]");
 
   State y = initial;
   y.q_NB.normalize();
@@ -194,9 +196,9 @@ IntegrationResult Integrate(const Stepper& stepper,
         const double err = att.error_norm;
         if (!std::isfinite(err) || err > 1.0) {
           ++result.stats.rejected;
-          const double shrink =
-              std::isfinite(err) ? std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1)))
-                                 : kMinShrink;
+          const double shrink = std::isfinite(err)
+                                    ? std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1)))
+                                    : kMinShrink;
           h_adapt = h * shrink;
           if (h_adapt < 1e-14 * std::max(1.0, std::abs(y.t))) {
             result.termination = Termination::kStepSizeUnderflow;
@@ -208,8 +210,9 @@ IntegrationResult Integrate(const Stepper& stepper,
           continue;
         }
         const double grow =
-            err == 0.0 ? kMaxGrow
-                       : std::min(kMaxGrow, std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1))));
+            err == 0.0
+                ? kMaxGrow
+                : std::min(kMaxGrow, std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1))));
         // Do not let the short last step of a segment shrink the next segment's steps.
         if (!last || grow * h > h_adapt) h_adapt = h * grow;
       }

@@ -37,17 +37,17 @@ struct EventFunction {
 };
 
 struct Event {
-  double t = 0.0;      ///< [s] located time of the sign change.
-  int index = 0;       ///< Which event function.
-  int direction = 0;   ///< +1: g rose through 0; -1: g fell through 0.
-  State state;         ///< State at the event (dense output).
+  double t = 0.0;     ///< [s] located time of the sign change.
+  int index = 0;      ///< Which event function.
+  int direction = 0;  ///< +1: g rose through 0; -1: g fell through 0.
+  State state;        ///< State at the event (dense output).
 };
 
 struct Statistics {
-  long steps = 0;         ///< Accepted steps.
-  long rejected = 0;      ///< Rejected step attempts.
-  long evaluations = 0;   ///< Right-hand-side (inertia source) evaluations, dense output included.
-  long dense_steps = 0;   ///< Partial steps taken for output samples and event location.
+  long steps = 0;        ///< Accepted steps.
+  long rejected = 0;     ///< Rejected step attempts.
+  long evaluations = 0;  ///< Right-hand-side (inertia source) evaluations, dense output included.
+  long dense_steps = 0;  ///< Partial steps taken for output samples and event location.
 };
 
 enum class Termination { kReachedEnd, kMaxSteps, kStepSizeUnderflow, kNonFinite };
@@ -59,7 +59,7 @@ struct IntegrationResult {
   State final_state;
   Statistics stats;
   Termination termination = Termination::kReachedEnd;
-  std::string message;         ///< Why it stopped, for the user.
+  std::string message;  ///< Why it stopped, for the user.
 };
 
 /// Called after every accepted step with the new state.

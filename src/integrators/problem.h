@@ -15,6 +15,10 @@ struct State {
   /// Compensated-summation carry of H_B (Kahan): the rounding error of the last
   /// update, added back in the next one by the vector-space steppers. Zero elsewhere.
   math::Vec3 H_B_carry = math::Vec3::Zero();
+  /// The Lie-group steppers' carry of the attitude: the true attitude is
+  /// q_NB * Exp(attitude_carry), the rounding error of the last update (~1e-16 rad),
+  /// computed in extended precision and folded into the next step. Zero elsewhere.
+  math::Vec3 attitude_carry = math::Vec3::Zero();
 };
 
 /// The source of J(t), h_rel(t) plus what is fixed for a whole run: the inertial

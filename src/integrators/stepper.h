@@ -28,13 +28,13 @@ struct StepAttempt {
 };
 
 struct StepperInfo {
-  std::string name;       ///< Key used in profiles and on the CLI, e.g. "rkmk-rkf78".
-  std::string summary;    ///< One line: what the method is.
-  std::string reference;  ///< Citation of the tableau or method.
-  int order = 0;          ///< Order of the propagated solution.
-  int error_order = 0;    ///< Order of the embedded solution (0: no error estimate).
-  bool adaptive = false;  ///< Has an embedded error estimate and is run with step control.
-  bool lie_group = false; ///< Advances q_NB on SO(3); H_B = R_NB^T h_N exactly.
+  std::string name;        ///< Key used in profiles and on the CLI, e.g. "rkmk-rkf78".
+  std::string summary;     ///< One line: what the method is.
+  std::string reference;   ///< Citation of the tableau or method.
+  int order = 0;           ///< Order of the propagated solution.
+  int error_order = 0;     ///< Order of the embedded solution (0: no error estimate).
+  bool adaptive = false;   ///< Has an embedded error estimate and is run with step control.
+  bool lie_group = false;  ///< Advances q_NB on SO(3); H_B = R_NB^T h_N exactly.
 };
 
 class Stepper {

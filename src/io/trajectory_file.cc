@@ -173,33 +173,33 @@ void WriteContents(Hdf5Writer& w, const analysis::MissionResult& r) {
 
   w.Doubles("/time", {n}, t.time, "s", "output grid");
   w.Doubles("/H_B", {n, 3}, Flatten(t.H_B), "kg m^2/s",
-               "total angular momentum about the system centre of mass, body (B) components");
+            "total angular momentum about the system centre of mass, body (B) components");
   w.Doubles("/w_NB_B", {n, 3}, Flatten(t.w_NB_B), "rad/s",
-               "angular velocity of B in N, B components");
+            "angular velocity of B in N, B components");
   w.Doubles("/q_NB", {n, 4}, FlattenWxyz(t.q_NB), "1",
-               "attitude quaternion q_NB (v_N = q_NB v_B), Hamilton, scalar first (w, x, y, z)");
+            "attitude quaternion q_NB (v_N = q_NB v_B), Hamilton, scalar first (w, x, y, z)");
   w.Doubles("/J_B", {n, 3, 3}, FlattenRowMajor(t.J_B), "kg m^2",
-               "inertia tensor about the system centre of mass, B components; J_B[n][i][j]");
+            "inertia tensor about the system centre of mass, B components; J_B[n][i][j]");
   w.Doubles("/principal_moments", {n, 3}, Flatten(t.principal_moments), "kg m^2",
-               "eigenvalues of J_B, ascending");
+            "eigenvalues of J_B, ascending");
   w.Doubles("/h_rel_B", {n, 3}, Flatten(t.h_rel_B), "kg m^2/s",
-               "momentum of the panels' motion relative to B, B components");
+            "momentum of the panels' motion relative to B, B components");
   w.Doubles("/h_N", {n, 3}, Flatten(t.h_N), "kg m^2/s",
-               "total angular momentum, inertial (N) components (constant in exact arithmetic)");
+            "total angular momentum, inertial (N) components (constant in exact arithmetic)");
   w.Doubles("/energy", {n}, t.energy, "J", "rotational kinetic energy 1/2 w.J w");
   w.Doubles("/euler_313", {n, 3}, Flatten(t.euler_313), "rad",
-               "3-1-3 Euler angles (precession, nutation, spin) of B relative to a frame whose "
-               "third axis is h_N");
+            "3-1-3 Euler angles (precession, nutation, spin) of B relative to a frame whose "
+            "third axis is h_N");
   w.Doubles("/spin_axis_angle", {n}, t.spin_axis_angle, "rad",
-               "angle between the initial spin axis (fixed in B) and h_N");
+            "angle between the initial spin axis (fixed in B) and h_N");
   const std::size_t panels = HingeColumns(r);
   if (r.profile.mode == schedule::Mode::kGeometry) {
     w.Doubles("/hinge_angles", {n, panels}, FlattenRows(t.hinge_angles), "rad",
-                 "hinge angle of each panel, in panel order (geometry mode)");
+              "hinge angle of each panel, in panel order (geometry mode)");
   }
 
   w.Doubles("/events/flip_time", {r.flip_times.size()}, r.flip_times, "s",
-               "sign changes of the momentum along the intermediate principal axis");
+            "sign changes of the momentum along the intermediate principal axis");
   WriteStageTable(w, r.profile);
 
   const schedule::Profile& p = r.profile;

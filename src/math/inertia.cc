@@ -25,8 +25,8 @@ std::string Format(const Mat3& J) {
 
 PrincipalAxes PrincipalDecomposition(const Mat3& J) {
   PrincipalAxes p;
-  const bool diagonal = J(0, 1) == 0.0 && J(0, 2) == 0.0 && J(1, 2) == 0.0 &&
-                        J(1, 0) == 0.0 && J(2, 0) == 0.0 && J(2, 1) == 0.0;
+  const bool diagonal = J(0, 1) == 0.0 && J(0, 2) == 0.0 && J(1, 2) == 0.0 && J(1, 0) == 0.0 &&
+                        J(2, 0) == 0.0 && J(2, 1) == 0.0;
   if (diagonal) {
     std::array<int, 3> idx{0, 1, 2};
     std::stable_sort(idx.begin(), idx.end(), [&](int a, int b) { return J(a, a) < J(b, b); });
@@ -53,15 +53,15 @@ std::string InertiaTensor::Check(const Mat3& J, const std::string& what) {
   const double asym = (J - J.transpose()).cwiseAbs().maxCoeff();
   if (scale == 0.0) return what + " is zero (rule: positive definite)";
   if (asym > kRelTolerance * scale) {
-    os << what << " = " << Format(J) << " is not symmetric: max |J - J^T| = " << asym
-       << " > " << kRelTolerance << " * max|J| (rule: symmetric)";
+    os << what << " = " << Format(J) << " is not symmetric: max |J - J^T| = " << asym << " > "
+       << kRelTolerance << " * max|J| (rule: symmetric)";
     return os.str();
   }
   const Mat3 S = 0.5 * (J + J.transpose());
   const Vec3 m = PrincipalDecomposition(S).moments;
   if (!(m[0] > 0.0)) {
-    os << what << " = " << Format(J) << " has principal moments (" << m[0] << ", " << m[1]
-       << ", " << m[2] << "); all must be > 0 (rule: positive definite)";
+    os << what << " = " << Format(J) << " has principal moments (" << m[0] << ", " << m[1] << ", "
+       << m[2] << "); all must be > 0 (rule: positive definite)";
     return os.str();
   }
   // Ascending order: the only triangle inequality that can fail is m0 + m1 >= m2.

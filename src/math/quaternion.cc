@@ -36,8 +36,6 @@ Vec3 LogQuat(const Quat& q_in) {
   return (2.0 * std::atan2(s, q.w()) / s) * v;
 }
 
-double AngleBetween(const Quat& q1, const Quat& q2) {
-  return LogQuat(q1.conjugate() * q2).norm();
-}
+double AngleBetween(const Quat& q1, const Quat& q2) { return LogQuat(q1.conjugate() * q2).norm(); }
 
 }  // namespace deploysim::math

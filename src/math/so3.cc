@@ -20,8 +20,7 @@ Mat3 Hat(const Vec3& v) {
 }
 
 Vec3 Vee(const Mat3& W) {
-  return Vec3(0.5 * (W(2, 1) - W(1, 2)), 0.5 * (W(0, 2) - W(2, 0)),
-              0.5 * (W(1, 0) - W(0, 1)));
+  return Vec3(0.5 * (W(2, 1) - W(1, 2)), 0.5 * (W(0, 2) - W(2, 0)), 0.5 * (W(1, 0) - W(0, 1)));
 }
 
 Mat3 ExpSO3(const Vec3& phi) {

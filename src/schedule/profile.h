@@ -36,7 +36,7 @@ struct Stage {
   /// Configuration at t_begin. Required on the first stage; on later stages it must equal
   /// the previous stage's `to`, or be empty (meaning exactly that).
   std::string from;
-  std::string to;    ///< Configuration at t_end (== from for a hold).
+  std::string to;  ///< Configuration at t_end (== from for a hold).
   Law law = Law::kStep;
   double t_begin = 0.0;  ///< [s]
   double t_end = 0.0;    ///< [s] > t_begin.
@@ -53,15 +53,15 @@ struct InitialState {
 
 struct IntegratorSpec {
   std::string method = "rkmk-rkf78";
-  double step = 0.0;   ///< [s] fixed step, or initial step of adaptive methods (0: automatic).
+  double step = 0.0;  ///< [s] fixed step, or initial step of adaptive methods (0: automatic).
   double rtol = 1e-10;
-  double atol = 1e-12; ///< Relative to |H_B(0)|.
+  double atol = 1e-12;  ///< Relative to |H_B(0)|.
   double max_step = 1e300;
 };
 
 struct OutputSpec {
-  double dt = 0.1;     ///< [s] output sampling interval.
-  bool csv = false;    ///< Also write a CSV next to the HDF5 file.
+  double dt = 0.1;   ///< [s] output sampling interval.
+  bool csv = false;  ///< Also write a CSV next to the HDF5 file.
 };
 
 struct Profile {

@@ -160,7 +160,8 @@ std::vector<CaseRecord> DecodeRecords(const std::vector<char>& bytes) {
     const char* rec = bytes.data() + pos;
     std::uint64_t sum;
     std::memcpy(&sum, rec + rs - sizeof(sum), sizeof(sum));
-    if (Fnv1a(rec, rs - sizeof(sum)) != sum) throw std::runtime_error("sweep records: bad checksum");
+    if (Fnv1a(rec, rs - sizeof(sum)) != sum)
+      throw std::runtime_error("sweep records: bad checksum");
     Reader r(rec);
     const auto index = r.Get<std::uint64_t>();
     out.emplace_back(static_cast<std::size_t>(index), GetOutcome(r));
@@ -208,9 +209,10 @@ JournalContents ReadJournal(const std::string& path,
   if (file_fingerprint != fingerprint || file_cases != case_count ||
       record_size != JournalRecordSize()) {
     throw std::runtime_error(
-        path + ": the journal belongs to another sweep (the sweep file, its base profile or "
-               "model, or the journal layout changed since it was written): delete it to "
-               "start the sweep afresh");
+        path +
+        ": the journal belongs to another sweep (the sweep file, its base profile or "
+        "model, or the journal layout changed since it was written): delete it to "
+        "start the sweep afresh");
   }
   const std::size_t rs = JournalRecordSize();
   std::size_t pos = kHeaderSize;

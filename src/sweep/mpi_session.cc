@@ -112,8 +112,8 @@ std::vector<char> MpiSession::GatherToRoot(const std::vector<char>& local) const
       if (total > INT32_MAX) throw std::runtime_error("MPI gather: more than 2 GiB of results");
       all.resize(static_cast<std::size_t>(total));
     }
-    Check(MPI_Gatherv(local.data(), n, MPI_CHAR, all.data(), counts.data(), displs.data(),
-                      MPI_CHAR, 0, MPI_COMM_WORLD),
+    Check(MPI_Gatherv(local.data(), n, MPI_CHAR, all.data(), counts.data(), displs.data(), MPI_CHAR,
+                      0, MPI_COMM_WORLD),
           "MPI_Gatherv");
     return all;
   }

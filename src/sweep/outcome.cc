@@ -73,7 +73,10 @@ class AngleTracker {
                std::vector<double> breakpoints,
                const math::Vec3& s,
                const integrators::State& y0)
-      : sched_(sched), cache_(cache), breakpoints_(std::move(breakpoints)), s_(s),
+      : sched_(sched),
+        cache_(cache),
+        breakpoints_(std::move(breakpoints)),
+        s_(s),
         M_(y0.H_B.norm()) {
     prev_ = Point(y0);
     min_f_ = prev_.f;
@@ -130,8 +133,8 @@ class AngleTracker {
     std::uintmax_t iterations = kMaxRootIterations;
     const double tol = kRootRelTolerance * (b.state.t - a.state.t);
     const auto bracket = boost::math::tools::toms748_solve(
-        g, a.state.t, b.state.t, ga, gb,
-        [tol](double lo, double hi) { return hi - lo <= tol; }, iterations);
+        g, a.state.t, b.state.t, ga, gb, [tol](double lo, double hi) { return hi - lo <= tol; },
+        iterations);
     const double t = 0.5 * (bracket.first + bracket.second);
     return s_.dot(sol.H_B(t)) / M_;
   }
@@ -198,13 +201,15 @@ FinalMotion ClassifyFinal(const math::Mat3& J_B, const math::Vec3& H_B, double t
   switch (sol.regime()) {
     case analysis::Regime::kMinorAxis: {
       circulation = 0;
-      const double h1min2 = h[0] * h[0] - h[2] * h[2] * I[0] * (I[2] - I[1]) / (I[2] * (I[1] - I[0]));
+      const double h1min2 =
+          h[0] * h[0] - h[2] * h[2] * I[0] * (I[2] - I[1]) / (I[2] * (I[1] - I[0]));
       f.cone = std::acos(std::clamp(std::sqrt(std::max(h1min2, 0.0)) / M, 0.0, 1.0));
       break;
     }
     case analysis::Regime::kMajorAxis: {
       circulation = 2;
-      const double h3min2 = h[2] * h[2] - h[0] * h[0] * I[2] * (I[1] - I[0]) / (I[0] * (I[2] - I[1]));
+      const double h3min2 =
+          h[2] * h[2] - h[0] * h[0] * I[2] * (I[1] - I[0]) / (I[0] * (I[2] - I[1]));
       f.cone = std::acos(std::clamp(std::sqrt(std::max(h3min2, 0.0)) / M, 0.0, 1.0));
       break;
     }
@@ -297,19 +302,19 @@ CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings) {
   out.energy_initial = Energy(s0, y0.H_B);
 
   CachedSchedule cache(sched);
-  integrators::EventFunction flip{"flip", [&cache, s](const integrators::State& y) {
-                                    return y.H_B.dot(
-                                        analysis::LocateSpinAxis(cache.At(y.t).J_B, s).axis_B);
-                                  }};
+  integrators::EventFunction flip{
+      "flip", [&cache, s](const integrators::State& y) {
+        return y.H_B.dot(analysis::LocateSpinAxis(cache.At(y.t).J_B, s).axis_B);
+      }};
   const auto stepper = analysis::MakeStepper(p.integrator.method);
   integrators::IntegratorSettings is;
   is.step = p.integrator.step;
   is.tolerances = {p.integrator.rtol, p.integrator.atol};
   is.max_step = p.integrator.max_step;
   AngleTracker tracker(sched, cache, sched.Breakpoints(t0, t1), s, y0);
-  const integrators::IntegrationResult run = integrators::Integrate(
-      *stepper, is, sched, y0, t1, {}, {flip},
-      [&tracker](const integrators::State& y) { tracker.Step(y); });
+  const integrators::IntegrationResult run =
+      integrators::Integrate(*stepper, is, sched, y0, t1, {}, {flip},
+                             [&tracker](const integrators::State& y) { tracker.Step(y); });
 
   out.termination = run.termination;
   out.steps = run.stats.steps;

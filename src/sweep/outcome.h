@@ -45,23 +45,23 @@ std::string ToString(MotionClass c);
 struct CaseOutcome {
   integrators::Termination termination = integrators::Termination::kReachedEnd;
   std::int64_t flip_count = 0;
-  double first_flip_time = 0.0;       ///< [s] NaN when there is no flip.
-  double max_spin_axis_angle = 0.0;   ///< [rad] largest angle between s and h_N.
-  double final_spin_axis_angle = 0.0; ///< [rad] at t_end.
+  double first_flip_time = 0.0;        ///< [s] NaN when there is no flip.
+  double max_spin_axis_angle = 0.0;    ///< [rad] largest angle between s and h_N.
+  double final_spin_axis_angle = 0.0;  ///< [rad] at t_end.
   MotionClass final_class = MotionClass::kFailed;
   /// Body axis nearest the final circulation axis, signed along the momentum:
   /// 0..2 = +x, +y, +z; 3..5 = -x, -y, -z.
   std::int32_t final_axis = 0;
-  std::int32_t final_regime = 0;      ///< analysis::Regime as an integer.
-  double final_cone_angle = 0.0;      ///< [rad] half-angle of the final momentum cone.
-  double energy_initial = 0.0;        ///< [J] 1/2 w.J w at t0.
-  double energy_final = 0.0;          ///< [J] at t_end.
-  double deploy_end_time = 0.0;       ///< [s] end of the last move stage (t0 if none).
-  double deploy_duration = 0.0;       ///< [s] total duration of the move stages.
-  double end_time = 0.0;              ///< [s] t_end of the case.
-  std::int64_t steps = 0;             ///< Accepted integrator steps.
-  std::int64_t rejected = 0;          ///< Rejected step attempts.
-  double run_time = 0.0;              ///< [s] wall time of the case (not deterministic).
+  std::int32_t final_regime = 0;  ///< analysis::Regime as an integer.
+  double final_cone_angle = 0.0;  ///< [rad] half-angle of the final momentum cone.
+  double energy_initial = 0.0;    ///< [J] 1/2 w.J w at t0.
+  double energy_final = 0.0;      ///< [J] at t_end.
+  double deploy_end_time = 0.0;   ///< [s] end of the last move stage (t0 if none).
+  double deploy_duration = 0.0;   ///< [s] total duration of the move stages.
+  double end_time = 0.0;          ///< [s] t_end of the case.
+  std::int64_t steps = 0;         ///< Accepted integrator steps.
+  std::int64_t rejected = 0;      ///< Rejected step attempts.
+  double run_time = 0.0;          ///< [s] wall time of the case (not deterministic).
 };
 
 /// "+x", "+y", "+z", "-x", "-y", "-z".

@@ -44,12 +44,13 @@ std::string ProgressReporter::Line(std::size_t done, double elapsed) const {
   const std::size_t computed = done - std::min(done, already_done_);
   const double rate = elapsed > 0.0 ? static_cast<double>(computed) / elapsed : 0.0;
   const double left = rate > 0.0 ? static_cast<double>(total_ - done) / rate : NAN;
-  const double fraction = total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
+  const double fraction =
+      total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
   char buf[256];
   if (tty_) {
     const int filled = static_cast<int>(fraction * kBarWidth);
-    std::snprintf(buf, sizeof(buf), "%s [%s%s] %3d%% %zu/%zu  %.0f cases/s  ETA %s",
-                  label_.c_str(), std::string(static_cast<std::size_t>(filled), '#').c_str(),
+    std::snprintf(buf, sizeof(buf), "%s [%s%s] %3d%% %zu/%zu  %.0f cases/s  ETA %s", label_.c_str(),
+                  std::string(static_cast<std::size_t>(filled), '#').c_str(),
                   std::string(static_cast<std::size_t>(kBarWidth - filled), '.').c_str(),
                   static_cast<int>(fraction * 100), done, total_, rate,
                   FormatDuration(left).c_str());
@@ -68,7 +69,8 @@ void ProgressReporter::Update(std::size_t done) {
   last_print_ = elapsed;
   const std::string line = Line(done, elapsed);
   if (tty_) {
-    out_ << '\r' << line << std::string(bar_width_ > line.size() ? bar_width_ - line.size() : 0, ' ');
+    out_ << '\r' << line
+         << std::string(bar_width_ > line.size() ? bar_width_ - line.size() : 0, ' ');
     bar_width_ = line.size();
   } else {
     out_ << line << '\n';
@@ -83,11 +85,11 @@ void ProgressReporter::Finish(std::size_t done, bool complete) {
   const double rate = elapsed > 0.0 ? static_cast<double>(computed) / elapsed : 0.0;
   if (tty_ && bar_width_ > 0) out_ << '\r' << std::string(bar_width_, ' ') << '\r';
   char buf[256];
-  std::snprintf(buf, sizeof(buf), "%s: %zu/%zu cases %s (%zu computed in %s, %.0f cases/s%s)",
-                label_.c_str(), done, total_, complete ? "done" : "finished, interrupted",
-                computed, FormatDuration(elapsed).c_str(), rate,
-                already_done_ > 0 ? (", " + std::to_string(already_done_) + " resumed").c_str()
-                                  : "");
+  std::snprintf(
+      buf, sizeof(buf), "%s: %zu/%zu cases %s (%zu computed in %s, %.0f cases/s%s)", label_.c_str(),
+      done, total_, complete ? "done" : "finished, interrupted", computed,
+      FormatDuration(elapsed).c_str(), rate,
+      already_done_ > 0 ? (", " + std::to_string(already_done_) + " resumed").c_str() : "");
   out_ << buf << '\n';
   out_.flush();
 }

@@ -46,7 +46,10 @@ std::string Join(const std::vector<std::string>& v) {
   return s;
 }
 
-Column Make(std::string name, std::string units, std::string description, std::string role,
+Column Make(std::string name,
+            std::string units,
+            std::string description,
+            std::string role,
             ColumnType type) {
   Column c;
   c.name = std::move(name);
@@ -64,12 +67,13 @@ std::vector<Column> BuildColumns(const SweepSpec& spec, const std::vector<CaseOu
                                 " outcomes for " + std::to_string(n) + " cases");
   }
   std::vector<Column> cols;
-  cols.push_back(Make("case_index", "1", "case number i (grid point i / samples, sample i % samples)",
-                      "index", ColumnType::kInt));
+  cols.push_back(Make("case_index", "1",
+                      "case number i (grid point i / samples, sample i % samples)", "index",
+                      ColumnType::kInt));
   cols.push_back(Make("grid_index", "1", "grid point, row-major over the grid axes (last fastest)",
                       "index", ColumnType::kInt));
-  cols.push_back(Make("sample_index", "1", "Monte Carlo sample at the grid point", "index",
-                      ColumnType::kInt));
+  cols.push_back(
+      Make("sample_index", "1", "Monte Carlo sample at the grid point", "index", ColumnType::kInt));
   const std::vector<Target> targets = spec.targets();
   for (const Target& t : targets) {
     cols.push_back(Make(t.column, UnitsOf(t.parameter), t.description, "parameter",
@@ -207,8 +211,11 @@ std::string IntegratorSettings(const schedule::Profile& p) {
          ", step=" + FormatNumber(s.step) + ", max_step=" + FormatNumber(s.max_step);
 }
 
-void WriteContents(io::Hdf5Writer& out, const SweepSpec& spec, const std::vector<Column>& cols,
-                   const std::vector<CaseOutcome>& outcomes, const RunInfo& info) {
+void WriteContents(io::Hdf5Writer& out,
+                   const SweepSpec& spec,
+                   const std::vector<Column>& cols,
+                   const std::vector<CaseOutcome>& outcomes,
+                   const RunInfo& info) {
   std::vector<std::string> names;
   for (const Column& c : cols) {
     WriteColumn(out, "/cases", c);

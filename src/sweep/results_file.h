@@ -28,11 +28,11 @@ inline constexpr int kResultsSchemaVersion = 1;
 
 /// How a sweep was run (stored in /timing; not part of the deterministic results).
 struct RunInfo {
-  int threads = 1;               ///< Worker threads per process.
-  int ranks = 1;                 ///< MPI ranks (1 without MPI).
-  double wall_seconds = 0.0;     ///< Wall time of this run (the resumed part only).
-  std::size_t resumed_cases = 0; ///< Cases read from the journal.
-  std::size_t computed_cases = 0;///< Cases computed by this run.
+  int threads = 1;                 ///< Worker threads per process.
+  int ranks = 1;                   ///< MPI ranks (1 without MPI).
+  double wall_seconds = 0.0;       ///< Wall time of this run (the resumed part only).
+  std::size_t resumed_cases = 0;   ///< Cases read from the journal.
+  std::size_t computed_cases = 0;  ///< Cases computed by this run.
 };
 
 /// Writes the table of `outcomes` (outcomes[i] is case i; outcomes.size() == case count).
@@ -51,13 +51,13 @@ void WriteSweepCsv(const std::string& path,
 
 /// A results file as read back (for tests, tools and comparisons).
 struct SweepTable {
-  std::vector<std::string> columns;                        ///< /cases columns, in order.
-  std::map<std::string, std::vector<double>> numbers;      ///< Numeric columns (ints exact).
-  std::map<std::string, std::vector<std::string>> texts;   ///< Text columns.
-  std::map<std::string, std::string> units;                ///< By column name.
-  std::map<std::string, std::string> attributes;           ///< Root attributes.
-  std::vector<double> run_time;                            ///< /timing/run_time [s].
-  std::map<std::string, std::string> timing;               ///< /timing attributes.
+  std::vector<std::string> columns;                       ///< /cases columns, in order.
+  std::map<std::string, std::vector<double>> numbers;     ///< Numeric columns (ints exact).
+  std::map<std::string, std::vector<std::string>> texts;  ///< Text columns.
+  std::map<std::string, std::string> units;               ///< By column name.
+  std::map<std::string, std::string> attributes;          ///< Root attributes.
+  std::vector<double> run_time;                           ///< /timing/run_time [s].
+  std::map<std::string, std::string> timing;              ///< /timing attributes.
   std::size_t rows = 0;
 };
 

@@ -168,7 +168,8 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
       }
       // Rank 0 sees its own share only: scaled to the whole sweep for the display.
       if (progress) {
-        progress->Update(summary.resumed + finished.load() * static_cast<std::size_t>(summary.ranks));
+        progress->Update(summary.resumed +
+                         finished.load() * static_cast<std::size_t>(summary.ranks));
       }
     }
     for (std::thread& t : pool) t.join();
@@ -248,7 +249,8 @@ std::string FormatSummary(const RunSummary& s, const RunOptions& options) {
   }
   return std::to_string(s.cases) + " cases: " + std::to_string(s.flipped) + " flipped, " +
          std::to_string(s.tumbling) + " tumbling at the end, " + std::to_string(s.failed) +
-         " failed; wrote " + options.output + (options.csv ? " and " + options.output + ".csv" : "");
+         " failed; wrote " + options.output +
+         (options.csv ? " and " + options.output + ".csv" : "");
 }
 
 }  // namespace deploysim::sweep

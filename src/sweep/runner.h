@@ -29,9 +29,9 @@
 namespace deploysim::sweep {
 
 struct RunOptions {
-  std::string output;        ///< Results file (HDF5). Required.
-  bool csv = false;          ///< Also write `<output>.csv`.
-  bool resume = false;       ///< Continue from the journal(s).
+  std::string output;   ///< Results file (HDF5). Required.
+  bool csv = false;     ///< Also write `<output>.csv`.
+  bool resume = false;  ///< Continue from the journal(s).
   /// Worker threads per process; 0: the hardware threads divided by the ranks on this node.
   int threads = 0;
   std::ostream* progress = nullptr;  ///< Progress and notes (stderr); nullptr: quiet.
@@ -42,15 +42,15 @@ struct RunOptions {
   const std::atomic<bool>* cancel = nullptr;
   /// Called from the worker threads after case i's journal record is written (tests).
   std::function<void(std::size_t)> on_case_done;
-  const MpiSession* mpi = nullptr;   ///< MPI session (nullptr: this process alone).
+  const MpiSession* mpi = nullptr;  ///< MPI session (nullptr: this process alone).
 };
 
 struct RunSummary {
-  bool complete = false;          ///< The results file was written (rank 0) / the sweep ended.
-  std::size_t cases = 0;          ///< Case count of the sweep.
-  std::size_t resumed = 0;        ///< Read from journals (all ranks).
-  std::size_t computed = 0;       ///< Computed by this process.
-  std::size_t finished = 0;       ///< Cases finished so far, over all ranks.
+  bool complete = false;     ///< The results file was written (rank 0) / the sweep ended.
+  std::size_t cases = 0;     ///< Case count of the sweep.
+  std::size_t resumed = 0;   ///< Read from journals (all ranks).
+  std::size_t computed = 0;  ///< Computed by this process.
+  std::size_t finished = 0;  ///< Cases finished so far, over all ranks.
   int threads = 1;
   int ranks = 1;
   int rank = 0;
@@ -58,9 +58,9 @@ struct RunSummary {
   double parallel_seconds = 0.0;  ///< The worker phase alone (the rest is serial).
   std::string journal;            ///< This process's journal path.
   // Rank 0 of a complete sweep: counts over all cases.
-  std::size_t flipped = 0;        ///< Cases with at least one flip.
-  std::size_t tumbling = 0;       ///< Cases whose final class is tumbling.
-  std::size_t failed = 0;         ///< Cases whose integration did not reach the end.
+  std::size_t flipped = 0;   ///< Cases with at least one flip.
+  std::size_t tumbling = 0;  ///< Cases whose final class is tumbling.
+  std::size_t failed = 0;    ///< Cases whose integration did not reach the end.
 };
 
 /// Journal path of `rank` for results file `output`.

@@ -27,21 +27,21 @@ using io::internal::Fields;
 using io::internal::FormatNumber;
 using io::internal::YamlDocument;
 
-constexpr double kDegree = 0.017453292519943295;     // [rad]
-constexpr double kRpm = 0.10471975511965977;         // [rad/s] (2 pi / 60)
-constexpr double kMaxAxisValues = 1e6;               // values per grid axis
-constexpr double kMaxSeed = 9007199254740992.0;      // 2^53: exact in a double
+constexpr double kDegree = 0.017453292519943295;  // [rad]
+constexpr double kRpm = 0.10471975511965977;      // [rad/s] (2 pi / 60)
+constexpr double kMaxAxisValues = 1e6;            // values per grid axis
+constexpr double kMaxSeed = 9007199254740992.0;   // 2^53: exact in a double
 
 /// How a parameter is written in a file.
 struct ParameterInfo {
-  const char* name;     ///< Key in files (`parameter: ...`).
+  const char* name;  ///< Key in files (`parameter: ...`).
   Parameter parameter;
-  const char* column;   ///< Column base name.
-  double to_si;         ///< File value * to_si = SI value.
-  double lower;         ///< Valid range [lower, upper) or (lower, upper) in file units.
-  bool lower_open;      ///< true: value > lower; false: value >= lower.
-  double upper;         ///< value < upper (+inf: unbounded).
-  const char* rule;     ///< The range, for messages.
+  const char* column;  ///< Column base name.
+  double to_si;        ///< File value * to_si = SI value.
+  double lower;        ///< Valid range [lower, upper) or (lower, upper) in file units.
+  bool lower_open;     ///< true: value > lower; false: value >= lower.
+  double upper;        ///< value < upper (+inf: unbounded).
+  const char* rule;    ///< The range, for messages.
   const char* description;
 };
 
@@ -54,12 +54,12 @@ const ParameterInfo kParameters[] = {
      "must be > 0 [s]", "duration of one stage [s]"},
     {"spin_rate", Parameter::kSpinRate, "spin_rate", 1.0, 0.0, true, kInf, "must be > 0 [rad/s]",
      "initial spin rate w_NB_B(t0) . s about the body spin axis s"},
-    {"spin_rate_rpm", Parameter::kSpinRate, "spin_rate", kRpm, 0.0, true, kInf,
-     "must be > 0 [rpm]", "initial spin rate w_NB_B(t0) . s about the body spin axis s"},
+    {"spin_rate_rpm", Parameter::kSpinRate, "spin_rate", kRpm, 0.0, true, kInf, "must be > 0 [rpm]",
+     "initial spin rate w_NB_B(t0) . s about the body spin axis s"},
     {"nutation_deg", Parameter::kNutation, "nutation", kDegree, 0.0, false, 90.0,
      "must be in [0, 90) [deg]", "initial angle between H_B and the body spin axis s"},
-    {"nutation_azimuth_deg", Parameter::kNutationAzimuth, "nutation_azimuth", kDegree, -kInf,
-     false, kInf, "must be finite [deg]",
+    {"nutation_azimuth_deg", Parameter::kNutationAzimuth, "nutation_azimuth", kDegree, -kInf, false,
+     kInf, "must be finite [deg]",
      "direction of the initial tilt of H_B about s, from the base profile's tilt"},
     {"panel_mass_scale", Parameter::kPanelMassScale, "panel_mass_scale", 1.0, 0.0, true, kInf,
      "must be > 0", "factor on panel mass and inertia"},
@@ -122,8 +122,8 @@ int ReadStage(const Fields& f, const schedule::Profile& base) {
     }
   }
   if (found < 0) {
-    f.Fail("stage", "no stage of that name in " + base.source + " (stages: " + JoinNames(names) +
-                        ")");
+    f.Fail("stage",
+           "no stage of that name in " + base.source + " (stages: " + JoinNames(names) + ")");
   }
   return found;
 }
@@ -173,7 +173,8 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
         if (names.back() == panel) t.panel = static_cast<int>(i);
       }
       if (t.panel < 0) f.Fail("panel", "no panel of that name (panels: " + JoinNames(names) + ")");
-      if (panel.find(',') != std::string::npos) f.Fail("panel", "panel names in sweeps must not contain ','");
+      if (panel.find(',') != std::string::npos)
+        f.Fail("panel", "panel names in sweeps must not contain ','");
       t.column += "[" + panel + "]";
       t.description += " (panel " + panel + ")";
     }
@@ -210,7 +211,9 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
 }
 
 /// A number of the parameter's kind at `key` (file units), checked against its range.
-double ReadValue(const Fields& f, const YAML::Node& node, const std::string& key,
+double ReadValue(const Fields& f,
+                 const YAML::Node& node,
+                 const std::string& key,
                  const ParameterInfo& p) {
   const double v = io::internal::ReadNumber(f.doc(), node, key);
   if (!InRange(p, v)) f.doc().Fail(key, node, std::string(p.name) + " " + p.rule);
@@ -218,7 +221,9 @@ double ReadValue(const Fields& f, const YAML::Node& node, const std::string& key
 }
 
 /// A category name of a categorical parameter -> its code.
-double ReadCategory(const Fields& f, const YAML::Node& node, const std::string& key,
+double ReadCategory(const Fields& f,
+                    const YAML::Node& node,
+                    const std::string& key,
                     const ParameterInfo& p) {
   const std::string name = io::internal::ReadText(f.doc(), node, key);
   const std::vector<std::string>& cats = CategoriesOf(p.parameter);
@@ -231,8 +236,9 @@ double ReadCategory(const Fields& f, const YAML::Node& node, const std::string& 
 double ReadCount(const Fields& f, const YAML::Node& node, const std::string& key, double min) {
   const double n = io::internal::ReadNumber(f.doc(), node, key);
   if (n != std::floor(n) || n < min || n > kMaxAxisValues) {
-    f.doc().Fail(key, node, "must be an integer in [" + FormatNumber(min) + ", " +
-                                FormatNumber(kMaxAxisValues) + "]");
+    f.doc().Fail(
+        key, node,
+        "must be an integer in [" + FormatNumber(min) + ", " + FormatNumber(kMaxAxisValues) + "]");
   }
   return n;
 }
@@ -433,8 +439,8 @@ void ValidateCases(const SweepSpec& spec) {
       }
     }
   };
-  const std::size_t threads =
-      std::min<std::size_t>(std::max(1u, std::thread::hardware_concurrency()), (n + kChunk - 1) / kChunk);
+  const std::size_t threads = std::min<std::size_t>(
+      std::max(1u, std::thread::hardware_concurrency()), (n + kChunk - 1) / kChunk);
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
   work();
@@ -445,8 +451,7 @@ void ValidateCases(const SweepSpec& spec) {
 SweepSpec LoadSweep(const std::string& path) {
   const YamlDocument doc(path, io::internal::ReadTextFile(path));
   const Fields top(doc, doc.root(), "",
-                   {"name", "description", "base", "integrator", "grid", "monte_carlo",
-                    "outcome"});
+                   {"name", "description", "base", "integrator", "grid", "monte_carlo", "outcome"});
   SweepSpec spec;
   spec.source = path;
   spec.text = doc.text();
@@ -501,8 +506,8 @@ SweepSpec LoadSweep(const std::string& path) {
       m.Fail("seed", "must be an integer in [0, 2^53]");
     }
     mc.seed = static_cast<std::uint64_t>(seed);
-    const std::vector<YAML::Node> params = io::internal::SequenceElements(
-        doc, m.Get("parameters"), m.Key("parameters"), "parameters");
+    const std::vector<YAML::Node> params =
+        io::internal::SequenceElements(doc, m.Get("parameters"), m.Key("parameters"), "parameters");
     if (params.empty()) m.Fail("parameters", "at least one parameter is required");
     for (std::size_t k = 0; k < params.size(); ++k) {
       const Fields f(doc, params[k], m.Key("parameters") + "[" + std::to_string(k) + "]",
@@ -515,7 +520,8 @@ SweepSpec LoadSweep(const std::string& path) {
     spec.monte_carlo = std::move(mc);
   }
   if (cases > kMaxCases) {
-    doc.Fail(top.Has("grid") ? "grid" : "monte_carlo", top.Get(top.Has("grid") ? "grid" : "monte_carlo"),
+    doc.Fail(top.Has("grid") ? "grid" : "monte_carlo",
+             top.Get(top.Has("grid") ? "grid" : "monte_carlo"),
              "gives " + FormatNumber(cases) + " cases (at most " + FormatNumber(kMaxCases) + ")");
   }
   if (top.Has("outcome")) {

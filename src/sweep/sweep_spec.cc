@@ -31,8 +31,9 @@ double Draw(const Distribution& d, Rng& rng, const std::string& where) {
         const double x = d.a + d.b * rng.Normal();
         if (x >= d.min && x <= d.max) return x;
       }
-      throw std::invalid_argument(where + ": the truncation bounds of the normal distribution "
-                                          "reject nearly every draw");
+      throw std::invalid_argument(where +
+                                  ": the truncation bounds of the normal distribution "
+                                  "reject nearly every draw");
     case Distribution::Kind::kChoice:
       return d.choices.at(static_cast<std::size_t>(rng.Below(d.choices.size())));
   }
@@ -69,10 +70,10 @@ std::string UnitsOf(Parameter p) {
 }
 
 const std::vector<std::string>& CategoriesOf(Parameter p) {
-  static const std::vector<std::string> kLaws = {
-      schedule::ToString(schedule::Law::kStep), schedule::ToString(schedule::Law::kLinear),
-      schedule::ToString(schedule::Law::kSmoothstep),
-      schedule::ToString(schedule::Law::kMinimumJerk)};
+  static const std::vector<std::string> kLaws = {schedule::ToString(schedule::Law::kStep),
+                                                 schedule::ToString(schedule::Law::kLinear),
+                                                 schedule::ToString(schedule::Law::kSmoothstep),
+                                                 schedule::ToString(schedule::Law::kMinimumJerk)};
   static const std::vector<std::string> kCouplings = {
       schedule::ToString(schedule::Coupling::kQuasiRigid),
       schedule::ToString(schedule::Coupling::kExact)};
@@ -123,8 +124,7 @@ CaseParameters ParametersOf(const SweepSpec& spec, std::size_t index) {
     for (std::size_t k = 0; k < mc.parameters.size(); ++k) {
       Rng rng(mc.seed, p.sample_index, k);
       p.values.push_back(Draw(mc.parameters[k].distribution, rng,
-                              spec.source + ": monte_carlo.parameters[" + std::to_string(k) +
-                                  "]"));
+                              spec.source + ": monte_carlo.parameters[" + std::to_string(k) + "]"));
     }
   }
   return p;
@@ -148,9 +148,8 @@ std::string DescribeParameters(const SweepSpec& spec, const CaseParameters& p) {
 math::Vec3 BaseSpinAxis(const schedule::Profile& base) {
   const schedule::DeploymentSchedule sched(base);
   const dynamics::InertiaSample s0 = sched.Evaluate(base.t_begin());
-  const math::Vec3 H_B0 = base.initial.H_B
-                              ? *base.initial.H_B
-                              : math::Vec3(s0.J_B * *base.initial.w_NB_B + s0.h_rel_B);
+  const math::Vec3 H_B0 =
+      base.initial.H_B ? *base.initial.H_B : math::Vec3(s0.J_B * *base.initial.w_NB_B + s0.h_rel_B);
   return analysis::InitialSpinAxis(s0.J_B, H_B0);
 }
 
@@ -161,9 +160,8 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
   const std::vector<double>& v = c.parameters.values;
   schedule::Profile& p = c.profile;
   p = spec.base;
-  const std::string where =
-      (spec.source.empty() ? std::string("sweep") : spec.source) + ": case " +
-      std::to_string(index) + " " + DescribeParameters(spec, c.parameters);
+  const std::string where = (spec.source.empty() ? std::string("sweep") : spec.source) + ": case " +
+                            std::to_string(index) + " " + DescribeParameters(spec, c.parameters);
   try {
     // 1. Model.
     for (std::size_t k = 0; k < targets.size(); ++k) {
@@ -191,8 +189,8 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
     // 2. Coupling, 3. law (all moves first, then single stages).
     for (std::size_t k = 0; k < targets.size(); ++k) {
       if (targets[k].parameter == Parameter::kCoupling) {
-        p.coupling = io::ParseCoupling(CategoriesOf(Parameter::kCoupling)
-                                           .at(static_cast<std::size_t>(v[k])));
+        p.coupling = io::ParseCoupling(
+            CategoriesOf(Parameter::kCoupling).at(static_cast<std::size_t>(v[k])));
       }
     }
     for (int pass = 0; pass < 2; ++pass) {

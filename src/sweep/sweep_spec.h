@@ -63,12 +63,12 @@ const std::vector<std::string>& CategoriesOf(Parameter p);
 /// One varied quantity: the parameter and what it applies to.
 struct Target {
   Parameter parameter = Parameter::kSpinRate;
-  std::string column;        ///< Result-table column name, unique within a sweep.
-  int stage = -1;            ///< kStageDuration (required), kLaw (-1: every move stage).
-  int panel = -1;            ///< kPanelMassScale: panel index, -1: every panel.
-  std::string configuration; ///< kInertiaScale: configuration name, empty: all.
-  int axis = -1;             ///< kInertiaScale: body axis 0, 1, 2 or -1: the whole tensor.
-  std::string description;   ///< For the results file: what the column means.
+  std::string column;         ///< Result-table column name, unique within a sweep.
+  int stage = -1;             ///< kStageDuration (required), kLaw (-1: every move stage).
+  int panel = -1;             ///< kPanelMassScale: panel index, -1: every panel.
+  std::string configuration;  ///< kInertiaScale: configuration name, empty: all.
+  int axis = -1;              ///< kInertiaScale: body axis 0, 1, 2 or -1: the whole tensor.
+  std::string description;    ///< For the results file: what the column means.
 };
 
 /// A grid axis: the values of one target (SI; categorical values are category codes).
@@ -110,11 +110,11 @@ struct OutcomeSettings {
 struct SweepSpec {
   std::string name;
   std::string description;
-  std::string source;  ///< The sweep file's path (for messages), or empty.
-  std::string text;    ///< The sweep file's text (stored in the results file).
-  schedule::Profile base;     ///< The base profile, integrator overrides applied.
-  std::string model_text;     ///< The base model file's text (fingerprint of the journal).
-  std::vector<GridAxis> grid; ///< Empty: one grid point (the base).
+  std::string source;          ///< The sweep file's path (for messages), or empty.
+  std::string text;            ///< The sweep file's text (stored in the results file).
+  schedule::Profile base;      ///< The base profile, integrator overrides applied.
+  std::string model_text;      ///< The base model file's text (fingerprint of the journal).
+  std::vector<GridAxis> grid;  ///< Empty: one grid point (the base).
   std::optional<MonteCarlo> monte_carlo;
   OutcomeSettings outcome;
   /// BaseSpinAxis(base), if already computed (the loader sets it; BuildCase computes it
@@ -144,7 +144,7 @@ CaseParameters ParametersOf(const SweepSpec& spec, std::size_t index);
 /// A case's profile and the body axis its angles are measured from.
 struct Case {
   CaseParameters parameters;
-  schedule::Profile profile;      ///< initial.H_B set (initial.w_NB_B cleared).
+  schedule::Profile profile;  ///< initial.H_B set (initial.w_NB_B cleared).
   /// The schedule of `profile` (built once: it validates the profile and precomputes the
   /// configurations).
   std::shared_ptr<const schedule::DeploymentSchedule> schedule;

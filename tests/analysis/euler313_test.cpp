@@ -40,8 +40,10 @@ TEST(Euler313Test, NutationIsTheAngleBetweenBodyZAndMomentum) {
   for (int i = 0; i < 200; ++i) {
     const math::Quat q(math::ExpSO3(3.0 * math::Vec3(u(rng), u(rng), u(rng))));
     const math::Vec3 h_N(u(rng), u(rng), u(rng));
-    const double expected = std::acos(std::clamp((q * math::Vec3::UnitZ()).dot(h_N.normalized()), -1.0, 1.0));
-    EXPECT_NEAR(Euler313RelativeToMomentum(q, h_N)[1], expected, 1e-7);  // acos is ill-conditioned near 0, pi
+    const double expected =
+        std::acos(std::clamp((q * math::Vec3::UnitZ()).dot(h_N.normalized()), -1.0, 1.0));
+    EXPECT_NEAR(Euler313RelativeToMomentum(q, h_N)[1], expected,
+                1e-7);  // acos is ill-conditioned near 0, pi
   }
 }
 

@@ -51,8 +51,8 @@ CliRun RunCli(const std::string& args, const fs::path& dir) {
 }
 
 fs::path TempDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("deploysim_cli_test_" + name + "_" +
-                                                  std::to_string(::getpid()));
+  const fs::path d =
+      fs::temp_directory_path() / ("deploysim_cli_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -74,9 +74,8 @@ TEST(CliTest, HelpAndVersion) {
 
 TEST(CliTest, MissingProfileFileIsOneLineError) {
   const fs::path d = TempDir("missing");
-  const CliRun r = RunCli("simulate '" + (d / "nope.yaml").string() + "' -o '" +
-                           (d / "out.h5").string() + "'",
-                       d);
+  const CliRun r = RunCli(
+      "simulate '" + (d / "nope.yaml").string() + "' -o '" + (d / "out.h5").string() + "'", d);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("nope.yaml"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -90,13 +89,15 @@ TEST(CliTest, MissingProfileFileIsOneLineError) {
 TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
   const fs::path d = TempDir("profiles");
   int count = 0;
-  for (const auto& entry : fs::directory_iterator(fs::path(DEPLOYSIM_SOURCE_DIR) / "deployment_profiles")) {
+  for (const auto& entry :
+       fs::directory_iterator(fs::path(DEPLOYSIM_SOURCE_DIR) / "deployment_profiles")) {
     if (entry.path().extension() != ".yaml") continue;
     ++count;
     const std::string name = entry.path().stem().string();
     SCOPED_TRACE(name);
     const fs::path out = d / (name + ".h5");
-    const CliRun r = RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
+    const CliRun r =
+        RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const io::TrajectoryFile f = io::ReadTrajectoryFile(out.string());
     const analysis::Trajectory& tr = f.trajectory;
@@ -118,8 +119,8 @@ TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
       const analysis::FreeBodySolution sol(math::InertiaTensor::FromMatrix(tr.J_B[i]), tr.H_B[i],
                                            tr.q_NB[i], tr.time[i]);
       // Flips: sign changes along the intermediate axis while it is the spin axis.
-      const bool intermediate = analysis::LocateSpinAxis(tr.J_B[i], spin_axis).role ==
-                                analysis::AxisRole::kIntermediate;
+      const bool intermediate =
+          analysis::LocateSpinAxis(tr.J_B[i], spin_axis).role == analysis::AxisRole::kIntermediate;
       const std::vector<double> predicted =
           intermediate ? sol.FlipTimes(tr.time[i], st.t_end) : std::vector<double>{};
       std::vector<double> observed;
@@ -142,7 +143,8 @@ TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
 TEST(CliTest, MalformedProfilesFailCleanly) {
   const fs::path d = TempDir("bad");
   int count = 0;
-  for (const auto& entry : fs::directory_iterator(fs::path(DEPLOYSIM_SOURCE_DIR) / "tests/io/bad_inputs")) {
+  for (const auto& entry :
+       fs::directory_iterator(fs::path(DEPLOYSIM_SOURCE_DIR) / "tests/io/bad_inputs")) {
     if (entry.path().extension() != ".yaml") continue;
     std::ifstream in(entry.path());
     std::string first;
@@ -158,7 +160,8 @@ TEST(CliTest, MalformedProfilesFailCleanly) {
       continue;
     }
     const fs::path out = d / "out.h5";
-    const CliRun r = RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
+    const CliRun r =
+        RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
     SCOPED_TRACE(entry.path().filename().string());
     ++count;
     EXPECT_NE(r.exit_code, 0);

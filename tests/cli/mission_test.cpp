@@ -2,6 +2,8 @@
 // thesis's satellite reproduces section 3.4 quantitatively, and exact against
 // quasi-rigid coupling shows the physics of DESIGN.md 2.5.
 
+#include "analysis/mission.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -12,7 +14,6 @@
 
 #include "analysis/coupling_comparison.h"
 #include "analysis/free_body_solution.h"
-#include "analysis/mission.h"
 #include "io/yaml_loader.h"
 #include "math/inertia.h"
 
@@ -23,7 +24,8 @@ namespace fs = std::filesystem;
 
 // Writes a profile into a scratch file and loads it through the real reader.
 schedule::Profile ProfileFromText(const std::string& name, const std::string& body) {
-  const fs::path dir = fs::temp_directory_path() / ("deploysim_mission_test_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("deploysim_mission_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path p = dir / (name + ".yaml");
   std::ofstream(p) << "name: " << name << "\n" << body;
@@ -38,12 +40,15 @@ std::string Models() { return std::string(DEPLOYSIM_SOURCE_DIR) + "/models/"; }
 // (as in the thesis, Figs. 3.5, 3.7, 3.9).
 schedule::Profile SeedConfiguration(const std::string& config) {
   return ProfileFromText("seed_" + config,
-                         "model: " + Models() + "seed_satellite.yaml\n"
-                         "mode: tensor\ncoupling: quasi-rigid\n"
-                         "initial: {angular_momentum: [1.0e-8, 2.1252e-5, 1.0e-8]}\n"
-                         "stages:\n  - {hold: " + config + ", until: 40}\n"
-                         "integrator: {method: rkmk-rkf78, rtol: 1.0e-12, atol: 1.0e-14}\n"
-                         "output: {dt: 0.01}\n");
+                         "model: " + Models() +
+                             "seed_satellite.yaml\n"
+                             "mode: tensor\ncoupling: quasi-rigid\n"
+                             "initial: {angular_momentum: [1.0e-8, 2.1252e-5, 1.0e-8]}\n"
+                             "stages:\n  - {hold: " +
+                             config +
+                             ", until: 40}\n"
+                             "integrator: {method: rkmk-rkf78, rtol: 1.0e-12, atol: 1.0e-14}\n"
+                             "output: {dt: 0.01}\n");
 }
 
 TEST(SeedSatelliteTest, ClosedSpinsStablyWithinThePerturbationBound) {
@@ -55,7 +60,8 @@ TEST(SeedSatelliteTest, ClosedSpinsStablyWithinThePerturbationBound) {
   const math::Vec3 I = r.trajectory.J_B.front().diagonal();  // (3.036, 0.699, 2.741)e-6
   const math::Vec3 H0 = r.trajectory.H_B.front();
   const double M = H0.norm();
-  const double Q = H0.x() * H0.x() * (1 / I.y() - 1 / I.x()) + H0.z() * H0.z() * (1 / I.y() - 1 / I.z());
+  const double Q =
+      H0.x() * H0.x() * (1 / I.y() - 1 / I.x()) + H0.z() * H0.z() * (1 / I.y() - 1 / I.z());
   const double bound = std::asin(std::sqrt(Q / (1 / I.y() - 1 / I.z())) / M);
   double worst = 0.0;
   for (double a : r.trajectory.spin_axis_angle) worst = std::max(worst, a);
@@ -109,13 +115,18 @@ schedule::Profile Deployment(double duration) {
   const std::string end = std::to_string(10.0 + duration);
   const std::string stop = std::to_string(20.0 + duration);
   return ProfileFromText("deploy",
-                         "model: " + Models() + "smallsat.yaml\nmode: geometry\ncoupling: exact\n"
-                         "initial: {angular_velocity: [0.0091, 0.5235988, 0.0091]}\n"
-                         "stages:\n  - {hold: closed, until: 10}\n"
-                         "  - {to: open, law: minimum-jerk, until: " + end + "}\n"
-                         "  - {hold: open, until: " + stop + "}\n"
-                         "integrator: {method: rkmk-rkf78, rtol: 1.0e-11, atol: 1.0e-13}\n"
-                         "output: {dt: 0.01}\n");
+                         "model: " + Models() +
+                             "smallsat.yaml\nmode: geometry\ncoupling: exact\n"
+                             "initial: {angular_velocity: [0.0091, 0.5235988, 0.0091]}\n"
+                             "stages:\n  - {hold: closed, until: 10}\n"
+                             "  - {to: open, law: minimum-jerk, until: " +
+                             end +
+                             "}\n"
+                             "  - {hold: open, until: " +
+                             stop +
+                             "}\n"
+                             "integrator: {method: rkmk-rkf78, rtol: 1.0e-11, atol: 1.0e-13}\n"
+                             "output: {dt: 0.01}\n");
 }
 
 TEST(CouplingTest, RateErrorScalesWithHingeRateButAttitudeOffsetWithSwing) {
@@ -125,15 +136,17 @@ TEST(CouplingTest, RateErrorScalesWithHingeRateButAttitudeOffsetWithSwing) {
   const analysis::CouplingComparison fast = analysis::CompareCouplings(Deployment(2.0));
   const analysis::CouplingComparison slow = analysis::CompareCouplings(Deployment(20.0));
   const double rate_ratio = fast.max_w_difference_deploying / slow.max_w_difference_deploying;
-  EXPECT_GT(rate_ratio, 7.0);   // ~10 for a 10x slower deployment (measured 10.0)
+  EXPECT_GT(rate_ratio, 7.0);  // ~10 for a 10x slower deployment (measured 10.0)
   EXPECT_LT(rate_ratio, 13.0);
   EXPECT_GT(fast.attitude_offset_at_deployment_end, 0.1);  // it is not small: ~0.28 rad
   EXPECT_NEAR(fast.attitude_offset_at_deployment_end, slow.attitude_offset_at_deployment_end,
               0.02 * fast.attitude_offset_at_deployment_end);
   ::testing::Test::RecordProperty("w_diff_fast", std::to_string(fast.max_w_difference_deploying));
   ::testing::Test::RecordProperty("w_diff_slow", std::to_string(slow.max_w_difference_deploying));
-  ::testing::Test::RecordProperty("offset_fast", std::to_string(fast.attitude_offset_at_deployment_end));
-  ::testing::Test::RecordProperty("offset_slow", std::to_string(slow.attitude_offset_at_deployment_end));
+  ::testing::Test::RecordProperty("offset_fast",
+                                  std::to_string(fast.attitude_offset_at_deployment_end));
+  ::testing::Test::RecordProperty("offset_slow",
+                                  std::to_string(slow.attitude_offset_at_deployment_end));
 }
 
 TEST(CouplingTest, QuasiRigidConservesMomentumToo) {

@@ -65,7 +65,8 @@ IntegratorSettings ValidSettings(const Stepper& stepper) {
 
 TEST(BadInputTest, MethodListsAreAsDocumented) {
   // The loops below cover both kinds of method.
-  EXPECT_EQ(MethodsWhere(false), (std::vector<std::string>{"thesis-euler", "rk4", "rkmk4", "split4"}));
+  EXPECT_EQ(MethodsWhere(false),
+            (std::vector<std::string>{"thesis-euler", "rk4", "rkmk4", "split4"}));
   EXPECT_EQ(MethodsWhere(true),
             (std::vector<std::string>{"dopri5", "rkf78", "rkmk-dopri5", "rkmk-rkf78"}));
 }

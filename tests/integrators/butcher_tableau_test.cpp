@@ -55,7 +55,8 @@ void ExpectOrderConditions(const ButcherTableau& t, const std::vector<double>& w
 }
 
 TEST(ButcherTableauTest, RowSumsEqualNodes) {
-  for (const ButcherTableau* t : {&ExplicitEuler(), &ClassicRk4(), &DormandPrince54(), &Fehlberg78()}) {
+  for (const ButcherTableau* t :
+       {&ExplicitEuler(), &ClassicRk4(), &DormandPrince54(), &Fehlberg78()}) {
     ASSERT_EQ(static_cast<int>(t->a.size()), t->stages()) << t->name;
     for (int i = 0; i < t->stages(); ++i) {
       ASSERT_EQ(static_cast<int>(t->a[i].size()), i) << t->name;

@@ -16,7 +16,7 @@ namespace deploysim::integrators {
 namespace {
 
 constexpr double kFlipTimeTolerance = 1e-8;  // [s], issue 2 acceptance 1
-constexpr double kHorizon = 40.0;             // [s]
+constexpr double kHorizon = 40.0;            // [s]
 
 struct WingNut {
   math::InertiaTensor J = math::InertiaTensor::FromPrincipalMoments(testing::WingNutMoments());

@@ -1,6 +1,8 @@
 // The lean per-case outcome (sweep/outcome.h) against the full mission run and against
 // the closed-form torque-free solution.
 
+#include "sweep/outcome.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +12,6 @@
 #include "analysis/free_body_solution.h"
 #include "analysis/mission.h"
 #include "math/inertia.h"
-#include "sweep/outcome.h"
 #include "sweep/sweep_file.h"
 #include "sweep_test_support.h"
 
@@ -20,13 +21,13 @@ namespace {
 using testing::SmallsatProfile;
 using testing::SweepDirTest;
 
-constexpr double kFlipTimeTolerance = 1e-9;     // [s] same steps, same event search
-constexpr double kSameStateTolerance = 1e-12;   // relative: the same final state
-constexpr double kMissionSampling = 0.01;       // [s] output grid of the reference run
+constexpr double kFlipTimeTolerance = 1e-9;    // [s] same steps, same event search
+constexpr double kSameStateTolerance = 1e-12;  // relative: the same final state
+constexpr double kMissionSampling = 0.01;      // [s] output grid of the reference run
 // The reference samples the angle every 10 ms; the lean path finds the extrema between
 // steps. Samples can miss a maximum by ~ (rate * dt)^2: far below this.
-constexpr double kMaxAngleSampling = 2e-4;      // [rad]
-constexpr double kConeTolerance = 1e-6;         // [rad] brute-force sampling of a period
+constexpr double kMaxAngleSampling = 2e-4;  // [rad]
+constexpr double kConeTolerance = 1e-6;     // [rad] brute-force sampling of a period
 
 TEST_F(SweepDirTest, LeanOutcomeAgreesWithTheMissionRun) {
   const SweepSpec spec = LoadSweep(Write("s.yaml", "name: t\nbase: " + SmallsatProfile() + R"(
@@ -52,7 +53,8 @@ grid:
     }
     EXPECT_EQ(c.spin_axis_B, m.spin_axis_B);
     const analysis::Trajectory& tr = m.trajectory;
-    const double sampled_max = *std::max_element(tr.spin_axis_angle.begin(), tr.spin_axis_angle.end());
+    const double sampled_max =
+        *std::max_element(tr.spin_axis_angle.begin(), tr.spin_axis_angle.end());
     EXPECT_GE(o.max_spin_axis_angle, sampled_max - 1e-9);
     EXPECT_LE(o.max_spin_axis_angle, sampled_max + kMaxAngleSampling);
     EXPECT_NEAR(o.final_spin_axis_angle, tr.spin_axis_angle.back(), 1e-9);
@@ -69,9 +71,11 @@ std::string RigidSweep(const SweepDirTest& t, const std::string& w, const std::s
   t.Write("rigid_model.yaml",
           "name: rigid\nkind: tensors\nconfigurations:\n  body: {principal_moments: [1.0, 2.0, "
           "3.0]}\n");
-  t.Write("rigid.yaml", "name: rigid\nmodel: rigid_model.yaml\ninitial: {angular_velocity: " + w +
-                            "}\nstages:\n  - {hold: body, until: 20}\nintegrator: {method: exact}\n");
-  return t.Write("s.yaml", "name: r\nbase: rigid.yaml\noutcome: {tumble_angle_deg: 20}\ngrid:\n" + grid);
+  t.Write("rigid.yaml",
+          "name: rigid\nmodel: rigid_model.yaml\ninitial: {angular_velocity: " + w +
+              "}\nstages:\n  - {hold: body, until: 20}\nintegrator: {method: exact}\n");
+  return t.Write("s.yaml",
+                 "name: r\nbase: rigid.yaml\noutcome: {tumble_angle_deg: 20}\ngrid:\n" + grid);
 }
 
 /// Largest half-angle of the momentum cone about principal axis `axis`, and the largest
@@ -100,9 +104,10 @@ BruteForce Sample(const math::Vec3& H0, int axis, const math::Vec3& s, double t_
 
 TEST_F(SweepDirTest, FinalMotionOfRigidBodies) {
   // Spin about the minor axis x, tilted towards y (azimuth 0) or z (azimuth 90).
-  const SweepSpec minor = LoadSweep(RigidSweep(*this, "[1, 0, 0]",
-      "  - {parameter: nutation_deg, values: [0, 5, 15, 40]}\n"
-      "  - {parameter: nutation_azimuth_deg, values: [0, 90]}\n"));
+  const SweepSpec minor =
+      LoadSweep(RigidSweep(*this, "[1, 0, 0]",
+                           "  - {parameter: nutation_deg, values: [0, 5, 15, 40]}\n"
+                           "  - {parameter: nutation_azimuth_deg, values: [0, 90]}\n"));
   for (std::size_t i = 0; i < minor.case_count(); ++i) {
     const Case c = BuildCase(minor, i);
     const CaseOutcome o = SimulateOutcome(c, minor.outcome);
@@ -122,8 +127,8 @@ TEST_F(SweepDirTest, FinalMotionOfRigidBodies) {
   EXPECT_NEAR(o5.final_cone_angle, 5.0 * M_PI / 180.0, 1e-12);
 
   // Spin about the major axis z.
-  const SweepSpec major = LoadSweep(RigidSweep(*this, "[0, 0, -1]",
-      "  - {parameter: nutation_deg, values: [5, 50]}\n"));
+  const SweepSpec major = LoadSweep(
+      RigidSweep(*this, "[0, 0, -1]", "  - {parameter: nutation_deg, values: [5, 50]}\n"));
   const CaseOutcome m5 = SimulateOutcome(BuildCase(major, 0), major.outcome);
   const CaseOutcome m50 = SimulateOutcome(BuildCase(major, 1), major.outcome);
   EXPECT_EQ(m5.final_class, MotionClass::kSpinMajor);
@@ -132,8 +137,8 @@ TEST_F(SweepDirTest, FinalMotionOfRigidBodies) {
 
   // About the intermediate axis y: an unperturbed spin stays (an unstable equilibrium);
   // a perturbed one tumbles and flips.
-  const SweepSpec inter = LoadSweep(RigidSweep(*this, "[0, 1, 0]",
-      "  - {parameter: nutation_deg, values: [0, 1]}\n"));
+  const SweepSpec inter =
+      LoadSweep(RigidSweep(*this, "[0, 1, 0]", "  - {parameter: nutation_deg, values: [0, 1]}\n"));
   const CaseOutcome i0 = SimulateOutcome(BuildCase(inter, 0), inter.outcome);
   const CaseOutcome i1 = SimulateOutcome(BuildCase(inter, 1), inter.outcome);
   EXPECT_EQ(i0.final_class, MotionClass::kSpinIntermediate);

@@ -2,6 +2,8 @@
 // against an MPI run with 2 ranks; an interrupted sweep (cancelled, or killed outright
 // with SIGKILL) resumes without repeating or losing a case; the journal's safeguards.
 
+#include "sweep/runner.h"
+
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -20,7 +22,6 @@
 
 #include "sweep/journal.h"
 #include "sweep/mpi_session.h"
-#include "sweep/runner.h"
 #include "sweep/sweep_file.h"
 #include "sweep_test_support.h"
 
@@ -38,10 +39,13 @@ std::string SweepText(int grid, int samples) {
   return "name: runner test\nbase: " + SmallsatProfile() + R"(
 integrator: {method: exact, rtol: 1.0e-9, atol: 1.0e-11}
 grid:
-  - {parameter: deploy_duration_scale, logspace: [0.2, 3, )" + std::to_string(grid) + R"(]}
-  - {parameter: spin_rate_rpm, linspace: [2, 9, )" + std::to_string(grid) + R"(]}
+  - {parameter: deploy_duration_scale, logspace: [0.2, 3, )" +
+         std::to_string(grid) + R"(]}
+  - {parameter: spin_rate_rpm, linspace: [2, 9, )" +
+         std::to_string(grid) + R"(]}
 monte_carlo:
-  samples: )" + std::to_string(samples) + R"(
+  samples: )" +
+         std::to_string(samples) + R"(
   seed: 20240611
   parameters:
     - {parameter: nutation_deg, uniform: [0.2, 4]}

@@ -28,7 +28,8 @@ TEST_F(SweepDirTest, StabilityMapRendersAsPng) {
   if (Shell("/usr/bin/python3 -c 'import matplotlib, h5py, numpy' 2>/dev/null") != 0) {
     GTEST_SKIP() << "python3-matplotlib, python3-h5py or python3-numpy missing";
   }
-  const SweepSpec spec = LoadSweep(Write("s.yaml", "name: map test\nbase: " + SmallsatProfile() + R"(
+  const SweepSpec spec =
+      LoadSweep(Write("s.yaml", "name: map test\nbase: " + SmallsatProfile() + R"(
 integrator: {method: exact, rtol: 1.0e-9, atol: 1.0e-11}
 grid:
   - {parameter: deploy_duration_scale, logspace: [0.2, 2, 3]}

@@ -2,6 +2,8 @@
 // Monte Carlo streams, and the rejection of invalid files (one line naming the file, the
 // key, the value and the rule, as for profiles).
 
+#include "sweep/sweep_file.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,7 +16,6 @@
 #include "analysis/mission.h"
 #include "io/yaml_loader.h"
 #include "sweep/rng.h"
-#include "sweep/sweep_file.h"
 #include "sweep/sweep_spec.h"
 #include "sweep_test_support.h"
 
@@ -78,9 +79,9 @@ TEST_F(SweepDirTest, ReadsGridAndMonteCarlo) {
   EXPECT_EQ(spec.case_count(), 36u);
   std::vector<std::string> columns;
   for (const Target& t : spec.targets()) columns.push_back(t.column);
-  EXPECT_EQ(columns, (std::vector<std::string>{"deploy_duration_scale", "spin_rate",
-                                               "panel_mass_scale[wing_plus_x]", "nutation",
-                                               "law"}));
+  EXPECT_EQ(columns,
+            (std::vector<std::string>{"deploy_duration_scale", "spin_rate",
+                                      "panel_mass_scale[wing_plus_x]", "nutation", "law"}));
   EXPECT_EQ(spec.base.integrator.method, "exact");
   EXPECT_EQ(spec.base.integrator.rtol, 1e-9);
   ASSERT_EQ(spec.grid[1].values.size(), 3u);
@@ -206,8 +207,8 @@ TEST_F(SweepDirTest, TheExampleSweepLoads) {
 
 struct BadSweep {
   const char* name;
-  std::string body;       // appended to the header (or the whole file if `whole`)
-  std::string expected;   // substring of the message after "<file>: "
+  std::string body;      // appended to the header (or the whole file if `whole`)
+  std::string expected;  // substring of the message after "<file>: "
   bool whole = false;
 };
 
@@ -218,8 +219,7 @@ class BadSweepTest : public SweepDirTest, public ::testing::WithParamInterface<B
 
 TEST_P(BadSweepTest, IsRejectedWithOneLine) {
   const BadSweep& bad = GetParam();
-  const std::string path =
-      Write("bad.yaml", bad.whole ? bad.body : Header() + bad.body);
+  const std::string path = Write("bad.yaml", bad.whole ? bad.body : Header() + bad.body);
   std::string message;
   try {
     (void)LoadSweep(path);
@@ -236,7 +236,8 @@ TEST_P(BadSweepTest, IsRejectedWithOneLine) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Corpus, BadSweepTest,
+    Corpus,
+    BadSweepTest,
     ::testing::Values(
         BadSweep{"UnknownTopKey", "grids: []\n", "grids = []: unknown key (allowed: name,"},
         BadSweep{"MissingName", "base: " + SmallsatProfile() + "\ngrid: []\n",
@@ -253,15 +254,13 @@ INSTANTIATE_TEST_SUITE_P(
                  "grid[0].values[0] = \"2\": expected a number, not a quoted string"},
         BadSweep{"LinspaceLength", "grid:\n  - {parameter: spin_rate_rpm, linspace: [1, 2]}\n",
                  "grid[0].linspace = [1, 2]: must be [first, last, count]"},
-        BadSweep{"LinspaceCount",
-                 "grid:\n  - {parameter: spin_rate_rpm, linspace: [1, 2, 2.5]}\n",
+        BadSweep{"LinspaceCount", "grid:\n  - {parameter: spin_rate_rpm, linspace: [1, 2, 2.5]}\n",
                  "grid[0].linspace[2] = 2.5: must be an integer in [2, "},
         BadSweep{"ValuesAndLinspace",
                  "grid:\n  - {parameter: spin_rate_rpm, values: [1], linspace: [1, 2, 3]}\n",
                  "grid[0] = {parameter: spin_rate_rpm, values: [1], linspace: [1, 2, 3]}: exactly "
                  "one of values, linspace, logspace"},
-        BadSweep{"LogspaceZero",
-                 "grid:\n  - {parameter: nutation_deg, logspace: [0, 2, 3]}\n",
+        BadSweep{"LogspaceZero", "grid:\n  - {parameter: nutation_deg, logspace: [0, 2, 3]}\n",
                  "grid[0].logspace = [0, 2, 3]: logspace needs first and last > 0"},
         BadSweep{"StageDurationWithoutStage",
                  "grid:\n  - {parameter: stage_duration, values: [10]}\n",
@@ -281,8 +280,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "grid:\n  - {parameter: panel_mass_scale, panel: wing_z, values: [1]}\n",
                  "grid[0].panel = wing_z: no panel of that name (panels: wing_plus_x, "
                  "wing_minus_x)"},
-        BadSweep{"QualifierNotUsed",
-                 "grid:\n  - {parameter: spin_rate, stage: 1, values: [1]}\n",
+        BadSweep{"QualifierNotUsed", "grid:\n  - {parameter: spin_rate, stage: 1, values: [1]}\n",
                  "grid[0].stage = 1: not used by parameter spin_rate"},
         BadSweep{"InertiaScaleOnHingedModel",
                  "grid:\n  - {parameter: inertia_scale, values: [1]}\n",
