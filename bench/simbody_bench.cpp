@@ -21,6 +21,7 @@
 #include "analysis/exact_flow.h"
 #include "analysis/free_body_solution.h"
 #include "analysis/mission.h"
+#include "bench_util.h"
 #include "crosscheck/crosscheck.h"
 #include "crosscheck/simbody_satellite.h"
 #include "dynamics/inertia_source.h"
@@ -50,15 +51,6 @@ double BestTime(F&& f, double min_total) {
     total += dt;
   }
   return best;
-}
-
-std::string CpuModel() {
-  std::ifstream f("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  }
-  return "unknown CPU";
 }
 
 // Fastest deploysim row at least as accurate as `target` (nullptr if none); with
@@ -106,7 +98,7 @@ int main(int argc, char** argv) {
   const std::string src = DEPLOYSIM_SOURCE_DIR;
   std::printf("deploysim vs Simbody 3.7 (Runge-Kutta-Merson) at matched accuracy\n");
   std::printf("machine: %s; every time is wall clock, deploysim: best of repetitions\n",
-              CpuModel().c_str());
+              deploysim::bench::CpuModel().c_str());
 
   // ---- A. wing nut, free rigid body, 40 s ----
   {

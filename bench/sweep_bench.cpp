@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "analysis/mission.h"
+#include "bench_util.h"
 #include "sweep/mpi_session.h"
 #include "sweep/outcome.h"
 #include "sweep/runner.h"
@@ -45,15 +46,6 @@ using namespace deploysim;
 
 constexpr double kTargetRate = 2000.0;     // [simulations/s] on 2 cores
 constexpr double kTargetEfficiency = 0.9;  // at 2 workers
-
-std::string CpuModel() {
-  std::ifstream f("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  }
-  return "unknown CPU";
-}
 
 std::string LoadAverage() {
   std::ifstream f("/proc/loadavg");
@@ -266,7 +258,8 @@ int main(int argc, char** argv) {
       "coupling, method exact, rtol 1e-9, atol 1e-11; %zu cases\n",
       spec.case_count());
   std::printf("machine: %s, %u hardware threads; load average (1, 5, 15 min) before: %s\n\n",
-              CpuModel().c_str(), std::thread::hardware_concurrency(), load_before.c_str());
+              deploysim::bench::CpuModel().c_str(), std::thread::hardware_concurrency(),
+              load_before.c_str());
 
   std::vector<Row> rows;
   rows.push_back(TimeMission(spec, std::min<std::size_t>(spec.case_count(), quick ? 50 : 200)));

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <array>
+
+#include "bench_util.h"
 // GCC 12 reports a false maybe-uninitialized in the copy of Odeint's stepper arrays.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -48,15 +50,6 @@ struct Row {
   double err_H = 0, err_att = 0, seconds = 0;
   long steps = 0, evals = 0;
 };
-
-std::string CpuModel() {
-  std::ifstream f("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  }
-  return "unknown CPU";
-}
 
 // An independent reference for the closed form itself: Euler's equations for H_B in
 // long double, Fehlberg 7(8) at tolerance 1e-19 (Boost.Odeint), sampled on a grid.
@@ -162,7 +155,7 @@ int main(int argc, char** argv) {
       "Wing nut, 40 s, J = (3.036, 2.741, 0.699)e-6 kg m^2, H_B(0) = (1e-8, 2.1252e-5, 1e-8)\n");
   std::printf(
       "Machine: %s, %u hardware threads; errors against the analytic solution at every step\n\n",
-      CpuModel().c_str(), std::thread::hardware_concurrency());
+      deploysim::bench::CpuModel().c_str(), std::thread::hardware_concurrency());
   std::printf(
       "| method | step / rtol | max rel err H_B | max attitude err [rad] | steps | rhs evals | "
       "wall time [ms] | speed-up vs thesis-euler h=2e-5 |\n");

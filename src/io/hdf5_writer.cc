@@ -1,41 +1,19 @@
 #include "io/hdf5_writer.h"
 
-#include <H5Cpp.h>
-
 #include <functional>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "io/hdf5_common.h"
 
 namespace deploysim::io {
 
 namespace {
 
-/// Turns off the HDF5 library's printing of its error stack to stderr while alive
-/// (errors reach the caller as exceptions with one-line messages instead), and restores
-/// the previous setting afterwards.
-class QuietHdf5Errors {
- public:
-  QuietHdf5Errors() {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
-  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
-
- private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
-
-H5::StrType TextType() {
-  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
-  type.setCset(H5T_CSET_UTF8);
-  return type;
-}
+using hdf5::QuietErrors;
+using hdf5::TextType;
 
 void WriteTextAttribute(const H5::H5Object& object,
                         const std::string& name,
@@ -51,7 +29,7 @@ struct Hdf5Writer::Impl {
   explicit Impl(const std::string& path) : target(path), atomic(path) {}
   std::string target;
   AtomicFile atomic;
-  QuietHdf5Errors quiet;
+  QuietErrors quiet;
   std::optional<H5::H5File> file;
 
   // Runs f, turning H5::Exception (not a std::exception) into one-line runtime_errors.
@@ -59,8 +37,7 @@ struct Hdf5Writer::Impl {
     try {
       f();
     } catch (const H5::Exception& e) {
-      throw std::runtime_error(target + ": HDF5 error in " + e.getFuncName() + ": " +
-                               e.getDetailMsg());
+      hdf5::Throw(target, e);
     }
   }
 

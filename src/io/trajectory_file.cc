@@ -2,8 +2,6 @@
 
 #include "io/trajectory_file.h"
 
-#include <H5Cpp.h>
-
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -11,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "io/hdf5_common.h"
 #include "io/hdf5_writer.h"
 #include "io/number_format.h"
 #include "math/quaternion.h"
@@ -26,37 +25,8 @@ namespace {
 using analysis::Trajectory;
 using internal::FormatNumber;
 
-const char* const kTextUnits = "none";
-
-/// Turns off the HDF5 library's printing of its error stack to stderr while alive
-/// (errors reach the caller as exceptions with one-line messages instead), and restores
-/// the previous setting afterwards.
-class QuietHdf5Errors {
- public:
-  QuietHdf5Errors() {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
-  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
-
- private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
-
-/// The HDF5 C++ API throws H5::Exception (not a std::exception); io reports
-/// std::runtime_error "<path>: HDF5 error in <function>: <detail>".
-[[noreturn]] void ThrowHdf5(const std::string& path, const H5::Exception& e) {
-  throw std::runtime_error(path + ": HDF5 error in " + e.getFuncName() + ": " + e.getDetailMsg());
-}
-
-H5::StrType TextType() {
-  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
-  type.setCset(H5T_CSET_UTF8);
-  return type;
-}
+using hdf5::QuietErrors;
+using hdf5::TextType;
 
 std::vector<double> Flatten(const std::vector<math::Vec3>& v) {
   std::vector<double> flat;
@@ -403,12 +373,12 @@ void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult&
 }
 
 TrajectoryFile ReadTrajectoryFile(const std::string& path) {
-  const QuietHdf5Errors quiet;
+  const QuietErrors quiet;
   // As in WriteTrajectoryFile: translate HDF5's exceptions to std::runtime_error.
   try {
     return ReadContents(path);
   } catch (const H5::Exception& e) {
-    ThrowHdf5(path, e);
+    hdf5::Throw(path, e);
   }
 }
 

@@ -3,8 +3,6 @@
 
 #include "sweep/results_file.h"
 
-#include <H5Cpp.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +12,7 @@
 
 #include "analysis/free_body_solution.h"
 #include "io/atomic_file.h"
+#include "io/hdf5_common.h"
 #include "io/hdf5_writer.h"
 #include "io/number_format.h"
 
@@ -164,30 +163,9 @@ std::vector<Column> BuildColumns(const SweepSpec& spec, const std::vector<CaseOu
 
 // ---- HDF5 ----
 
-class QuietHdf5Errors {
- public:
-  QuietHdf5Errors() {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
-  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
-
- private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
-
-[[noreturn]] void ThrowHdf5(const std::string& path, const H5::Exception& e) {
-  throw std::runtime_error(path + ": HDF5 error in " + e.getFuncName() + ": " + e.getDetailMsg());
-}
-
-H5::StrType TextType() {
-  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
-  type.setCset(H5T_CSET_UTF8);
-  return type;
-}
+using io::hdf5::QuietErrors;
+using io::hdf5::TextType;
+using io::hdf5::Throw;
 
 void WriteColumn(io::Hdf5Writer& out, const std::string& group, const Column& c) {
   const std::string path = group + "/" + c.name;
@@ -394,11 +372,11 @@ void WriteSweepCsv(const std::string& path,
 }
 
 SweepTable ReadSweepResults(const std::string& path) {
-  const QuietHdf5Errors quiet;
+  const QuietErrors quiet;
   try {
     return ReadContents(path);
   } catch (const H5::Exception& e) {
-    ThrowHdf5(path, e);
+    Throw(path, e);
   }
 }
 
