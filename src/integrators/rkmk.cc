@@ -24,10 +24,9 @@ struct QuatL {
 QuatL ToL(const math::Quat& q) { return {q.w(), q.x(), q.y(), q.z()}; }
 
 QuatL Mul(const QuatL& a, const QuatL& b) {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
-          a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
-          a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+  return {
+      a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+      a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
 
 // Exp of a rotation vector (lx, ly, lz) [rad].
@@ -45,8 +44,8 @@ QuatL ExpL(long double x, long double y, long double z) {
 // q1 (the rounded double quaternion, unit) and the carry delta with q1 Exp(delta) = exact
 // to extended precision.
 void RoundWithCarry(const QuatL& exact, math::Quat& q1, math::Vec3& delta) {
-  const long double n = std::sqrt(exact.w * exact.w + exact.x * exact.x + exact.y * exact.y +
-                                  exact.z * exact.z);
+  const long double n =
+      std::sqrt(exact.w * exact.w + exact.x * exact.x + exact.y * exact.y + exact.z * exact.z);
   const QuatL e{exact.w / n, exact.x / n, exact.y / n, exact.z / n};
   q1 = math::Quat(static_cast<double>(e.w), static_cast<double>(e.x), static_cast<double>(e.y),
                   static_cast<double>(e.z))
@@ -112,11 +111,10 @@ StepAttempt RkmkStepper::Step(const Problem& problem,
   // double becomes the next carry, so rounding does not accumulate over the steps: near
   // the separatrix every 1e-16 rad would move the flips (DESIGN.md 6).
   const math::Vec3 a = (sigma * h) * h_N;
-  const QuatL q1_exact =
-      Mul(Mul(ExpL(a.x(), a.y(), a.z()), ToL(y.q_NB)),
-          ExpL(static_cast<long double>(u1.x()) + y.attitude_carry.x(),
-               static_cast<long double>(u1.y()) + y.attitude_carry.y(),
-               static_cast<long double>(u1.z()) + y.attitude_carry.z()));
+  const QuatL q1_exact = Mul(Mul(ExpL(a.x(), a.y(), a.z()), ToL(y.q_NB)),
+                             ExpL(static_cast<long double>(u1.x()) + y.attitude_carry.x(),
+                                  static_cast<long double>(u1.y()) + y.attitude_carry.y(),
+                                  static_cast<long double>(u1.z()) + y.attitude_carry.z()));
   math::Quat q1;
   math::Vec3 carry1;
   RoundWithCarry(q1_exact, q1, carry1);
