@@ -53,6 +53,37 @@ double BestTime(F&& f, double min_total) {
   return best;
 }
 
+// One Simbody run (prescribed hinges or a free body) at `accuracy`; its wall time in `sec`.
+crosscheck::SimbodyRun TimedSimbody(const schedule::Profile& p,
+                                    const std::vector<double>& grid,
+                                    const math::Vec3& spin,
+                                    double accuracy,
+                                    double& sec) {
+  crosscheck::SimbodyOptions o;
+  o.accuracy = accuracy;
+  o.locate_flips = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  crosscheck::SimbodyRun run = crosscheck::RunSimbodyPrescribed(p, grid, spin, o);
+  sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return run;
+}
+
+// A deploysim run with `method` at `rtol` (atol = rtol/100); best wall time in `sec`.
+integrators::IntegrationResult TimedDeploysim(const std::string& method,
+                                              double rtol,
+                                              const dynamics::InertiaSource& source,
+                                              const integrators::State& s0,
+                                              double t_end,
+                                              const std::vector<double>& grid,
+                                              double& sec) {
+  integrators::IntegratorSettings st;
+  st.tolerances = {rtol, rtol * 1e-2};
+  const auto stepper = analysis::MakeStepper(method);
+  integrators::IntegrationResult r;
+  sec = BestTime([&] { r = integrators::Integrate(*stepper, st, source, s0, t_end, grid); }, 0.2);
+  return r;
+}
+
 // Fastest deploysim row at least as accurate as `target` (nullptr if none); with
 // `numerical_only`, rows of the closed-form flow are left out.
 const Measured* Match(const std::vector<Measured>& ours, double target, bool numerical_only) {
@@ -119,13 +150,8 @@ int main(int argc, char** argv) {
     if (!quick) accuracies.push_back(1e-14);
     const math::Vec3 spin = analysis::InitialSpinAxis(J.matrix(), H0);
     for (double a : accuracies) {
-      crosscheck::SimbodyOptions o;
-      o.accuracy = a;
-      o.locate_flips = false;
-      const auto t0 = std::chrono::steady_clock::now();
-      const crosscheck::SimbodyRun run = crosscheck::RunSimbodyPrescribed(p, grid, spin, o);
-      const double sec =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      double sec = 0.0;
+      const crosscheck::SimbodyRun run = TimedSimbody(p, grid, spin, a, sec);
       char label[64];
       std::snprintf(label, sizeof label, "Free body, accuracy %g", a);
       simbody.push_back({label, error_of(run.trajectory.time, run.trajectory.H_B), sec});
@@ -141,12 +167,9 @@ int main(int argc, char** argv) {
                                                      {"rkmk-rkf78", 1e-8},
                                                      {"rkmk-rkf78", 1e-10},
                                                      {"exact", 1e-12}}) {
-      integrators::IntegratorSettings st;
-      st.tolerances = {rtol, rtol * 1e-2};
-      const auto stepper = analysis::MakeStepper(method);
-      integrators::IntegrationResult r;
-      const double sec =
-          BestTime([&] { r = integrators::Integrate(*stepper, st, source, s0, 40.0, grid); }, 0.2);
+      double sec = 0.0;
+      const integrators::IntegrationResult r =
+          TimedDeploysim(method, rtol, source, s0, 40.0, grid, sec);
       std::vector<double> t;
       std::vector<math::Vec3> H;
       for (const auto& y : r.samples) {
@@ -187,13 +210,8 @@ int main(int argc, char** argv) {
     std::vector<Measured> simbody;
     std::vector<double> accuracies = {1e-8, 1e-10, 1e-12};
     for (double a : accuracies) {
-      crosscheck::SimbodyOptions o;
-      o.accuracy = a;
-      o.locate_flips = false;
-      const auto t0 = std::chrono::steady_clock::now();
-      const crosscheck::SimbodyRun run = crosscheck::RunSimbodyPrescribed(p, grid, spin, o);
-      const double sec =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      double sec = 0.0;
+      const crosscheck::SimbodyRun run = TimedSimbody(p, grid, spin, a, sec);
       char label[64];
       std::snprintf(label, sizeof label, "hinged, accuracy %g", a);
       simbody.push_back({label, (run.trajectory.H_B.back() - H_ref).norm() / M, sec});
@@ -207,12 +225,9 @@ int main(int argc, char** argv) {
                                                      {"rkmk-rkf78", 1e-8},
                                                      {"rkmk-rkf78", 1e-10},
                                                      {"rkf78", 1e-10}}) {
-      integrators::IntegratorSettings st;
-      st.tolerances = {rtol, rtol * 1e-2};
-      const auto stepper = analysis::MakeStepper(method);
-      integrators::IntegrationResult r;
-      const double sec =
-          BestTime([&] { r = integrators::Integrate(*stepper, st, sched, s0, 300.0, grid); }, 0.2);
+      double sec = 0.0;
+      const integrators::IntegrationResult r =
+          TimedDeploysim(method, rtol, sched, s0, 300.0, grid, sec);
       char label[64];
       std::snprintf(label, sizeof label, "%s rtol %g", method.c_str(), rtol);
       ours.push_back({label, std::max((r.samples.back().H_B - H_ref).norm() / M, 1e-16), sec});

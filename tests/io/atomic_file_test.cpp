@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/test_temp_dir.h"
+#include "temp_dir_test.h"
 
 namespace deploysim::io {
 namespace {

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "io/test_temp_dir.h"
+#include "temp_dir_test.h"
 #include "math/quaternion.h"
 
 namespace deploysim::io {

@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/test_temp_dir.h"
+#include "temp_dir_test.h"
 #include "math/quaternion.h"
 #include "model/mass_properties.h"
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "sweep/results_file.h"
+#include "temp_dir_test.h"
 
 namespace deploysim::sweep::testing {
 
@@ -22,41 +23,8 @@ inline std::string SmallsatProfile() {
   return std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/smallsat_three_stage.yaml";
 }
 
-class SweepDirTest : public ::testing::Test {
- public:
-  void SetUp() override {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() / "deploysim_sweep_tests" /
-           (std::string(info->test_suite_name()) + "." + info->name() + "." +
-            std::to_string(::getpid()));
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    std::filesystem::remove_all(dir_, ec);
-  }
-
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
-
-  std::string Write(const std::string& name, const std::string& text) const {
-    const std::filesystem::path p = dir_ / name;
-    std::ofstream(p) << text;
-    return p.string();
-  }
-
-  /// Names in the test's directory, sorted.
-  std::vector<std::string> Entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : std::filesystem::directory_iterator(dir_)) {
-      names.push_back(e.path().filename().string());
-    }
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-
-  std::filesystem::path dir_;
-};
+/// A scratch directory per test (tests/temp_dir_test.h).
+class SweepDirTest : public deploysim::testing::TempDirTest {};
 
 /// Bit-for-bit equality of the /cases tables (NaN == NaN when the bits agree).
 inline void ExpectSameCases(const SweepTable& a, const SweepTable& b) {

@@ -1,6 +1,7 @@
 #pragma once
 
-/// A fresh directory per test under the system temp directory, removed afterwards.
+/// A fresh directory per test under the system temp directory, removed afterwards
+/// (shared by the io and sweep tests).
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -11,13 +12,13 @@
 #include <string>
 #include <vector>
 
-namespace deploysim::io::testing {
+namespace deploysim::testing {
 
 class TempDirTest : public ::testing::Test {
- protected:
+ public:
   void SetUp() override {
     const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() / "deploysim_io_tests" /
+    dir_ = std::filesystem::temp_directory_path() / "deploysim_tests" /
            (std::string(info->test_suite_name()) + "." + info->name() + "." +
             std::to_string(::getpid()));
     std::filesystem::remove_all(dir_);
@@ -55,4 +56,4 @@ class TempDirTest : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
-}  // namespace deploysim::io::testing
+}  // namespace deploysim::testing
