@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "temp_dir_test.h"
 #include "math/quaternion.h"
+#include "temp_dir_test.h"
 
 namespace deploysim::io {
 namespace {

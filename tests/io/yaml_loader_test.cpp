@@ -10,9 +10,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "temp_dir_test.h"
 #include "math/quaternion.h"
 #include "model/mass_properties.h"
+#include "temp_dir_test.h"
 
 namespace deploysim::io {
 namespace {
