@@ -18,17 +18,17 @@
 #include <string>
 #include <vector>
 
-#include "analysis/exact_flow.h"
-#include "analysis/free_body_solution.h"
-#include "analysis/mission.h"
+#include "deploysim/analysis/exact_flow.h"
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/analysis/mission.h"
 #include "bench_util.h"
-#include "crosscheck/crosscheck.h"
-#include "crosscheck/simbody_satellite.h"
-#include "dynamics/inertia_source.h"
-#include "integrators/integrate.h"
-#include "io/yaml_loader.h"
-#include "math/quaternion.h"
-#include "schedule/deployment_schedule.h"
+#include "deploysim/crosscheck/crosscheck.h"
+#include "deploysim/crosscheck/simbody_satellite.h"
+#include "deploysim/dynamics/inertia_source.h"
+#include "deploysim/integrators/integrate.h"
+#include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/quaternion.h"
+#include "deploysim/schedule/deployment_schedule.h"
 
 namespace {
 

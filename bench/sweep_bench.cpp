@@ -32,12 +32,12 @@
 #include <thread>
 #include <vector>
 
-#include "analysis/mission.h"
+#include "deploysim/analysis/mission.h"
 #include "bench_util.h"
-#include "sweep/mpi_session.h"
-#include "sweep/outcome.h"
-#include "sweep/runner.h"
-#include "sweep/sweep_file.h"
+#include "deploysim/sweep/mpi_session.h"
+#include "deploysim/sweep/outcome.h"
+#include "deploysim/sweep/runner.h"
+#include "deploysim/sweep/sweep_file.h"
 
 namespace {
 

@@ -23,11 +23,11 @@
 #include <thread>
 #include <vector>
 
-#include "analysis/exact_flow.h"
-#include "analysis/free_body_solution.h"
-#include "dynamics/inertia_source.h"
-#include "integrators/integrate.h"
-#include "math/quaternion.h"
+#include "deploysim/analysis/exact_flow.h"
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/dynamics/inertia_source.h"
+#include "deploysim/integrators/integrate.h"
+#include "deploysim/math/quaternion.h"
 
 namespace {
 

@@ -5,8 +5,8 @@
 #include <array>
 #include <vector>
 
-#include "math/inertia.h"
-#include "math/types.h"
+#include "deploysim/math/inertia.h"
+#include "deploysim/math/types.h"
 
 namespace deploysim::testing {
 

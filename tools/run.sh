@@ -14,5 +14,5 @@ echo "building deploysim (Release)..." >&2
 cmake --preset release >/dev/null
 cmake --build --preset release --target deploysim >/dev/null
 mkdir -p out
-build/release/src/cli/deploysim simulate "$profile" -o "out/$name.h5" --compare-coupling
+build/release/bin/deploysim simulate "$profile" -o "out/$name.h5" --compare-coupling
 /usr/bin/python3 tools/plot_trajectory.py "out/$name.h5" -o "out/${name}_plots"

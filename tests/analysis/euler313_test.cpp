@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "analysis/mission.h"
-#include "math/so3.h"
+#include "deploysim/analysis/mission.h"
+#include "deploysim/math/so3.h"
 
 namespace deploysim::analysis {
 namespace {

@@ -17,7 +17,7 @@
 //
 // Every tolerance is a named constant; every random generator has a fixed seed.
 
-#include "analysis/free_body_solution.h"
+#include "deploysim/analysis/free_body_solution.h"
 
 #include <gtest/gtest.h>
 
@@ -36,8 +36,8 @@
 #include <string>
 #include <vector>
 
-#include "math/quaternion.h"
-#include "math/so3.h"
+#include "deploysim/math/quaternion.h"
+#include "deploysim/math/so3.h"
 
 namespace deploysim::analysis {
 namespace {

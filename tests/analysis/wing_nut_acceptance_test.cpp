@@ -7,11 +7,11 @@
 #include <cmath>
 #include <string>
 
-#include "analysis/exact_flow.h"
-#include "analysis/free_body_solution.h"
-#include "dynamics/inertia_source.h"
-#include "integrators/integrate.h"
-#include "math/quaternion.h"
+#include "deploysim/analysis/exact_flow.h"
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/dynamics/inertia_source.h"
+#include "deploysim/integrators/integrate.h"
+#include "deploysim/math/quaternion.h"
 #include "test_support.h"
 
 namespace deploysim::analysis {

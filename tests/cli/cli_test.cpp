@@ -13,10 +13,10 @@
 #include <memory>
 #include <string>
 
-#include "analysis/free_body_solution.h"
-#include "analysis/mission.h"
-#include "io/trajectory_file.h"
-#include "math/inertia.h"
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/analysis/mission.h"
+#include "deploysim/io/trajectory_file.h"
+#include "deploysim/math/inertia.h"
 
 namespace deploysim {
 namespace {

@@ -2,7 +2,7 @@
 // thesis's satellite reproduces section 3.4 quantitatively, and exact against
 // quasi-rigid coupling shows the physics of DESIGN.md 2.5.
 
-#include "analysis/mission.h"
+#include "deploysim/analysis/mission.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -12,10 +12,10 @@
 #include <fstream>
 #include <string>
 
-#include "analysis/coupling_comparison.h"
-#include "analysis/free_body_solution.h"
-#include "io/yaml_loader.h"
-#include "math/inertia.h"
+#include "deploysim/analysis/coupling_comparison.h"
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/inertia.h"
 
 namespace deploysim {
 namespace {

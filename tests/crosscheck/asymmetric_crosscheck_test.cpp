@@ -10,9 +10,9 @@
 #include <iostream>
 #include <string>
 
-#include "crosscheck/crosscheck.h"
-#include "io/yaml_loader.h"
-#include "model/mass_properties.h"
+#include "deploysim/crosscheck/crosscheck.h"
+#include "deploysim/io/yaml_loader.h"
+#include "deploysim/model/mass_properties.h"
 
 namespace deploysim::crosscheck {
 namespace {

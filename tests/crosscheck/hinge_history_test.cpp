@@ -1,14 +1,14 @@
 // The replay inertia source (crosscheck/hinge_history.h): quintic Hermite interpolation
 // of a recorded hinge history, consistent J_B(t), dJ_B/dt and h_rel_B(t).
 
-#include "crosscheck/hinge_history.h"
+#include "deploysim/crosscheck/hinge_history.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "io/yaml_loader.h"
-#include "model/mass_properties.h"
+#include "deploysim/io/yaml_loader.h"
+#include "deploysim/model/mass_properties.h"
 
 namespace deploysim::crosscheck {
 namespace {

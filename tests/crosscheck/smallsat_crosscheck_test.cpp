@@ -14,10 +14,10 @@
 #include <iostream>
 #include <string>
 
-#include "crosscheck/crosscheck.h"
-#include "crosscheck/crosscheck_file.h"
-#include "io/yaml_loader.h"
-#include "schedule/deployment_schedule.h"
+#include "deploysim/crosscheck/crosscheck.h"
+#include "deploysim/crosscheck/crosscheck_file.h"
+#include "deploysim/io/yaml_loader.h"
+#include "deploysim/schedule/deployment_schedule.h"
 
 namespace deploysim::crosscheck {
 namespace {

@@ -7,7 +7,7 @@
 // the instability amplifies the difference during the deployment itself (shown, not
 // hidden: the last rows of the table).
 
-#include "crosscheck/speed_study.h"
+#include "deploysim/crosscheck/speed_study.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,7 +18,7 @@
 #include <iostream>
 #include <string>
 
-#include "io/yaml_loader.h"
+#include "deploysim/io/yaml_loader.h"
 
 namespace deploysim::crosscheck {
 namespace {

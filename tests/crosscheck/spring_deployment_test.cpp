@@ -3,7 +3,7 @@
 // model replays the recorded hinge history with exact coupling and must agree to 1e-7
 // relative in H_B.
 
-#include "crosscheck/spring_deployment.h"
+#include "deploysim/crosscheck/spring_deployment.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <iostream>
 #include <string>
 
-#include "io/yaml_loader.h"
+#include "deploysim/io/yaml_loader.h"
 
 namespace deploysim::crosscheck {
 namespace {

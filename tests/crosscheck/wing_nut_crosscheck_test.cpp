@@ -10,8 +10,8 @@
 #include <iostream>
 #include <string>
 
-#include "crosscheck/crosscheck.h"
-#include "io/yaml_loader.h"
+#include "deploysim/crosscheck/crosscheck.h"
+#include "deploysim/io/yaml_loader.h"
 #include "test_support.h"
 
 namespace deploysim::crosscheck {

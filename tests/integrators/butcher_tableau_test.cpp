@@ -1,4 +1,4 @@
-#include "integrators/butcher_tableau.h"
+#include "deploysim/integrators/butcher_tableau.h"
 
 #include <gtest/gtest.h>
 

@@ -13,13 +13,13 @@
 #include <string>
 #include <vector>
 
-#include "dynamics/inertia_source.h"
-#include "dynamics/rigid_body.h"
-#include "integrators/butcher_tableau.h"
-#include "integrators/factory.h"
-#include "integrators/integrate.h"
-#include "integrators/rk_engine.h"
-#include "math/inertia.h"
+#include "deploysim/dynamics/inertia_source.h"
+#include "deploysim/dynamics/rigid_body.h"
+#include "deploysim/integrators/butcher_tableau.h"
+#include "deploysim/integrators/factory.h"
+#include "deploysim/integrators/integrate.h"
+#include "deploysim/integrators/rk_engine.h"
+#include "deploysim/math/inertia.h"
 
 namespace deploysim::integrators {
 namespace {

@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "dynamics/inertia_source.h"
-#include "integrators/factory.h"
-#include "integrators/integrate.h"
-#include "math/inertia.h"
-#include "math/quaternion.h"
+#include "deploysim/dynamics/inertia_source.h"
+#include "deploysim/integrators/factory.h"
+#include "deploysim/integrators/integrate.h"
+#include "deploysim/math/inertia.h"
+#include "deploysim/math/quaternion.h"
 #include "test_support.h"
 
 namespace deploysim::integrators {

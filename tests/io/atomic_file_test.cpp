@@ -1,6 +1,6 @@
 // AtomicFile: the target changes only on Commit(); a temporary never outlives it.
 
-#include "io/atomic_file.h"
+#include "deploysim/io/atomic_file.h"
 
 #include <gtest/gtest.h>
 

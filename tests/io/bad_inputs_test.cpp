@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "io/yaml_loader.h"
+#include "deploysim/io/yaml_loader.h"
 
 namespace deploysim::io {
 namespace {

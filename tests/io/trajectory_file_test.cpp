@@ -1,7 +1,7 @@
 // HDF5 and CSV trajectories: bit-exact round trips of a synthetic mission, units on
 // every dataset, readable by h5dump, and all-or-nothing writes.
 
-#include "io/trajectory_file.h"
+#include "deploysim/io/trajectory_file.h"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "math/quaternion.h"
+#include "deploysim/math/quaternion.h"
 #include "temp_dir_test.h"
 
 namespace deploysim::io {

@@ -1,7 +1,7 @@
 // Valid model and profile files load with the right values; a few messages are checked
 // word for word (the malformed-input corpus is bad_inputs_test.cpp).
 
-#include "io/yaml_loader.h"
+#include "deploysim/io/yaml_loader.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "math/quaternion.h"
-#include "model/mass_properties.h"
+#include "deploysim/math/quaternion.h"
+#include "deploysim/model/mass_properties.h"
 #include "temp_dir_test.h"
 
 namespace deploysim::io {

@@ -1,4 +1,4 @@
-#include "math/elliptic.h"
+#include "deploysim/math/elliptic.h"
 
 #include <gtest/gtest.h>
 

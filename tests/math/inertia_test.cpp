@@ -1,4 +1,4 @@
-#include "math/inertia.h"
+#include "deploysim/math/inertia.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <limits>
 #include <random>
 
-#include "math/so3.h"
+#include "deploysim/math/so3.h"
 
 namespace deploysim::math {
 namespace {

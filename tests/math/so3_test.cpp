@@ -1,10 +1,10 @@
-#include "math/so3.h"
+#include "deploysim/math/so3.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "math/quaternion.h"
+#include "deploysim/math/quaternion.h"
 
 namespace deploysim::math {
 namespace {

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "math/inertia.h"
-#include "math/so3.h"
-#include "model/mass_properties.h"
+#include "deploysim/math/inertia.h"
+#include "deploysim/math/so3.h"
+#include "deploysim/model/mass_properties.h"
 
 namespace deploysim::model {
 namespace {

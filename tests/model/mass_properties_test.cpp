@@ -1,4 +1,4 @@
-#include "model/mass_properties.h"
+#include "deploysim/model/mass_properties.h"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "math/inertia.h"
-#include "math/so3.h"
+#include "deploysim/math/inertia.h"
+#include "deploysim/math/so3.h"
 
 // Heap-allocation counter for the no-allocation test: every (unaligned) operator new and
 // delete of this test executable is replaced, so that all of them pair malloc with free

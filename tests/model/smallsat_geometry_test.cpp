@@ -8,8 +8,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "math/inertia.h"
-#include "model/mass_properties.h"
+#include "deploysim/math/inertia.h"
+#include "deploysim/model/mass_properties.h"
 
 namespace deploysim::model {
 namespace {

@@ -1,4 +1,4 @@
-#include "schedule/deployment_schedule.h"
+#include "deploysim/schedule/deployment_schedule.h"
 
 #include <gtest/gtest.h>
 
@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "math/inertia.h"
-#include "math/so3.h"
-#include "model/mass_properties.h"
+#include "deploysim/math/inertia.h"
+#include "deploysim/math/so3.h"
+#include "deploysim/model/mass_properties.h"
 #include "schedule_fixtures.h"
 
 namespace deploysim::schedule {

@@ -1,4 +1,4 @@
-#include "schedule/laws.h"
+#include "deploysim/schedule/laws.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "schedule/profile.h"
+#include "deploysim/schedule/profile.h"
 
 #include <gtest/gtest.h>
 

@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "math/so3.h"
-#include "math/types.h"
-#include "model/mass_properties.h"
-#include "model/model.h"
-#include "schedule/profile.h"
+#include "deploysim/math/so3.h"
+#include "deploysim/math/types.h"
+#include "deploysim/model/mass_properties.h"
+#include "deploysim/model/model.h"
+#include "deploysim/schedule/profile.h"
 
 namespace deploysim::schedule::testing {
 

@@ -1,7 +1,7 @@
 // The lean per-case outcome (sweep/outcome.h) against the full mission run and against
 // the closed-form torque-free solution.
 
-#include "sweep/outcome.h"
+#include "deploysim/sweep/outcome.h"
 
 #include <gtest/gtest.h>
 
@@ -9,10 +9,10 @@
 #include <cmath>
 #include <string>
 
-#include "analysis/free_body_solution.h"
-#include "analysis/mission.h"
-#include "math/inertia.h"
-#include "sweep/sweep_file.h"
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/analysis/mission.h"
+#include "deploysim/math/inertia.h"
+#include "deploysim/sweep/sweep_file.h"
 #include "sweep_test_support.h"
 
 namespace deploysim::sweep {

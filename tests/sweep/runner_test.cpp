@@ -2,7 +2,7 @@
 // against an MPI run with 2 ranks; an interrupted sweep (cancelled, or killed outright
 // with SIGKILL) resumes without repeating or losing a case; the journal's safeguards.
 
-#include "sweep/runner.h"
+#include "deploysim/sweep/runner.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "sweep/journal.h"
-#include "sweep/mpi_session.h"
-#include "sweep/sweep_file.h"
+#include "deploysim/sweep/journal.h"
+#include "deploysim/sweep/mpi_session.h"
+#include "deploysim/sweep/sweep_file.h"
 #include "sweep_test_support.h"
 
 namespace deploysim::sweep {

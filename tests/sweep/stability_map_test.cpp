@@ -9,8 +9,8 @@
 #include <fstream>
 #include <string>
 
-#include "sweep/runner.h"
-#include "sweep/sweep_file.h"
+#include "deploysim/sweep/runner.h"
+#include "deploysim/sweep/sweep_file.h"
 #include "sweep_test_support.h"
 
 namespace deploysim::sweep {

@@ -2,7 +2,7 @@
 // Monte Carlo streams, and the rejection of invalid files (one line naming the file, the
 // key, the value and the rule, as for profiles).
 
-#include "sweep/sweep_file.h"
+#include "deploysim/sweep/sweep_file.h"
 
 #include <gtest/gtest.h>
 
@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "analysis/mission.h"
-#include "io/yaml_loader.h"
-#include "sweep/rng.h"
-#include "sweep/sweep_spec.h"
+#include "deploysim/analysis/mission.h"
+#include "deploysim/io/yaml_loader.h"
+#include "deploysim/sweep/rng.h"
+#include "deploysim/sweep/sweep_spec.h"
 #include "sweep_test_support.h"
 
 namespace deploysim::sweep {

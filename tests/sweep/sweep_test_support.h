@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "sweep/results_file.h"
+#include "deploysim/sweep/results_file.h"
 #include "temp_dir_test.h"
 
 namespace deploysim::sweep::testing {

@@ -1,0 +1,68 @@
+#pragma once
+
+/// The exact flow of the torque-free rigid body, as a stepper: on every segment where
+/// the inertia source is rigid (constant J_B, h_rel_B = 0) the state is advanced with
+/// the closed-form solution (FreeBodySolution: Jacobi elliptic functions for H_B, the
+/// elliptic integral of the third kind for the attitude), so a piecewise-constant
+/// inertia schedule is integrated without truncation error. Elsewhere it delegates to a
+/// numerical fallback stepper (default rkmk-rkf78).
+///
+/// The closed-form solution is built once per rigid segment, from the state at the
+/// segment's start, and evaluated at every later time of the segment: restarting it
+/// from each step's end state would add a rounding error per step, which the
+/// near-separatrix motion amplifies. A stepper therefore holds a cache and must not be
+/// shared between threads (make one per thread).
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/integrators/integrate.h"
+#include "deploysim/integrators/stepper.h"
+#include "deploysim/math/inertia.h"
+
+namespace deploysim::analysis {
+
+class ExactFlowStepper final : public integrators::Stepper {
+ public:
+  explicit ExactFlowStepper(std::unique_ptr<integrators::Stepper> fallback);
+  const integrators::StepperInfo& info() const override { return info_; }
+  integrators::StepAttempt Step(const integrators::Problem& problem,
+                                const integrators::State& y,
+                                double h,
+                                const integrators::Tolerances& tol) const override;
+  /// An eighth of the period of H_B on rigid segments, so that every flip (every half
+  /// period) is seen by the event detection; the fallback's limit elsewhere.
+  double MaxStep(const integrators::Problem& problem, const integrators::State& y) const override;
+
+ private:
+  /// The solution of the rigid segment that starts at `begin`, if y lies on it.
+  const FreeBodySolution& SolutionFor(const integrators::Problem& problem,
+                                      const integrators::State& y) const;
+
+  std::unique_ptr<integrators::Stepper> fallback_;
+  integrators::StepperInfo info_;
+  struct Cache {
+    double begin = 0.0;
+    const dynamics::InertiaSource* source = nullptr;
+    math::Vec3 H_B0 = math::Vec3::Zero();
+    math::Quat q_NB0 = math::Quat::Identity();
+    std::optional<FreeBodySolution> solution;
+  };
+  mutable Cache cache_;
+};
+
+/// All stepper names: the numerical ones and "exact".
+std::vector<std::string> StepperNames();
+
+/// A stepper by name ("exact" uses rkmk-rkf78 on non-rigid segments).
+std::unique_ptr<integrators::Stepper> MakeStepper(const std::string& name);
+
+/// The Dzhanibekov flip of a body of constant inertia: the sign of the momentum
+/// component along the intermediate principal axis. Throws std::invalid_argument when
+/// two principal moments are equal (no intermediate axis, no flip).
+integrators::EventFunction FlipEvent(const math::InertiaTensor& J_B);
+
+}  // namespace deploysim::analysis

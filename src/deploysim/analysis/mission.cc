@@ -1,0 +1,277 @@
+#include "deploysim/analysis/mission.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "deploysim/analysis/exact_flow.h"
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/dynamics/rigid_body.h"
+#include "deploysim/math/inertia.h"
+#include "deploysim/schedule/deployment_schedule.h"
+
+namespace deploysim::analysis {
+
+namespace {
+
+// Two principal moments closer than this (relative to the largest) are equal: the
+// axes between them are not distinguished (the seed's half-open configuration).
+constexpr double kDegenerateMoments = 1e-9;
+// A located sign change counts as a flip only if the momentum along the intermediate
+// axis is this small (relative to |H|) there: a jump of the axis labelling while two
+// moments cross is not a flip.
+constexpr double kFlipResidual = 1e-6;
+AxisRole RoleOf(const math::Vec3& moments, int index) {
+  const double scale = moments[2];
+  const bool low_tie = moments[1] - moments[0] <= kDegenerateMoments * scale;
+  const bool high_tie = moments[2] - moments[1] <= kDegenerateMoments * scale;
+  if (index == 1 && (low_tie || high_tie)) return AxisRole::kDegenerate;
+  if (index == 0 && low_tie) return AxisRole::kDegenerate;
+  if (index == 2 && high_tie) return AxisRole::kDegenerate;
+  return index == 0 ? AxisRole::kMinor : index == 1 ? AxisRole::kIntermediate : AxisRole::kMajor;
+}
+
+// Index of the principal axis most nearly parallel to v.
+int NearestAxis(const math::PrincipalAxes& p, const math::Vec3& v) {
+  int best = 0;
+  double best_dot = -1.0;
+  for (int i = 0; i < 3; ++i) {
+    const double d = std::abs(p.axes.col(i).dot(v));
+    if (d > best_dot) {
+      best_dot = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+math::Vec3 InitialSpinAxis(const math::Mat3& J_B0, const math::Vec3& H_B0) {
+  const math::PrincipalAxes p = math::PrincipalDecomposition(J_B0);
+  math::Vec3 s = p.axes.col(NearestAxis(p, H_B0));
+  if (s.dot(H_B0) < 0.0) s = -s;
+  return s;
+}
+
+SpinAxisRole LocateSpinAxis(const math::Mat3& J_B, const math::Vec3& spin_axis_B) {
+  const math::PrincipalAxes p = math::PrincipalDecomposition(J_B);
+  const int i = NearestAxis(p, spin_axis_B);
+  SpinAxisRole r;
+  r.axis_B = p.axes.col(i);
+  if (r.axis_B.dot(spin_axis_B) < 0.0) r.axis_B = -r.axis_B;
+  r.role = RoleOf(p.moments, i);
+  return r;
+}
+
+std::string ToString(AxisRole r) {
+  switch (r) {
+    case AxisRole::kMinor:
+      return "minor";
+    case AxisRole::kIntermediate:
+      return "intermediate";
+    case AxisRole::kMajor:
+      return "major";
+    case AxisRole::kDegenerate:
+      return "degenerate";
+  }
+  return "?";
+}
+
+math::Vec3 Euler313RelativeToMomentum(const math::Quat& q_NB, const math::Vec3& h_N) {
+  const math::Vec3 e3 = h_N.normalized();
+  // e1: the inertial x axis made perpendicular to e3 (y if x is nearly parallel).
+  math::Vec3 ref = std::abs(e3.x()) < 0.9 ? math::Vec3::UnitX() : math::Vec3::UnitY();
+  const math::Vec3 e1 = (ref - ref.dot(e3) * e3).normalized();
+  const math::Vec3 e2 = e3.cross(e1);
+  math::Mat3 R_PN;
+  R_PN.row(0) = e1.transpose();
+  R_PN.row(1) = e2.transpose();
+  R_PN.row(2) = e3.transpose();
+  const math::Mat3 R = R_PN * q_NB.toRotationMatrix();
+  // R = Rz(phi) Rx(theta) Rz(psi): R(2,2) = cos(theta), R(0,2) = sin(phi) sin(theta),
+  // R(1,2) = -cos(phi) sin(theta), R(2,0) = sin(theta) sin(psi), R(2,1) = sin(theta) cos(psi).
+  const double s = std::hypot(R(0, 2), R(1, 2));
+  const double theta = std::atan2(s, R(2, 2));
+  double phi;
+  double psi;
+  if (s < 1e-12) {
+    // Nutation 0 or pi: only phi +- psi is defined; put it all in the precession.
+    psi = 0.0;
+    phi = std::atan2(R(1, 0), R(0, 0));
+  } else {
+    phi = std::atan2(R(0, 2), -R(1, 2));
+    psi = std::atan2(R(2, 0), R(2, 1));
+  }
+  return math::Vec3(phi, theta, psi);
+}
+
+MissionResult RunMission(const schedule::Profile& profile,
+                         const std::function<void(double)>& progress) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  const schedule::DeploymentSchedule sched(profile);
+  const double t0 = profile.t_begin();
+  const double t1 = profile.t_end();
+
+  MissionResult out;
+  out.profile = profile;
+
+  // Initial state.
+  integrators::State y0;
+  y0.t = t0;
+  y0.q_NB = profile.initial.q_NB.normalized();
+  const dynamics::InertiaSample s0 = sched.Evaluate(t0);
+  y0.H_B = profile.initial.H_B ? *profile.initial.H_B
+                               : math::Vec3(s0.J_B * *profile.initial.w_NB_B + s0.h_rel_B);
+  const math::Vec3 h_N0 = y0.q_NB * y0.H_B;
+  const double M = h_N0.norm();
+  if (!(M > 0.0)) throw std::invalid_argument(profile.source + ": initial: zero angular momentum");
+
+  // The body spin axis; flips are sign changes of the momentum along it while it is the
+  // intermediate principal axis of J(t).
+  const math::Vec3 spin_axis_B = InitialSpinAxis(s0.J_B, y0.H_B);
+  out.spin_axis_B = spin_axis_B;
+  integrators::EventFunction flip{"flip", [&sched, spin_axis_B](const integrators::State& s) {
+                                    const dynamics::InertiaSample js = sched.Evaluate(s.t);
+                                    return s.H_B.dot(LocateSpinAxis(js.J_B, spin_axis_B).axis_B);
+                                  }};
+
+  // Output grid plus the stage boundaries (kept apart for the stage reports).
+  const std::vector<double> grid = integrators::UniformGrid(t0, t1, profile.output.dt);
+  std::vector<double> times = grid;
+  for (const schedule::Stage& st : profile.stages) {
+    times.push_back(st.t_begin);
+    times.push_back(st.t_end);
+  }
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+
+  const auto stepper = MakeStepper(profile.integrator.method);
+  integrators::IntegratorSettings settings;
+  settings.step = profile.integrator.step;
+  settings.tolerances = {profile.integrator.rtol, profile.integrator.atol};
+  settings.max_step = profile.integrator.max_step;
+  double last_reported = -1.0;
+  integrators::StepObserver observer;
+  if (progress) {
+    observer = [&](const integrators::State& s) {
+      const double f = (s.t - t0) / (t1 - t0);
+      if (f - last_reported >= 0.01 || f >= 1.0) {
+        last_reported = f;
+        progress(f);
+      }
+    };
+  }
+  const integrators::IntegrationResult run =
+      integrators::Integrate(*stepper, settings, sched, y0, t1, times, {flip}, observer);
+  out.stats = run.stats;
+  out.termination = run.termination;
+  out.message = run.message;
+
+  // Flip events: true zero crossings (not jumps where the nearest principal axis
+  // changes while two moments cross) while the spin axis is the intermediate axis.
+  for (const integrators::Event& e : run.events) {
+    const bool intermediate =
+        LocateSpinAxis(sched.Evaluate(e.t).J_B, spin_axis_B).role == AxisRole::kIntermediate;
+    if (intermediate && std::abs(flip.g(e.state)) <= kFlipResidual * M) {
+      out.flip_times.push_back(e.t);
+    }
+  }
+
+  // States at the stage boundaries, and the trajectory on the output grid.
+  auto state_at = [&](double t) -> const integrators::State& {
+    const auto it = std::lower_bound(times.begin(), times.end(), t);
+    const std::size_t i = static_cast<std::size_t>(it - times.begin());
+    return run.samples.at(std::min(i, run.samples.size() - 1));
+  };
+  Trajectory& tr = out.trajectory;
+  const bool geometry = profile.mode == schedule::Mode::kGeometry;
+  for (double t : grid) {
+    const integrators::State& s = state_at(t);
+    const dynamics::InertiaSample js = sched.Evaluate(t);
+    const math::Vec3 w = dynamics::AngularVelocity(js, s.H_B);
+    const math::Vec3 h_N = s.q_NB * s.H_B;
+    tr.time.push_back(t);
+    tr.H_B.push_back(s.H_B);
+    tr.w_NB_B.push_back(w);
+    tr.q_NB.push_back(s.q_NB);
+    tr.J_B.push_back(js.J_B);
+    tr.principal_moments.push_back(math::PrincipalDecomposition(js.J_B).moments);
+    tr.h_rel_B.push_back(js.h_rel_B);
+    tr.h_N.push_back(h_N);
+    tr.energy.push_back(0.5 * w.dot(js.J_B * w));
+    tr.euler_313.push_back(Euler313RelativeToMomentum(s.q_NB, h_N));
+    tr.spin_axis_angle.push_back(
+        std::acos(std::clamp(spin_axis_B.dot(s.H_B) / s.H_B.norm(), -1.0, 1.0)));
+    if (geometry) tr.hinge_angles.push_back(sched.HingeAngles(t));
+    out.max_h_N_drift = std::max(out.max_h_N_drift, (h_N - h_N0).norm() / M);
+  }
+
+  // Stage reports.
+  for (std::size_t k = 0; k < profile.stages.size(); ++k) {
+    const schedule::Stage& st = profile.stages[k];
+    StageReport rep;
+    rep.index = static_cast<int>(k);
+    rep.name = st.name;
+    rep.law = st.is_hold() ? "hold" : schedule::ToString(st.law);
+    rep.t_begin = st.t_begin;
+    rep.t_end = st.t_end;
+    rep.rigid = sched.IsRigidOn(st.t_begin, st.t_end);
+    const integrators::State& end = state_at(st.t_end);
+    const dynamics::InertiaSample js = sched.Evaluate(st.t_end, dynamics::Side::kLeft);
+    const math::PrincipalAxes p = math::PrincipalDecomposition(js.J_B);
+    rep.moments_end = p.moments;
+    rep.spin_axis_end = LocateSpinAxis(js.J_B, spin_axis_B).role;
+    const math::Vec3 w = js.J_inv_B * (end.H_B - js.h_rel_B);
+    const double two_T = w.dot(js.J_B * w);
+    const double D = end.H_B.squaredNorm() / two_T;
+    rep.separatrix_distance = (D - p.moments[1]) / (p.moments[2] - p.moments[0]);
+    for (double tf : out.flip_times) {
+      if (tf >= st.t_begin && tf < st.t_end) rep.observed_flips.push_back(tf);
+    }
+    rep.predicted_flip_half_period = std::numeric_limits<double>::infinity();
+    if (rep.rigid) {
+      const integrators::State& start = state_at(st.t_begin);
+      // Right after the switch of a step-law stage.
+      const dynamics::InertiaSample jr = sched.Evaluate(st.t_begin, dynamics::Side::kRight);
+      const FreeBodySolution sol(math::InertiaTensor::FromMatrix(jr.J_B), start.H_B, start.q_NB,
+                                 st.t_begin);
+      rep.regime = ToString(sol.regime());
+      rep.one_minus_k2 = sol.complementary_parameter();
+      rep.predicted_flip_half_period = sol.flip_half_period();
+      if (LocateSpinAxis(jr.J_B, spin_axis_B).role == AxisRole::kIntermediate) {
+        rep.predicted_flips = sol.FlipTimes(st.t_begin, st.t_end);
+      } else {
+        rep.predicted_flip_half_period = std::numeric_limits<double>::infinity();
+      }
+      for (double tf : rep.observed_flips) {
+        double nearest = std::numeric_limits<double>::infinity();
+        for (double tp : rep.predicted_flips) nearest = std::min(nearest, std::abs(tf - tp));
+        if (std::isfinite(nearest)) {
+          rep.max_flip_time_difference = std::max(rep.max_flip_time_difference, nearest);
+        }
+      }
+    }
+    out.stages.push_back(rep);
+  }
+
+  // Danger windows: the body spin axis is the intermediate principal axis of J(t).
+  bool in_window = false;
+  for (std::size_t i = 0; i < tr.size(); ++i) {
+    const math::PrincipalAxes p = math::PrincipalDecomposition(tr.J_B[i]);
+    const bool danger = RoleOf(p.moments, NearestAxis(p, spin_axis_B)) == AxisRole::kIntermediate;
+    if (danger && !in_window) {
+      out.danger_windows.push_back({tr.time[i], tr.time[i]});
+      in_window = true;
+    }
+    if (danger) out.danger_windows.back().t_end = tr.time[i];
+    if (!danger) in_window = false;
+  }
+  out.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return out;
+}
+
+}  // namespace deploysim::analysis

@@ -1,0 +1,105 @@
+#pragma once
+
+/// A mission run: profile -> deployment schedule -> integrator -> trajectory on the
+/// output grid, flip events, and the stability analysis of every stage (DESIGN.md 2.6).
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "deploysim/integrators/integrate.h"
+#include "deploysim/math/types.h"
+#include "deploysim/schedule/profile.h"
+
+namespace deploysim::analysis {
+
+/// The sampled trajectory (DESIGN.md 5): one entry per output time.
+struct Trajectory {
+  std::vector<double> time;                   ///< [s]
+  std::vector<math::Vec3> H_B;                ///< [kg m^2/s]
+  std::vector<math::Vec3> w_NB_B;             ///< [rad/s]
+  std::vector<math::Quat> q_NB;               ///< unit
+  std::vector<math::Mat3> J_B;                ///< [kg m^2]
+  std::vector<math::Vec3> principal_moments;  ///< [kg m^2] ascending
+  std::vector<math::Vec3> h_rel_B;            ///< [kg m^2/s]
+  std::vector<math::Vec3> h_N;                ///< [kg m^2/s]
+  std::vector<double> energy;                 ///< [J]
+  std::vector<math::Vec3> euler_313;          ///< [rad] precession, nutation, spin w.r.t. h_N
+  std::vector<double> spin_axis_angle;        ///< [rad] initial body spin axis vs h_N
+  std::vector<Eigen::VectorXd> hinge_angles;  ///< [rad] geometry mode only (else empty)
+  std::size_t size() const { return time.size(); }
+};
+
+/// Which principal axis of J the momentum is closest to.
+enum class AxisRole { kMinor, kIntermediate, kMajor, kDegenerate };
+std::string ToString(AxisRole r);
+
+/// The body spin axis of a run: the principal axis of J_B(t0) nearest the initial
+/// momentum H_B(t0), signed along it (unit, B components).
+math::Vec3 InitialSpinAxis(const math::Mat3& J_B0, const math::Vec3& H_B0);
+
+/// Where the spin axis is in J_B: the principal axis of J_B nearest `spin_axis_B`
+/// (signed along it) and its role. Flips (DESIGN.md 2.3: sign changes of the momentum
+/// along the intermediate axis) are counted while this role is kIntermediate: a body
+/// spinning about its minor or major axis only wobbles, and a body with two equal
+/// moments has no intermediate axis (seed 3.3).
+struct SpinAxisRole {
+  math::Vec3 axis_B = math::Vec3::Zero();
+  AxisRole role = AxisRole::kDegenerate;
+};
+SpinAxisRole LocateSpinAxis(const math::Mat3& J_B, const math::Vec3& spin_axis_B);
+
+/// Stability of one stage.
+struct StageReport {
+  int index = 0;
+  std::string name;
+  std::string law;  ///< "hold" or the law's name.
+  double t_begin = 0.0;
+  double t_end = 0.0;
+  bool rigid = false;                              ///< J constant and h_rel = 0 over the stage.
+  math::Vec3 moments_end = math::Vec3::Zero();     ///< Principal moments at the stage end [kg m^2].
+  AxisRole spin_axis_end = AxisRole::kDegenerate;  ///< Role of the spin axis in J at the stage end.
+  std::string regime;         ///< Rigid stages: the analytic regime (FreeBodySolution).
+  double one_minus_k2 = 0.0;  ///< Rigid stages: complementary parameter (0 on the separatrix).
+  double separatrix_distance =
+      0.0;  ///< (D - I2)/(I3 - I1): 0 on the separatrix, < 0 minor-axis side.
+  double predicted_flip_half_period = 0.0;  ///< [s] rigid stages; +inf when no flips.
+  std::vector<double> predicted_flips;      ///< [s] analytic flip times within the stage.
+  std::vector<double> observed_flips;       ///< [s] located by the integrator within the stage.
+  double max_flip_time_difference = 0.0;    ///< [s] |observed - predicted| where both exist.
+};
+
+/// A time interval in which the spin is about the intermediate axis (flips possible).
+struct DangerWindow {
+  double t_begin = 0.0;
+  double t_end = 0.0;
+};
+
+struct MissionResult {
+  schedule::Profile profile;
+  Trajectory trajectory;
+  std::vector<double> flip_times;  ///< [s] located flips: sign changes of H_B along the
+                                   ///< spin axis while it is the intermediate axis.
+  math::Vec3 spin_axis_B = math::Vec3::Zero();  ///< InitialSpinAxis of the run.
+  std::vector<StageReport> stages;
+  std::vector<DangerWindow> danger_windows;
+  integrators::Statistics stats;
+  integrators::Termination termination = integrators::Termination::kReachedEnd;
+  std::string message;
+  double max_h_N_drift = 0.0;  ///< max |h_N(t) - h_N(0)| / |h_N(0)| over the output grid.
+  double wall_seconds = 0.0;
+};
+
+/// Runs the profile. Progress (fraction done in [0, 1]) is reported through `progress`
+/// if given. Throws std::invalid_argument for an invalid profile.
+MissionResult RunMission(const schedule::Profile& profile,
+                         const std::function<void(double)>& progress = {});
+
+/// 3-1-3 Euler angles (precession, nutation, spin) [rad] of B relative to a frame N'
+/// whose third axis is h_N/|h_N| (seed appendix A.1). Nutation in [0, pi] is the angle
+/// between body axis 3 ... see mission.cc; the singular cases (nutation near 0 or pi)
+/// put the whole rotation about the third axis into the precession.
+math::Vec3 Euler313RelativeToMomentum(const math::Quat& q_NB, const math::Vec3& h_N);
+
+}  // namespace deploysim::analysis

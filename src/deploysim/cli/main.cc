@@ -1,0 +1,287 @@
+// deploysim: the command-line front end. Parses, runs, reports; the only place that
+// catches exceptions (one line on stderr, non-zero exit).
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "deploysim/analysis/coupling_comparison.h"
+#include "deploysim/analysis/exact_flow.h"
+#include "deploysim/analysis/mission.h"
+#include "deploysim/cli/report.h"
+#include "deploysim/io/trajectory_file.h"
+#include "deploysim/io/yaml_loader.h"
+#ifdef DEPLOYSIM_HAVE_SWEEP
+#include "deploysim/sweep/interrupt.h"
+#include "deploysim/sweep/mpi_session.h"
+#include "deploysim/sweep/runner.h"
+#include "deploysim/sweep/sweep_file.h"
+#endif
+#ifdef DEPLOYSIM_HAVE_CROSSCHECK
+#include "deploysim/crosscheck/crosscheck.h"
+#include "deploysim/crosscheck/crosscheck_file.h"
+#include "deploysim/crosscheck/speed_study.h"
+#endif
+
+namespace {
+
+using deploysim::analysis::MissionResult;
+
+constexpr int kExitBadInput = 1;
+constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as shells report it
+
+struct Overrides {
+  std::optional<std::string> method, coupling, mode;
+  std::optional<double> rtol, atol, step, dt;
+};
+
+void AddOverrideOptions(CLI::App* cmd, Overrides& o) {
+  cmd->add_option("--method", o.method, "integrator (see `deploysim methods`)");
+  cmd->add_option("--rtol", o.rtol, "relative tolerance of adaptive integrators");
+  cmd->add_option("--atol", o.atol, "absolute tolerance, relative to |H_B(0)|");
+  cmd->add_option("--step", o.step, "fixed step [s] (initial step for adaptive methods)");
+  cmd->add_option("--dt", o.dt, "output sampling interval [s]");
+  cmd->add_option("--coupling", o.coupling, "quasi-rigid | exact");
+  cmd->add_option("--mode", o.mode, "tensor | geometry");
+}
+
+deploysim::schedule::Profile Load(const std::string& path, const Overrides& o) {
+  deploysim::schedule::Profile p = deploysim::io::LoadProfile(path);
+  deploysim::io::ProfileOverrides po;
+  po.method = o.method;
+  po.coupling = o.coupling;
+  po.mode = o.mode;
+  po.rtol = o.rtol;
+  po.atol = o.atol;
+  po.step = o.step;
+  po.output_dt = o.dt;
+  deploysim::io::ApplyOverrides(p, po);
+  return p;
+}
+
+// A progress bar on a terminal; nothing otherwise (runs are short; sweeps have their own).
+std::function<void(double)> Progress(bool quiet) {
+  if (quiet || isatty(fileno(stderr)) == 0) return {};
+  return [](double f) {
+    const int width = 40;
+    const int filled = static_cast<int>(f * width);
+    std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), static_cast<int>(f * 100));
+    if (f >= 1.0) std::fprintf(stderr, "\r%*s\r", width + 8, "");
+    std::fflush(stderr);
+  };
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+#ifdef DEPLOYSIM_HAVE_SWEEP
+  // First: under mpirun, MPI_Init may consume arguments. A no-op otherwise.
+  deploysim::sweep::MpiSession mpi(&argc, &argv);
+#endif
+  CLI::App app{
+      "deploysim: does a spinning spacecraft stay put when it deploys its panels, or "
+      "does it start to tumble? (Dzhanibekov effect with time-varying inertia)"};
+  app.set_version_flag("--version", std::string("deploysim ") + DEPLOYSIM_VERSION);
+  app.require_subcommand(1);
+  app.footer(
+      "Examples:\n"
+      "  deploysim simulate deployment_profiles/smallsat_three_stage.yaml -o out/smallsat.h5\n"
+      "  deploysim simulate deployment_profiles/wing_nut.yaml --method exact -o wing_nut.h5\n"
+      "  deploysim analyze deployment_profiles/seed_satellite.yaml\n"
+      "  deploysim analyze deployment_profiles/smallsat_three_stage.yaml --json\n"
+      "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml -o smallsat_cc.h5\n"
+      "  deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5\n"
+      "  deploysim methods\n"
+      "File formats: docs/file_formats.md. Plots: /usr/bin/python3 tools/plot_trajectory.py "
+      "OUT.h5");
+
+  std::string profile_path, out_path;
+  bool csv = false, quiet = false, json = false, compare = false;
+  Overrides ov;
+
+  CLI::App* sim =
+      app.add_subcommand("simulate", "run a deployment profile and write its trajectory (HDF5)");
+  sim->add_option("profile", profile_path, "deployment profile (YAML)")->required();
+  sim->add_option("-o,--output", out_path,
+                  "output HDF5 file (default: <profile stem>.h5 in the current folder)");
+  sim->add_flag("--csv", csv, "also write <output>.csv");
+  sim->add_flag("-q,--quiet", quiet, "no progress bar and no summary");
+  sim->add_flag("--compare-coupling", compare,
+                "also run the other coupling and report the difference (geometry mode)");
+  AddOverrideOptions(sim, ov);
+  sim->footer(
+      "Example: deploysim simulate deployment_profiles/wing_nut.yaml -o wing_nut.h5 --method rkf78 "
+      "--rtol 1e-12");
+
+  CLI::App* ana =
+      app.add_subcommand("analyze", "stability per stage, predicted flips, danger windows");
+  ana->add_option("profile", profile_path, "deployment profile (YAML)")->required();
+  ana->add_flag("--json", json, "print JSON instead of the table");
+  AddOverrideOptions(ana, ov);
+  ana->footer("Example: deploysim analyze deployment_profiles/seed_satellite.yaml --json");
+
+#ifdef DEPLOYSIM_HAVE_CROSSCHECK
+  double cc_accuracy = 1e-12;
+  std::optional<double> cc_until;
+  bool speed_study = false;
+  std::string speed_csv;
+  CLI::App* cc = app.add_subcommand(
+      "crosscheck", "compare the reduced model with a Simbody multibody model (table + HDF5)");
+  cc->add_option("profile", profile_path, "deployment profile (YAML)")->required();
+  cc->add_option("-o,--output", out_path,
+                 "output HDF5 file (default: <profile stem>_crosscheck.h5 in the current folder)");
+  cc->add_option("--accuracy", cc_accuracy, "Simbody Runge-Kutta-Merson accuracy (default 1e-12)")
+      ->check(CLI::Range(1e-16, 0.1));
+  cc->add_option("--until", cc_until,
+                 "stop at this time [s] (inside a hold stage or on a stage end)");
+  cc->add_option("--dt", ov.dt, "output sampling interval [s]");
+  cc->add_flag("--speed-study", speed_study,
+               "also run the deployment-speed study: quasi-rigid coupling vs Simbody for "
+               "deployments of 1 to 1000 s (geometry-mode profiles)");
+  cc->add_option("--csv", speed_csv, "speed-study CSV (default: <profile stem>_speed_study.csv)");
+  cc->footer(
+      "Examples:\n"
+      "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml -o smallsat_cc.h5\n"
+      "  deploysim crosscheck deployment_profiles/wing_nut.yaml --accuracy 1e-14\n"
+      "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml --until 300 "
+      "--speed-study --csv speed.csv\n"
+      "  /usr/bin/python3 tools/plot_speed_study.py speed.csv -o speed.png");
+#endif
+
+#ifdef DEPLOYSIM_HAVE_SWEEP
+  std::string sweep_path;
+  int sweep_threads = 0;
+  bool resume = false;
+  CLI::App* swp = app.add_subcommand(
+      "sweep",
+      "run a parameter sweep (grid and/or Monte Carlo) and write one results table (HDF5)");
+  swp->add_option("sweep", sweep_path, "sweep file (YAML, docs/sweeps.md)")->required();
+  swp->add_option("-o,--output", out_path, "results HDF5 file")->required();
+  swp->add_option("--threads", sweep_threads,
+                  "worker threads (default: all hardware threads; per rank under mpirun)")
+      ->check(CLI::NonNegativeNumber);
+  swp->add_flag("--resume", resume,
+                "finish an interrupted sweep from its journal <output>.partial");
+  swp->add_flag("--csv", csv, "also write <output>.csv");
+  swp->add_flag("-q,--quiet", quiet, "no progress and no summary");
+  swp->footer(
+      "Examples:\n"
+      "  deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5\n"
+      "  deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5 --resume\n"
+      "  mpirun -np 4 deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5\n"
+      "  /usr/bin/python3 tools/plot_stability_map.py smallsat_map.h5 -o smallsat_map.png\n"
+      "Ctrl-C stops after the cases at hand (exit 130); --resume finishes the sweep.\n"
+      "Sweep files and results: docs/sweeps.md");
+#endif
+
+  CLI::App* meth = app.add_subcommand("methods", "list the integrators");
+
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    if (meth->parsed()) {
+      for (const std::string& name : deploysim::analysis::StepperNames()) {
+        const auto s = deploysim::analysis::MakeStepper(name);
+        std::cout << fmt::format(
+            "{:<13} {}\n{:<13} order {}{}; {}\n", name, s->info().summary, "", s->info().order,
+            s->info().adaptive ? ", adaptive" : ", fixed step", s->info().reference);
+      }
+      return 0;
+    }
+#ifdef DEPLOYSIM_HAVE_SWEEP
+    if (swp->parsed()) {
+      const deploysim::sweep::SweepSpec spec = deploysim::sweep::LoadSweep(sweep_path);
+      deploysim::sweep::RunOptions o;
+      o.output = out_path;
+      o.csv = csv;
+      o.resume = resume;
+      o.threads = sweep_threads;
+      o.progress = quiet ? nullptr : &std::cerr;
+      o.progress_tty = isatty(fileno(stderr)) != 0;
+      o.cancel = &deploysim::sweep::InstallInterruptHandlers();
+      o.mpi = &mpi;
+      const deploysim::sweep::RunSummary s = deploysim::sweep::RunSweep(spec, o);
+      if (!s.complete) {
+        if (mpi.rank() == 0) {
+          std::cerr << "deploysim: interrupted: " << deploysim::sweep::FormatSummary(s, o) << "\n";
+        }
+        return kExitInterrupted;
+      }
+      if (!quiet && mpi.rank() == 0) std::cout << deploysim::sweep::FormatSummary(s, o) << "\n";
+      return 0;
+    }
+#endif
+    const deploysim::schedule::Profile profile = Load(profile_path, ov);
+    const bool geometry = profile.mode == deploysim::schedule::Mode::kGeometry;
+    if (sim->parsed()) {
+      if (out_path.empty()) out_path = std::filesystem::path(profile_path).stem().string() + ".h5";
+      const MissionResult r = deploysim::analysis::RunMission(profile, Progress(quiet));
+      if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
+        std::cerr << "deploysim: error: " << profile_path << ": integration " << r.message << "\n";
+        return 3;
+      }
+      deploysim::io::WriteTrajectoryFile(out_path, r);
+      if (csv) deploysim::io::WriteTrajectoryCsv(out_path + ".csv", r.trajectory);
+      if (!quiet) {
+        std::cout << deploysim::cli::FormatSummary(r);
+        if (compare && geometry) {
+          std::cout << "\n"
+                    << deploysim::cli::FormatCouplingComparison(
+                           deploysim::analysis::CompareCouplings(profile));
+        }
+        std::cout << "\nwrote " << out_path << (csv ? " and " + out_path + ".csv" : "") << "\n";
+      }
+      return 0;
+    }
+#ifdef DEPLOYSIM_HAVE_CROSSCHECK
+    if (cc->parsed()) {
+      namespace xc = deploysim::crosscheck;
+      if (speed_study && !geometry) {
+        throw std::invalid_argument(profile_path + ": --speed-study needs a geometry-mode profile");
+      }
+      const std::string stem = std::filesystem::path(profile_path).stem().string();
+      if (out_path.empty()) out_path = stem + "_crosscheck.h5";
+      xc::CrosscheckOptions o;
+      o.accuracy = cc_accuracy;
+      o.t_end = cc_until;
+      const xc::CrosscheckResult r = xc::RunCrosscheck(profile, o);
+      xc::WriteCrosscheckFile(out_path, r);
+      std::cout << xc::FormatCrosscheckTable(r) << "\nwrote " << out_path << "\n";
+      if (speed_study) {
+        xc::SpeedStudyOptions so;
+        so.accuracy = cc_accuracy;
+        const xc::SpeedStudyResult st = xc::SpeedStudy(profile, so);
+        if (speed_csv.empty()) speed_csv = stem + "_speed_study.csv";
+        xc::WriteSpeedStudyCsv(speed_csv, st);
+        std::cout << "\n"
+                  << xc::FormatSpeedStudyTable(st) << "\nwrote " << speed_csv
+                  << " (plot: /usr/bin/python3 tools/plot_speed_study.py " << speed_csv << ")\n";
+      }
+      return 0;
+    }
+#endif
+    if (ana->parsed()) {
+      const MissionResult r = deploysim::analysis::RunMission(profile);
+      std::optional<deploysim::analysis::CouplingComparison> c;
+      if (geometry) c = deploysim::analysis::CompareCouplings(profile);
+      if (json) {
+        std::cout << deploysim::cli::FormatJson(r, c ? &*c : nullptr);
+      } else {
+        std::cout << deploysim::cli::FormatSummary(r);
+        if (c) std::cout << "\n" << deploysim::cli::FormatCouplingComparison(*c);
+      }
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "deploysim: error: " << e.what() << "\n";
+    return kExitBadInput;
+  }
+  return 0;
+}

@@ -1,0 +1,578 @@
+// The Simbody model of the satellite (DESIGN.md 3). See simbody_satellite.h for the
+// construction; everything Simbody-specific of the project is in this file.
+
+#include "deploysim/crosscheck/simbody_satellite.h"
+
+#include <Simbody.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <boost/math/tools/toms748_solve.hpp>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "deploysim/analysis/mission.h"
+#include "deploysim/model/mass_properties.h"
+#include "deploysim/schedule/deployment_schedule.h"
+
+namespace deploysim::crosscheck {
+
+namespace {
+
+using SimTK::Real;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+// Two report times closer than this (relative to max(1, |t|)) are the same instant: a
+// grid time that rounds next to a stage boundary is integrated to the boundary.
+constexpr double kSameTime = 1e-9;
+// A located sign change counts as a flip only if the momentum along the spin axis is this
+// small there (relative to |H|): not a jump of the axis labelling (analysis::RunMission).
+constexpr double kFlipResidual = 1e-6;
+// Flip location: stop when the bracket is this narrow (relative to max(1, |t|)) [s].
+constexpr double kFlipTimeTolerance = 1e-13;
+constexpr std::uintmax_t kFlipMaxIterations = 100;
+// Mass of the single body of a tensor-mode model [kg] (irrelevant to the rotation).
+constexpr double kTensorBodyMass = 1.0;
+// Relative tolerance within which a tensor-mode inertia counts as constant.
+constexpr double kConstantInertiaTolerance = 1e-14;
+
+/// Shortest text that reads back as x (for messages).
+std::string Exact(double x) {
+  char buf[32];
+  const std::to_chars_result r = std::to_chars(buf, buf + sizeof(buf), x);
+  return std::string(buf, r.ptr);
+}
+
+SimTK::Vec3 ToSimTK(const math::Vec3& v) { return SimTK::Vec3(v[0], v[1], v[2]); }
+math::Vec3 ToEigen(const SimTK::Vec3& v) { return math::Vec3(v[0], v[1], v[2]); }
+math::Mat3 ToEigen(const SimTK::Mat33& m) {
+  math::Mat3 r;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) r(i, j) = m(i, j);
+  }
+  return r;
+}
+SimTK::Rotation ToRotation(const math::Mat3& R) {
+  SimTK::Mat33 m;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) m(i, j) = R(i, j);
+  }
+  return SimTK::Rotation(m);  // re-orthogonalizes an approximate rotation matrix
+}
+SimTK::Inertia ToInertia(const math::Mat3& I) {
+  return SimTK::Inertia(I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+}
+
+/// Mass properties of a body whose CoM is at `com` (body frame) with inertia I_cm about
+/// the CoM in body axes: Simbody wants the inertia about the body origin.
+SimTK::MassProperties AboutOrigin(double mass, const math::Vec3& com, const math::Mat3& I_cm) {
+  const SimTK::Inertia about_origin = ToInertia(I_cm).shiftFromMassCenter(-ToSimTK(com), mass);
+  return SimTK::MassProperties(mass, ToSimTK(com), about_origin);
+}
+
+/// Which stage boundary the prescribed hinge motion is integrating towards: at that time
+/// the schedule is evaluated from the left (a rate may jump there), elsewhere from the
+/// right.
+struct SegmentClock {
+  double segment_end = std::numeric_limits<double>::infinity();
+  dynamics::Side SideAt(double t) const {
+    const double tol = kSameTime * std::max(1.0, std::abs(segment_end));
+    return t >= segment_end - tol ? dynamics::Side::kLeft : dynamics::Side::kRight;
+  }
+};
+
+/// Position-level prescribed motion of hinge k from the deployment schedule: q, qdot and
+/// qddot are the schedule's hinge angle, rate and acceleration (consistent with its law).
+class ScheduledHinge final : public SimTK::Motion::Custom::Implementation {
+ public:
+  ScheduledHinge(const schedule::DeploymentSchedule& schedule, int k, const SegmentClock& clock)
+      : schedule_(schedule), k_(k), clock_(clock) {}
+  SimTK::Motion::Level getLevel(const SimTK::State&) const override {
+    return SimTK::Motion::Position;
+  }
+  void calcPrescribedPosition(const SimTK::State& s, int nq, Real* q) const override {
+    Check(nq);
+    const double t = s.getTime();
+    q[0] = schedule_.HingeAngles(t, clock_.SideAt(t))[k_];
+  }
+  void calcPrescribedPositionDot(const SimTK::State& s, int nq, Real* qdot) const override {
+    Check(nq);
+    const double t = s.getTime();
+    qdot[0] = schedule_.HingeRates(t, clock_.SideAt(t))[k_];
+  }
+  void calcPrescribedPositionDotDot(const SimTK::State& s, int nq, Real* qddot) const override {
+    Check(nq);
+    const double t = s.getTime();
+    qddot[0] = schedule_.HingeAccelerations(t, clock_.SideAt(t))[k_];
+  }
+
+ private:
+  static void Check(int nq) {
+    if (nq != 1) std::abort();  // a Pin has exactly one q: broken internal invariant
+  }
+  const schedule::DeploymentSchedule& schedule_;
+  int k_;
+  const SegmentClock& clock_;
+};
+
+/// The multibody system. Non-copyable: Simbody handles refer into `system`.
+struct Satellite {
+  SimTK::MultibodySystem system;
+  SimTK::SimbodyMatterSubsystem matter{system};
+  SimTK::GeneralForceSubsystem forces{system};
+  SimTK::MobilizedBody::Free hub;
+  std::vector<SimTK::MobilizedBody::Pin> pins;
+  SegmentClock clock;
+
+  Satellite() = default;
+  Satellite(const Satellite&) = delete;
+  Satellite& operator=(const Satellite&) = delete;
+};
+
+/// How the hinges move.
+enum class Drive { kPrescribed, kSpring };
+
+/// Builds the bodies of a hinged model: Free hub, one Pin per panel (see the header).
+void AddHingedBodies(Satellite& sat, const model::HingedBody& body) {
+  const model::Hub& h = body.hub;
+  sat.hub = SimTK::MobilizedBody::Free(
+      sat.matter.Ground(), SimTK::Transform(),
+      SimTK::Body::Rigid(AboutOrigin(h.body.mass, h.com_B, h.body.inertia_cm)), SimTK::Transform());
+  for (const model::Panel& p : body.panels) {
+    // F (on the hub, at the hinge point) and M (on the panel, at its origin) have Z = a_k.
+    const SimTK::Rotation R_BF(SimTK::UnitVec3(ToSimTK(p.hinge_axis_B)), SimTK::ZAxis);
+    const SimTK::Body::Rigid panel(AboutOrigin(p.body.mass, p.com_offset_B, p.body.inertia_cm));
+    sat.pins.emplace_back(sat.hub, SimTK::Transform(R_BF, ToSimTK(p.hinge_point_B)), panel,
+                          SimTK::Transform(R_BF, SimTK::Vec3(0)));
+  }
+}
+
+/// The system's central momentum (angular, linear) in Ground as a 6-vector.
+Vec6 CentralMomentum(const Satellite& sat, const SimTK::State& s) {
+  sat.system.realize(s, SimTK::Stage::Velocity);
+  const SimTK::SpatialVec m = sat.matter.calcSystemCentralMomentum(s);
+  Vec6 r;
+  r << m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2];
+  return r;
+}
+
+/// Sets the hub's generalized speeds so that the system's central angular momentum in
+/// Ground is h_N and its linear momentum p_N. The momentum is affine in the hub speeds
+/// (the hinge speeds are fixed): columns by unit speeds, one refinement step.
+void FitHubVelocity(const Satellite& sat,
+                    SimTK::State& s,
+                    const math::Vec3& h_N,
+                    const math::Vec3& p_N) {
+  const int nu = sat.hub.getNumU(s);
+  if (nu != 6) std::abort();  // Free mobilizer: 3 angular + 3 linear speeds
+  auto set = [&](const Vec6& u) {
+    for (int j = 0; j < 6; ++j) sat.hub.setOneU(s, j, u[j]);
+  };
+  set(Vec6::Zero());
+  const Vec6 b = CentralMomentum(sat, s);
+  Mat6 A;
+  for (int j = 0; j < 6; ++j) {
+    set(Vec6::Unit(j));
+    A.col(j) = CentralMomentum(sat, s) - b;
+  }
+  Vec6 target;
+  target << h_N, p_N;
+  const Eigen::FullPivLU<Mat6> lu(A);
+  if (lu.rank() < 6) std::abort();  // positive-definite system inertia: full rank
+  Vec6 u = lu.solve(target - b);
+  set(u);
+  u += lu.solve(target - CentralMomentum(sat, s));
+  set(u);
+}
+
+/// One sample of the hub's state and the system momentum.
+struct Snapshot {
+  math::Mat3 R_NB;
+  math::Vec3 w_NB_B;
+  math::Vec3 h_N;
+  math::Vec3 H_B;
+};
+
+Snapshot Snap(const Satellite& sat, const SimTK::State& s) {
+  sat.system.realize(s, SimTK::Stage::Velocity);
+  Snapshot r;
+  r.R_NB = ToEigen(sat.hub.getBodyRotation(s));
+  r.w_NB_B = r.R_NB.transpose() * ToEigen(sat.hub.getBodyAngularVelocity(s));
+  r.h_N = ToEigen(sat.matter.calcSystemCentralMomentum(s)[0]);
+  r.H_B = r.R_NB.transpose() * r.h_N;
+  return r;
+}
+
+void Record(const Satellite& sat, const SimTK::State& s, double t_label, SimbodyTrajectory& tr) {
+  const Snapshot snap = Snap(sat, s);
+  tr.time.push_back(t_label);
+  tr.H_B.push_back(snap.H_B);
+  tr.h_N.push_back(snap.h_N);
+  tr.w_NB_B.push_back(snap.w_NB_B);
+  tr.q_NB.push_back(math::Quat(snap.R_NB).normalized());
+  Eigen::VectorXd angle(static_cast<Eigen::Index>(sat.pins.size()));
+  Eigen::VectorXd rate(angle.size());
+  for (std::size_t k = 0; k < sat.pins.size(); ++k) {
+    angle[static_cast<Eigen::Index>(k)] = sat.pins[k].getOneQ(s, 0);
+    rate[static_cast<Eigen::Index>(k)] = sat.pins[k].getOneU(s, 0);
+  }
+  tr.hinge_angles.push_back(angle);
+  tr.hinge_rates.push_back(rate);
+}
+
+void RecordKnot(const Satellite& sat, const SimTK::State& s, HingeHistory& h) {
+  if (!h.time.empty() && s.getTime() <= h.time.back()) return;
+  sat.system.realize(s, SimTK::Stage::Acceleration);
+  const auto n = static_cast<Eigen::Index>(sat.pins.size());
+  Eigen::VectorXd q(n), u(n), udot(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const auto& pin = sat.pins[static_cast<std::size_t>(k)];
+    q[k] = pin.getOneQ(s, 0);
+    u[k] = pin.getOneU(s, 0);
+    udot[k] = pin.getOneUDot(s, 0);
+  }
+  h.time.push_back(s.getTime());
+  h.angle.push_back(q);
+  h.rate.push_back(u);
+  h.acceleration.push_back(udot);
+}
+
+/// The flip function: H_B along the principal axis of the system's central inertia (from
+/// Simbody, in B) nearest the spin axis, and that axis's role.
+struct FlipValue {
+  double g = 0.0;
+  bool intermediate = false;
+};
+FlipValue Flip(const Satellite& sat, const SimTK::State& s, const math::Vec3& spin_axis_B) {
+  const Snapshot snap = Snap(sat, s);
+  const math::Mat3 I_N = ToEigen(sat.matter.calcSystemCentralInertiaInGround(s).toMat33());
+  const math::Mat3 J_B = snap.R_NB.transpose() * I_N * snap.R_NB;
+  const analysis::SpinAxisRole r =
+      analysis::LocateSpinAxis(0.5 * (J_B + J_B.transpose()), spin_axis_B);
+  return {snap.H_B.dot(r.axis_B), r.role == analysis::AxisRole::kIntermediate};
+}
+
+/// Throws std::runtime_error if Simbody's integrator gave up.
+void ThrowIfOver(const SimTK::Integrator& integ) {
+  if (integ.isSimulationOver()) {
+    throw std::runtime_error(
+        "Simbody: integration ended at t = " + Exact(integ.getTime()) +
+        " s: " + SimTK::Integrator::getTerminationReasonString(integ.getTerminationReason()));
+  }
+}
+
+/// Advances `integ` exactly to t (interpolated reports are off).
+void StepExactlyTo(SimTK::Integrator& integ, double t) {
+  const double tol = kSameTime * std::max(1.0, std::abs(t));
+  while (integ.getTime() < t - tol) {
+    integ.stepTo(t);
+    ThrowIfOver(integ);
+  }
+}
+
+/// Time of the sign change of the flip function in (a.t, t_b], by toms748 on
+/// integrations restarted from `a` at the same accuracy. NaN if the sign change is a jump
+/// (residual above kFlipResidual |H|).
+double LocateFlip(const Satellite& sat,
+                  const SimTK::State& a,
+                  double t_b,
+                  double g_a,
+                  double g_b,
+                  const math::Vec3& spin_axis_B,
+                  double accuracy) {
+  SimTK::RungeKuttaMersonIntegrator integ(sat.system);
+  integ.setAccuracy(accuracy);
+  integ.setAllowInterpolation(false);
+  const double t_a = a.getTime();
+  auto g = [&](double t) {
+    if (t <= t_a) return g_a;
+    integ.initialize(a);
+    StepExactlyTo(integ, t);
+    return Flip(sat, integ.getState(), spin_axis_B).g;
+  };
+  std::uintmax_t iterations = kFlipMaxIterations;
+  const auto done = [](double lo, double hi) {
+    return hi - lo <= kFlipTimeTolerance * std::max(1.0, std::abs(hi));
+  };
+  const std::pair<double, double> bracket =
+      boost::math::tools::toms748_solve(g, t_a, t_b, g_a, g_b, done, iterations);
+  const double t = 0.5 * (bracket.first + bracket.second);
+  const double M = Snap(sat, a).H_B.norm();
+  return std::abs(g(t)) <= kFlipResidual * M ? t : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// A report time of the Simbody run: a grid sample and/or a stage boundary.
+struct Report {
+  double t = 0.0;         ///< Integrate to this time.
+  long grid_index = -1;   ///< Output sample index, or -1.
+  bool boundary = false;  ///< Stage boundary: restart there.
+};
+
+std::vector<Report> Reports(const std::vector<double>& grid,
+                            const std::vector<double>& boundaries) {
+  std::vector<Report> r;
+  for (std::size_t i = 0; i < grid.size(); ++i) r.push_back({grid[i], static_cast<long>(i), false});
+  for (double b : boundaries) {
+    auto it = std::min_element(r.begin(), r.end(), [b](const Report& x, const Report& y) {
+      return std::abs(x.t - b) < std::abs(y.t - b);
+    });
+    if (it != r.end() && std::abs(it->t - b) <= kSameTime * std::max(1.0, std::abs(b))) {
+      it->t = b;
+      it->boundary = true;
+    } else {
+      r.push_back({b, -1, true});
+    }
+  }
+  std::sort(r.begin(), r.end(), [](const Report& x, const Report& y) { return x.t < y.t; });
+  return r;
+}
+
+void CheckInputs(const schedule::Profile& profile,
+                 const std::vector<double>& grid,
+                 const SimbodyOptions& options) {
+  if (!(options.accuracy > 0.0 && options.accuracy < 1.0)) {
+    throw std::invalid_argument("crosscheck: accuracy = " + Exact(options.accuracy) +
+                                ": must be in (0, 1)");
+  }
+  if (grid.empty()) throw std::invalid_argument("crosscheck: empty output grid");
+  const double t0 = profile.t_begin();
+  const double t1 = profile.t_end();
+  const double tol = kSameTime * std::max(1.0, std::abs(t1));
+  if (std::abs(grid.front() - t0) > tol || grid.back() > t1 + tol ||
+      !std::is_sorted(grid.begin(), grid.end())) {
+    throw std::invalid_argument(
+        "crosscheck: the output grid must be ascending, start at t_begin and end by t_end of " +
+        profile.source);
+  }
+}
+
+/// Runs `sat` from its initial state `s0` through the reports; restarts at boundaries
+/// (prescribed drive: re-prescribe from the right and refit the hub velocity to the
+/// momentum just before). Spring drive: records the hinge history at every step.
+SimbodyRun RunIntegration(Satellite& sat,
+                          SimTK::State s0,
+                          const std::vector<Report>& reports,
+                          const std::vector<double>& boundaries,
+                          Drive drive,
+                          const math::Vec3& spin_axis_B,
+                          const SimbodyOptions& options) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  SimbodyRun out;
+  out.accuracy = options.accuracy;
+  SimTK::RungeKuttaMersonIntegrator integ(sat.system);
+  integ.setAccuracy(options.accuracy);
+  integ.setAllowInterpolation(false);
+  if (drive == Drive::kSpring) integ.setReturnEveryInternalStep(true);
+  integ.initialize(s0);
+  const math::Vec3 h_N0 = CentralMomentum(sat, integ.getState()).head<3>();
+  const double M = h_N0.norm();
+
+  auto next_boundary = [&](double t) {
+    for (double b : boundaries) {
+      if (b > t + kSameTime * std::max(1.0, std::abs(b))) return b;
+    }
+    return std::numeric_limits<double>::infinity();
+  };
+
+  SimTK::State prev = integ.getState();
+  FlipValue prev_flip = Flip(sat, prev, spin_axis_B);
+  if (drive == Drive::kSpring) RecordKnot(sat, integ.getState(), out.history);
+  for (const Report& r : reports) {
+    if (drive == Drive::kSpring) {
+      const double tol = kSameTime * std::max(1.0, std::abs(r.t));
+      while (integ.getTime() < r.t - tol) {
+        integ.stepTo(r.t);
+        ThrowIfOver(integ);
+        RecordKnot(sat, integ.getState(), out.history);
+      }
+    } else {
+      StepExactlyTo(integ, r.t);
+    }
+    const SimTK::State& s = integ.getState();
+    const FlipValue f = Flip(sat, s, spin_axis_B);
+    if (options.locate_flips && prev_flip.intermediate && f.intermediate &&
+        ((prev_flip.g < 0.0) != (f.g < 0.0)) && s.getTime() > prev.getTime()) {
+      const double tf =
+          LocateFlip(sat, prev, s.getTime(), prev_flip.g, f.g, spin_axis_B, options.accuracy);
+      if (std::isfinite(tf)) out.flip_times.push_back(tf);
+    }
+    const bool restart = r.boundary && drive == Drive::kPrescribed && r.t < boundaries.back();
+    if (restart) {
+      SimTK::State s1 = s;
+      const Vec6 m = CentralMomentum(sat, s1);
+      sat.clock.segment_end = next_boundary(r.t);
+      sat.system.prescribe(s1);
+      FitHubVelocity(sat, s1, m.head<3>(), m.tail<3>());
+      integ.initialize(s1);  // keeps the integrator's statistics (cumulative)
+      ++out.stats.restarts;
+    }
+    const SimTK::State& now = integ.getState();
+    if (r.grid_index >= 0) {
+      Record(sat, now, r.t, out.trajectory);
+      const math::Vec3 h_N = out.trajectory.h_N.back();
+      out.max_momentum_drift = std::max(out.max_momentum_drift, (h_N - h_N0).norm() / M);
+    }
+    prev = now;
+    prev_flip = Flip(sat, prev, spin_axis_B);
+  }
+  out.stats.steps = integ.getNumStepsTaken();
+  out.stats.attempts = integ.getNumStepsAttempted();
+  out.stats.realizations = integ.getNumRealizations();
+  out.stats.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return out;
+}
+
+/// The validated hinged body of a geometry-mode profile (unit hinge axes).
+model::HingedBody HingedBodyOf(const schedule::Profile& profile) {
+  if (profile.model.kind != model::ModelKind::kHinged) {
+    throw std::invalid_argument(profile.source + ": geometry mode needs a hinged model");
+  }
+  return model::ValidatedHingedBody(profile.model.hinged, profile.model.source);
+}
+
+/// Hub attitude at t0 and the state with time, attitude and zero translation set.
+SimTK::State InitialState(Satellite& sat, const schedule::Profile& profile) {
+  SimTK::State s = sat.system.realizeTopology();
+  sat.system.realizeModel(s);
+  s.updTime() = profile.t_begin();
+  const math::Mat3 R_NB0 = profile.initial.q_NB.normalized().toRotationMatrix();
+  sat.hub.setQToFitRotation(s, ToRotation(R_NB0));
+  sat.hub.setQToFitTranslation(s, SimTK::Vec3(0));
+  return s;
+}
+
+std::vector<double> InteriorBoundaries(const schedule::Profile& profile) {
+  std::vector<double> b;
+  for (const schedule::Stage& st : profile.stages) {
+    if (st.t_end > profile.t_begin()) b.push_back(st.t_end);
+  }
+  return b;  // ascending; the last one is t_end
+}
+
+}  // namespace
+
+math::Vec3 InitialMomentum(const schedule::Profile& profile) {
+  if (profile.initial.H_B) return *profile.initial.H_B;
+  if (!profile.initial.w_NB_B) {
+    throw std::invalid_argument(profile.source +
+                                ": initial: neither angular velocity nor momentum");
+  }
+  const math::Vec3& w = *profile.initial.w_NB_B;
+  const schedule::DeploymentSchedule sched(profile);
+  const double t0 = profile.t_begin();
+  if (profile.mode == schedule::Mode::kGeometry) {
+    // Exact coupling's h_rel whatever the profile's coupling (zero on a first hold).
+    const model::MassProperties mp = model::ComputeMassProperties(
+        HingedBodyOf(profile), sched.HingeAngles(t0), sched.HingeRates(t0));
+    return mp.J_B * w + mp.h_rel_B;
+  }
+  return sched.Evaluate(t0).J_B * w;
+}
+
+SimbodyRun RunSimbodyPrescribed(const schedule::Profile& profile,
+                                const std::vector<double>& grid,
+                                const math::Vec3& spin_axis_B,
+                                const SimbodyOptions& options) {
+  CheckInputs(profile, grid, options);
+  const schedule::DeploymentSchedule sched(profile);
+  const double t0 = profile.t_begin();
+  const std::vector<double> boundaries = InteriorBoundaries(profile);
+  const math::Vec3 H_B0 = InitialMomentum(profile);
+  const math::Mat3 R_NB0 = profile.initial.q_NB.normalized().toRotationMatrix();
+
+  Satellite sat;
+  sat.clock.segment_end = boundaries.front();
+  if (profile.mode == schedule::Mode::kGeometry) {
+    AddHingedBodies(sat, HingedBodyOf(profile));
+    for (std::size_t k = 0; k < sat.pins.size(); ++k) {
+      SimTK::Motion::Custom(sat.pins[k], new ScheduledHinge(sched, static_cast<int>(k), sat.clock));
+    }
+  } else {
+    const math::Mat3 J = sched.Evaluate(t0).J_B;
+    for (double b : boundaries) {
+      for (dynamics::Side side : {dynamics::Side::kLeft, dynamics::Side::kRight}) {
+        if ((sched.Evaluate(b, side).J_B - J).norm() > kConstantInertiaTolerance * J.norm()) {
+          throw std::invalid_argument(
+              profile.source +
+              ": crosscheck of a tensor-mode profile needs a constant inertia (Simbody cannot "
+              "change a body's mass properties after realizeTopology); J_B changes at t = " +
+              Exact(b) + " s");
+        }
+      }
+    }
+    sat.hub = SimTK::MobilizedBody::Free(
+        sat.matter.Ground(), SimTK::Transform(),
+        SimTK::Body::Rigid(AboutOrigin(kTensorBodyMass, math::Vec3::Zero(), J)),
+        SimTK::Transform());
+  }
+  SimTK::State s = InitialState(sat, profile);
+  sat.system.prescribe(s);
+  FitHubVelocity(sat, s, R_NB0 * H_B0, math::Vec3::Zero());
+  return RunIntegration(sat, s, Reports(grid, boundaries), boundaries, Drive::kPrescribed,
+                        spin_axis_B, options);
+}
+
+SimbodyRun RunSimbodySpring(const schedule::Profile& profile,
+                            const SpringDrive& drive,
+                            const std::vector<double>& grid,
+                            const math::Vec3& spin_axis_B,
+                            const SimbodyOptions& options) {
+  CheckInputs(profile, grid, options);
+  if (profile.mode != schedule::Mode::kGeometry) {
+    throw std::invalid_argument(profile.source + ": spring deployment needs geometry mode");
+  }
+  auto require = [&](bool ok, const std::string& key, double value, const std::string& rule) {
+    if (!ok) {
+      throw std::invalid_argument("spring drive: " + key + " = " + Exact(value) + ": " + rule);
+    }
+  };
+  require(drive.stiffness > 0.0 && std::isfinite(drive.stiffness), "stiffness", drive.stiffness,
+          "must be finite and > 0");
+  require(drive.overtravel > 0.0 && std::isfinite(drive.overtravel), "overtravel", drive.overtravel,
+          "must be finite and > 0");
+  require(drive.damping >= 0.0 && std::isfinite(drive.damping), "damping", drive.damping,
+          "must be finite and >= 0");
+  require(drive.stop_stiffness > 0.0 && std::isfinite(drive.stop_stiffness), "stop_stiffness",
+          drive.stop_stiffness, "must be finite and > 0");
+  require(drive.stop_dissipation >= 0.0 && std::isfinite(drive.stop_dissipation),
+          "stop_dissipation", drive.stop_dissipation, "must be finite and >= 0");
+  const model::HingedBody body = HingedBodyOf(profile);
+  const Eigen::VectorXd& closed =
+      profile.model.configuration(profile.stages.front().from).hinge_angles;
+  const Eigen::VectorXd& open = profile.model.configuration(drive.open).hinge_angles;
+  const math::Vec3 H_B0 = InitialMomentum(profile);
+  const math::Mat3 R_NB0 = profile.initial.q_NB.normalized().toRotationMatrix();
+
+  Satellite sat;
+  AddHingedBodies(sat, body);
+  for (std::size_t k = 0; k < sat.pins.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    const double direction = open[i] >= closed[i] ? 1.0 : -1.0;  // sense of opening
+    SimTK::Force::MobilityLinearSpring(sat.forces, sat.pins[k], SimTK::MobilizerQIndex(0),
+                                       drive.stiffness, open[i] + direction * drive.overtravel);
+    SimTK::Force::MobilityLinearDamper(sat.forces, sat.pins[k], SimTK::MobilizerUIndex(0),
+                                       drive.damping);
+    const double low = direction < 0.0 ? open[i] : -SimTK::Infinity;
+    const double high = direction < 0.0 ? SimTK::Infinity : open[i];
+    SimTK::Force::MobilityLinearStop(sat.forces, sat.pins[k], SimTK::MobilizerQIndex(0),
+                                     drive.stop_stiffness, drive.stop_dissipation, low, high);
+  }
+  SimTK::State s = InitialState(sat, profile);
+  for (std::size_t k = 0; k < sat.pins.size(); ++k) {
+    sat.pins[k].setOneQ(s, 0, closed[static_cast<Eigen::Index>(k)]);
+    sat.pins[k].setOneU(s, 0, 0.0);
+  }
+  FitHubVelocity(sat, s, R_NB0 * H_B0, math::Vec3::Zero());
+  const std::vector<double> end{profile.t_end()};
+  return RunIntegration(sat, s, Reports(grid, end), end, Drive::kSpring, spin_axis_B, options);
+}
+
+}  // namespace deploysim::crosscheck

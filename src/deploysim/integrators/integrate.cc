@@ -1,0 +1,286 @@
+#include "deploysim/integrators/integrate.h"
+
+#include <algorithm>
+#include <boost/math/tools/toms748_solve.hpp>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace deploysim::integrators {
+
+namespace {
+
+// Step-size controller constants (Hairer, Norsett, Wanner I, sec. II.4).
+constexpr double kSafety = 0.9;
+constexpr double kMinShrink = 0.2;
+constexpr double kMaxGrow = 5.0;
+// Fraction of the step to which an event is located.
+constexpr double kEventRelTolerance = 1e-13;
+// Two times closer than this fraction of the segment length are the same time.
+constexpr double kTimeEps = 1e-14;
+
+void Require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument(what);
+}
+
+void ValidateSettings(const StepperInfo& info, const IntegratorSettings& s) {
+  std::ostringstream os;
+  os.precision(17);
+  if (!info.adaptive) {
+    os << "integrator " << info.name << ": step = " << s.step
+       << " (rule: a fixed-step method needs a finite step > 0)";
+    Require(std::isfinite(s.step) && s.step > 0.0, os.str());
+  } else {
+    os << "integrator " << info.name << ": step = " << s.step
+       << " (rule: the initial step is 0 (automatic) or finite > 0)";
+    Require(std::isfinite(s.step) && s.step >= 0.0, os.str());
+    std::ostringstream r;
+    r.precision(17);
+    r << "integrator " << info.name << ": rtol = " << s.tolerances.rtol
+      << " (rule: 1e-16 <= rtol < 1)";
+    Require(
+        std::isfinite(s.tolerances.rtol) && s.tolerances.rtol >= 1e-16 && s.tolerances.rtol < 1.0,
+        r.str());
+    std::ostringstream a;
+    a.precision(17);
+    a << "integrator " << info.name << ": atol = " << s.tolerances.atol
+      << " (rule: atol > 0 and finite; it is relative to |H_B(0)|)";
+    Require(std::isfinite(s.tolerances.atol) && s.tolerances.atol > 0.0, a.str());
+  }
+  std::ostringstream m;
+  m.precision(17);
+  m << "integrator " << info.name << ": max_step = " << s.max_step << " (rule: max_step > 0)";
+  Require(s.max_step > 0.0 && !std::isnan(s.max_step), m.str());
+  Require(s.max_steps > 0, "integrator " + info.name + ": max_steps must be > 0");
+}
+
+bool Finite(const State& s) {
+  return std::isfinite(s.t) && s.H_B.allFinite() && s.q_NB.coeffs().allFinite();
+}
+
+// Dense output inside the step that starts at y0: the stepper's partial step.
+State DenseAt(const Stepper& stepper,
+              const Problem& problem,
+              const State& y0,
+              const State& y1,
+              double t,
+              const Tolerances& tol,
+              Statistics& stats) {
+  if (t <= y0.t) return y0;
+  if (t >= y1.t) return y1;
+  ++stats.dense_steps;
+  return stepper.Step(problem, y0, t - y0.t, tol).result;
+}
+
+}  // namespace
+
+std::string ToString(Termination t) {
+  switch (t) {
+    case Termination::kReachedEnd:
+      return "reached the end time";
+    case Termination::kMaxSteps:
+      return "stopped: max_steps reached";
+    case Termination::kStepSizeUnderflow:
+      return "stopped: step size underflow";
+    case Termination::kNonFinite:
+      return "stopped: the state became non-finite";
+  }
+  return "unknown";
+}
+
+std::vector<double> UniformGrid(double t0, double t_end, double dt) {
+  Require(dt > 0.0 && std::isfinite(dt), "output step must be finite and > 0");
+  Require(t_end >= t0, "output grid: t_end must be >= t0");
+  const double span = t_end - t0;
+  const auto n = static_cast<std::int64_t>(std::floor(span / dt * (1.0 + 1e-12)));
+  std::vector<double> grid;
+  grid.reserve(static_cast<std::size_t>(n) + 2);
+  for (std::int64_t i = 0; i <= n; ++i) grid.push_back(t0 + static_cast<double>(i) * dt);
+  if (t_end - grid.back() > kTimeEps * std::max(1.0, std::abs(t_end)))
+    grid.push_back(t_end);
+  else
+    grid.back() = t_end;
+  return grid;
+}
+
+IntegrationResult Integrate(const Stepper& stepper,
+                            const IntegratorSettings& settings,
+                            const dynamics::InertiaSource& source,
+                            const State& initial,
+                            double t_end,
+                            const std::vector<double>& output_times,
+                            const std::vector<EventFunction>& events,
+                            const StepObserver& observer) {
+  const StepperInfo& info = stepper.info();
+  ValidateSettings(info, settings);
+  Require(Finite(initial), "initial state must be finite");
+  Require(initial.q_NB.norm() > 0.5,
+          "initial attitude quaternion must be a unit quaternion (rule: |q| = 1; got a norm of " +
+              std::to_string(initial.q_NB.norm()) + ")");
+  Require(std::all_of(output_times.begin(), output_times.end(),
+                      [](double t) { return std::isfinite(t); }),
+          "output times must be finite");
+  Require(std::isfinite(t_end) && t_end > initial.t, "end time must be finite and > start time");
+  Require(std::is_sorted(output_times.begin(), output_times.end()),
+          "output times must be ascending");
+  Require(
+      output_times.empty() || (output_times.front() >= initial.t && output_times.back() <= t_end),
+      "output times must lie within [t0, t_end]");
+
+  State y = initial;
+  y.q_NB.normalize();
+  const math::Vec3 h_N = y.q_NB * y.H_B;
+  Problem problem(source, h_N);
+  if (info.lie_group) y.H_B = y.q_NB.conjugate() * h_N;
+
+  IntegrationResult result;
+  result.samples.reserve(output_times.size());
+  std::size_t next_out = 0;
+  while (next_out < output_times.size() && output_times[next_out] <= y.t) {
+    result.samples.push_back(y);
+    ++next_out;
+  }
+  std::vector<double> g_prev(events.size());
+  for (std::size_t e = 0; e < events.size(); ++e) g_prev[e] = events[e].g(y);
+
+  std::vector<double> bounds{y.t};
+  for (double b : source.Breakpoints(y.t, t_end)) bounds.push_back(b);
+  bounds.push_back(t_end);
+
+  const Tolerances& tol = settings.tolerances;
+  const int q = info.error_order > 0 ? std::min(info.order, info.error_order) : info.order;
+  double h_adapt = settings.step;
+  long attempts = 0;
+
+  for (std::size_t seg = 0; seg + 1 < bounds.size(); ++seg) {
+    const double a = bounds[seg];
+    const double b = bounds[seg + 1];
+    problem.SetSegment(a, b);
+    const double eps = kTimeEps * std::max(b - a, std::abs(b));
+    // Fixed-step methods: the largest step <= settings.step that divides the segment.
+    // Step k of n ends at a + k (b - a) / n, computed afresh so times do not drift.
+    const double n_fixed =
+        info.adaptive ? 0.0 : std::max(1.0, std::ceil((b - a) / settings.step * (1.0 - 1e-12)));
+    double k_fixed = 0.0;
+    if (info.adaptive && h_adapt <= 0.0) {
+      // Automatic first step: a small fraction of the rotation time scale.
+      const math::Vec3 w = problem.Sample(a).J_inv_B * (y.H_B - problem.Sample(a).h_rel_B);
+      const double rate = std::max(w.norm(), 1.0 / (b - a));
+      h_adapt = 0.01 * std::pow(tol.rtol, 1.0 / (q + 1)) / rate;
+    }
+    while (y.t < b - eps) {
+      if (++attempts > settings.max_steps) {
+        result.termination = Termination::kMaxSteps;
+        result.message = "max_steps reached at t = " + std::to_string(y.t);
+        result.final_state = y;
+        result.stats.evaluations = problem.evaluations();
+        return result;
+      }
+      double h;
+      bool last = false;
+      if (info.adaptive) {
+        h = std::min({h_adapt, settings.max_step, stepper.MaxStep(problem, y)});
+        if (y.t + h >= b - eps) {
+          h = b - y.t;
+          last = true;
+        }
+      } else {
+        k_fixed += 1.0;
+        last = k_fixed >= n_fixed;
+        h = (last ? b : a + (b - a) * (k_fixed / n_fixed)) - y.t;
+      }
+      StepAttempt att = stepper.Step(problem, y, h, tol);
+      if (info.adaptive) {
+        const double err = att.error_norm;
+        if (!std::isfinite(err) || err > 1.0) {
+          ++result.stats.rejected;
+          const double shrink = std::isfinite(err)
+                                    ? std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1)))
+                                    : kMinShrink;
+          h_adapt = h * shrink;
+          if (h_adapt < 1e-14 * std::max(1.0, std::abs(y.t))) {
+            result.termination = Termination::kStepSizeUnderflow;
+            result.message = "step size underflow at t = " + std::to_string(y.t);
+            result.final_state = y;
+            result.stats.evaluations = problem.evaluations();
+            return result;
+          }
+          continue;
+        }
+        const double grow =
+            err == 0.0
+                ? kMaxGrow
+                : std::min(kMaxGrow, std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1))));
+        // Do not let the short last step of a segment shrink the next segment's steps.
+        if (!last || grow * h > h_adapt) h_adapt = h * grow;
+      }
+      State y1 = att.result;
+      if (last) y1.t = b;
+      if (!Finite(y1)) {
+        result.termination = Termination::kNonFinite;
+        result.message = "state became non-finite at t = " + std::to_string(y.t);
+        result.final_state = y;
+        result.stats.evaluations = problem.evaluations();
+        return result;
+      }
+      ++result.stats.steps;
+
+      // Events: sign changes of g over the step, located on the dense output.
+      if (!events.empty()) {
+        std::vector<Event> found;
+        for (std::size_t e = 0; e < events.size(); ++e) {
+          const double g1 = events[e].g(y1);
+          const double g0 = g_prev[e];
+          if ((g0 < 0.0 && g1 >= 0.0) || (g0 > 0.0 && g1 <= 0.0)) {
+            auto g_at = [&](double t) {
+              return events[e].g(DenseAt(stepper, problem, y, y1, t, tol, result.stats));
+            };
+            double t_ev = y1.t;
+            if (g1 != 0.0) {
+              std::uintmax_t iters = 100;
+              const double tol_t = kEventRelTolerance * (y1.t - y.t);
+              auto term = [tol_t](double lo, double hi) { return hi - lo <= tol_t; };
+              const auto bracket =
+                  boost::math::tools::toms748_solve(g_at, y.t, y1.t, g0, g1, term, iters);
+              t_ev = 0.5 * (bracket.first + bracket.second);
+            }
+            Event ev;
+            ev.t = t_ev;
+            ev.index = static_cast<int>(e);
+            ev.direction = g1 > g0 ? 1 : -1;
+            ev.state = DenseAt(stepper, problem, y, y1, t_ev, tol, result.stats);
+            found.push_back(ev);
+          }
+          g_prev[e] = g1;
+        }
+        std::sort(found.begin(), found.end(),
+                  [](const Event& l, const Event& r) { return l.t < r.t; });
+        result.events.insert(result.events.end(), found.begin(), found.end());
+      }
+
+      while (next_out < output_times.size() && output_times[next_out] <= y1.t) {
+        result.samples.push_back(
+            DenseAt(stepper, problem, y, y1, output_times[next_out], tol, result.stats));
+        result.samples.back().t = output_times[next_out];
+        ++next_out;
+      }
+      y = y1;
+      if (observer) observer(y);
+    }
+  }
+  // Output times that equal t_end up to rounding.
+  while (next_out < output_times.size()) {
+    result.samples.push_back(y);
+    result.samples.back().t = output_times[next_out];
+    ++next_out;
+  }
+  result.final_state = y;
+  result.stats.evaluations = problem.evaluations();
+  result.termination = Termination::kReachedEnd;
+  result.message = ToString(result.termination);
+  return result;
+}
+
+}  // namespace deploysim::integrators

@@ -1,0 +1,85 @@
+#pragma once
+
+/// The integration driver shared by every stepper: splits [t0, t_end] at the source's
+/// breakpoints (steps land on them exactly and restart, DESIGN.md 2.5), controls the
+/// step size of adaptive methods, samples the solution on a requested output grid
+/// independent of the steps, and locates events (sign changes of scalar functions of
+/// the state, e.g. the Dzhanibekov flip).
+///
+/// Dense output: the solution at t in (t_n, t_n + h) is the stepper's own partial step
+/// from t_n of size t - t_n. It has the method's order, agrees with the step at both
+/// ends, and costs one step per sample or event iteration.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "deploysim/integrators/stepper.h"
+
+namespace deploysim::integrators {
+
+/// Settings of one run. Validated by Integrate (std::invalid_argument naming the rule).
+struct IntegratorSettings {
+  /// Fixed step [s] for fixed-step methods (required, > 0); optional initial step for
+  /// adaptive ones (0: chosen automatically).
+  double step = 0.0;
+  Tolerances tolerances;
+  /// Upper bound on the step of adaptive methods [s] (> 0).
+  double max_step = 1e300;
+  /// Give up after this many steps (accepted + rejected).
+  long max_steps = 50'000'000;
+};
+
+/// A scalar function of the state whose sign changes are events.
+struct EventFunction {
+  std::string name;
+  std::function<double(const State&)> g;
+};
+
+struct Event {
+  double t = 0.0;     ///< [s] located time of the sign change.
+  int index = 0;      ///< Which event function.
+  int direction = 0;  ///< +1: g rose through 0; -1: g fell through 0.
+  State state;        ///< State at the event (dense output).
+};
+
+struct Statistics {
+  long steps = 0;        ///< Accepted steps.
+  long rejected = 0;     ///< Rejected step attempts.
+  long evaluations = 0;  ///< Right-hand-side (inertia source) evaluations, dense output included.
+  long dense_steps = 0;  ///< Partial steps taken for output samples and event location.
+};
+
+enum class Termination { kReachedEnd, kMaxSteps, kStepSizeUnderflow, kNonFinite };
+std::string ToString(Termination t);
+
+struct IntegrationResult {
+  std::vector<State> samples;  ///< At the requested output times.
+  std::vector<Event> events;   ///< Ascending in time.
+  State final_state;
+  Statistics stats;
+  Termination termination = Termination::kReachedEnd;
+  std::string message;  ///< Why it stopped, for the user.
+};
+
+/// Called after every accepted step with the new state.
+using StepObserver = std::function<void(const State&)>;
+
+/// Integrates from `initial` to `t_end` (> initial.t). `output_times` must be
+/// ascending and within [initial.t, t_end]. Events are located to ~1e-13 of the step
+/// (toms748 on the dense output); at most one sign change per step and function is
+/// seen, so steps must be short against the event spacing (the adaptive and exact
+/// methods ensure that on their own).
+IntegrationResult Integrate(const Stepper& stepper,
+                            const IntegratorSettings& settings,
+                            const dynamics::InertiaSource& source,
+                            const State& initial,
+                            double t_end,
+                            const std::vector<double>& output_times = {},
+                            const std::vector<EventFunction>& events = {},
+                            const StepObserver& observer = {});
+
+/// A uniform output grid t0, t0 + dt, ..., t_end (t_end included).
+std::vector<double> UniformGrid(double t0, double t_end, double dt);
+
+}  // namespace deploysim::integrators

@@ -1,0 +1,385 @@
+// HDF5 trajectory files (docs/file_formats.md, "Trajectory files").
+
+#include "deploysim/io/trajectory_file.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "deploysim/io/hdf5_common.h"
+#include "deploysim/io/hdf5_writer.h"
+#include "deploysim/io/number_format.h"
+#include "deploysim/math/quaternion.h"
+
+#ifndef DEPLOYSIM_VERSION
+#define DEPLOYSIM_VERSION "unknown"
+#endif
+
+namespace deploysim::io {
+
+namespace {
+
+using analysis::Trajectory;
+using internal::FormatNumber;
+
+using hdf5::QuietErrors;
+using hdf5::TextType;
+
+std::vector<double> Flatten(const std::vector<math::Vec3>& v) {
+  std::vector<double> flat;
+  flat.reserve(3 * v.size());
+  for (const math::Vec3& x : v) flat.insert(flat.end(), {x[0], x[1], x[2]});
+  return flat;
+}
+
+std::vector<double> FlattenWxyz(const std::vector<math::Quat>& q) {
+  std::vector<double> flat;
+  flat.reserve(4 * q.size());
+  for (const math::Quat& x : q) {
+    const math::Vec4 wxyz = math::ToWxyz(x);
+    flat.insert(flat.end(), {wxyz[0], wxyz[1], wxyz[2], wxyz[3]});
+  }
+  return flat;
+}
+
+std::vector<double> FlattenRowMajor(const std::vector<math::Mat3>& J) {
+  std::vector<double> flat;
+  flat.reserve(9 * J.size());
+  for (const math::Mat3& M : J) {
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) flat.push_back(M(i, j));
+    }
+  }
+  return flat;
+}
+
+std::vector<double> FlattenRows(const std::vector<Eigen::VectorXd>& rows) {
+  std::vector<double> flat;
+  for (const Eigen::VectorXd& r : rows) flat.insert(flat.end(), r.data(), r.data() + r.size());
+  return flat;
+}
+
+/// Number of hinge angles per sample written for r (0: no /hinge_angles dataset).
+std::size_t HingeColumns(const analysis::MissionResult& r) {
+  if (r.profile.mode != schedule::Mode::kGeometry) return 0;
+  return r.profile.model.hinged.panels.size();
+}
+
+/// Every per-sample array has one entry per output time (internal consistency of r).
+void CheckConsistent(const std::string& path, const analysis::MissionResult& r) {
+  const Trajectory& t = r.trajectory;
+  const std::size_t n = t.time.size();
+  auto require = [&](const char* name, std::size_t size) {
+    if (size != n) {
+      throw std::invalid_argument(path + ": trajectory." + name + " has " + std::to_string(size) +
+                                  " samples, time has " + std::to_string(n) +
+                                  " (rule: one sample per output time)");
+    }
+  };
+  require("H_B", t.H_B.size());
+  require("w_NB_B", t.w_NB_B.size());
+  require("q_NB", t.q_NB.size());
+  require("J_B", t.J_B.size());
+  require("principal_moments", t.principal_moments.size());
+  require("h_rel_B", t.h_rel_B.size());
+  require("h_N", t.h_N.size());
+  require("energy", t.energy.size());
+  require("euler_313", t.euler_313.size());
+  require("spin_axis_angle", t.spin_axis_angle.size());
+  const std::size_t panels = HingeColumns(r);
+  if (r.profile.mode == schedule::Mode::kGeometry) {
+    require("hinge_angles", t.hinge_angles.size());
+    for (std::size_t k = 0; k < n; ++k) {
+      if (static_cast<std::size_t>(t.hinge_angles[k].size()) != panels) {
+        throw std::invalid_argument(path + ": trajectory.hinge_angles[" + std::to_string(k) +
+                                    "] has " + std::to_string(t.hinge_angles[k].size()) +
+                                    " angles, the model has " + std::to_string(panels) +
+                                    " panels (rule: one angle per panel)");
+      }
+    }
+  }
+}
+
+std::string IntegratorSettings(const schedule::Profile& p) {
+  const schedule::IntegratorSpec& s = p.integrator;
+  return "rtol=" + FormatNumber(s.rtol) + ", atol=" + FormatNumber(s.atol) +
+         ", step=" + FormatNumber(s.step) + ", max_step=" + FormatNumber(s.max_step) +
+         ", output_dt=" + FormatNumber(p.output.dt);
+}
+
+std::string StatisticsText(const integrators::Statistics& s) {
+  return "steps=" + std::to_string(s.steps) + ", rejected=" + std::to_string(s.rejected) +
+         ", evaluations=" + std::to_string(s.evaluations) +
+         ", dense_steps=" + std::to_string(s.dense_steps);
+}
+
+/// The /stages table: one row per profile stage.
+void WriteStageTable(Hdf5Writer& w, const schedule::Profile& p) {
+  std::vector<double> t_begin, t_end;
+  std::vector<std::string> names, laws, from, to;
+  for (const schedule::Stage& s : p.stages) {
+    t_begin.push_back(s.t_begin);
+    t_end.push_back(s.t_end);
+    names.push_back(s.name);
+    laws.push_back(s.is_hold() ? "hold" : schedule::ToString(s.law));
+    from.push_back(s.from);
+    to.push_back(s.to);
+  }
+  const std::size_t count = p.stages.size();
+  w.Doubles("/stages/t_begin", {count}, t_begin, "s", "stage start time");
+  w.Doubles("/stages/t_end", {count}, t_end, "s", "stage end time");
+  w.Strings("/stages/name", names, "stage name");
+  w.Strings("/stages/law", laws, "interpolation law (hold for a hold)");
+  w.Strings("/stages/from", from, "configuration at the stage start");
+  w.Strings("/stages/to", to, "configuration at the stage end");
+}
+
+void WriteContents(Hdf5Writer& w, const analysis::MissionResult& r) {
+  const Trajectory& t = r.trajectory;
+  const std::size_t n = t.size();
+
+  w.Doubles("/time", {n}, t.time, "s", "output grid");
+  w.Doubles("/H_B", {n, 3}, Flatten(t.H_B), "kg m^2/s",
+            "total angular momentum about the system centre of mass, body (B) components");
+  w.Doubles("/w_NB_B", {n, 3}, Flatten(t.w_NB_B), "rad/s",
+            "angular velocity of B in N, B components");
+  w.Doubles("/q_NB", {n, 4}, FlattenWxyz(t.q_NB), "1",
+            "attitude quaternion q_NB (v_N = q_NB v_B), Hamilton, scalar first (w, x, y, z)");
+  w.Doubles("/J_B", {n, 3, 3}, FlattenRowMajor(t.J_B), "kg m^2",
+            "inertia tensor about the system centre of mass, B components; J_B[n][i][j]");
+  w.Doubles("/principal_moments", {n, 3}, Flatten(t.principal_moments), "kg m^2",
+            "eigenvalues of J_B, ascending");
+  w.Doubles("/h_rel_B", {n, 3}, Flatten(t.h_rel_B), "kg m^2/s",
+            "momentum of the panels' motion relative to B, B components");
+  w.Doubles("/h_N", {n, 3}, Flatten(t.h_N), "kg m^2/s",
+            "total angular momentum, inertial (N) components (constant in exact arithmetic)");
+  w.Doubles("/energy", {n}, t.energy, "J", "rotational kinetic energy 1/2 w.J w");
+  w.Doubles("/euler_313", {n, 3}, Flatten(t.euler_313), "rad",
+            "3-1-3 Euler angles (precession, nutation, spin) of B relative to a frame whose "
+            "third axis is h_N");
+  w.Doubles("/spin_axis_angle", {n}, t.spin_axis_angle, "rad",
+            "angle between the initial spin axis (fixed in B) and h_N");
+  const std::size_t panels = HingeColumns(r);
+  if (r.profile.mode == schedule::Mode::kGeometry) {
+    w.Doubles("/hinge_angles", {n, panels}, FlattenRows(t.hinge_angles), "rad",
+              "hinge angle of each panel, in panel order (geometry mode)");
+  }
+
+  w.Doubles("/events/flip_time", {r.flip_times.size()}, r.flip_times, "s",
+            "sign changes of the momentum along the intermediate principal axis");
+  WriteStageTable(w, r.profile);
+
+  const schedule::Profile& p = r.profile;
+  w.Attribute("/", "deploysim_version", DEPLOYSIM_VERSION);
+  w.Attribute("/", "schema_version", std::to_string(kTrajectorySchemaVersion));
+  w.Attribute("/", "profile_name", p.name);
+  w.Attribute("/", "profile_source", p.source);
+  w.Attribute("/", "profile_text", p.text);
+  w.Attribute("/", "model_name", p.model.name);
+  w.Attribute("/", "integrator", p.integrator.method);
+  w.Attribute("/", "integrator_settings", IntegratorSettings(p));
+  w.Attribute("/", "mode", schedule::ToString(p.mode));
+  w.Attribute("/", "coupling", schedule::ToString(p.coupling));
+  w.Attribute("/", "termination", integrators::ToString(r.termination));
+  w.Attribute("/", "termination_message", r.message);
+  w.Attribute("/", "statistics", StatisticsText(r.stats));
+  w.Attribute("/", "max_h_N_drift", FormatNumber(r.max_h_N_drift));
+}
+
+// ---- reading ----
+
+/// Reads one dataset of doubles whose shape is {any, trailing...}; returns the data and
+/// sets `rows`. Records its units attribute under its absolute path.
+std::vector<double> ReadDoubles(const std::string& path,
+                                const H5::Group& group,
+                                const std::string& group_path,
+                                const std::string& name,
+                                const std::vector<hsize_t>& trailing,
+                                hsize_t& rows,
+                                TrajectoryFile& out) {
+  const std::string full = group_path + "/" + name;
+  if (!group.nameExists(name)) throw std::runtime_error(path + ": " + full + ": missing dataset");
+  const H5::DataSet ds = group.openDataSet(name);
+  if (ds.getTypeClass() != H5T_FLOAT) {
+    throw std::runtime_error(path + ": " + full + ": expected floating-point data");
+  }
+  const H5::DataSpace space = ds.getSpace();
+  const int rank = space.getSimpleExtentNdims();
+  std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+  space.getSimpleExtentDims(dims.data());
+  bool ok = dims.size() == trailing.size() + 1;
+  for (std::size_t i = 0; ok && i < trailing.size(); ++i) {
+    ok = trailing[i] == 0 || dims[i + 1] == trailing[i];
+  }
+  if (!ok) throw std::runtime_error(path + ": " + full + ": unexpected shape");
+  std::vector<double> data(static_cast<std::size_t>(space.getSimpleExtentNpoints()));
+  if (!data.empty()) ds.read(data.data(), H5::PredType::NATIVE_DOUBLE);
+  rows = dims[0];
+  if (!ds.attrExists("units")) {
+    throw std::runtime_error(path + ": " + full + ": missing units attribute");
+  }
+  std::string units;
+  const H5::Attribute a = ds.openAttribute("units");
+  a.read(a.getStrType(), units);
+  out.units[full] = units;
+  return data;
+}
+
+std::vector<std::string> ReadStrings(const std::string& path,
+                                     const H5::Group& group,
+                                     const std::string& group_path,
+                                     const std::string& name,
+                                     TrajectoryFile& out) {
+  const std::string full = group_path + "/" + name;
+  if (!group.nameExists(name)) throw std::runtime_error(path + ": " + full + ": missing dataset");
+  const H5::DataSet ds = group.openDataSet(name);
+  if (ds.getTypeClass() != H5T_STRING || !ds.getStrType().isVariableStr()) {
+    throw std::runtime_error(path + ": " + full + ": expected variable-length strings");
+  }
+  const H5::DataSpace space = ds.getSpace();
+  const H5::StrType type = TextType();
+  std::vector<char*> buffer(static_cast<std::size_t>(space.getSimpleExtentNpoints()), nullptr);
+  std::vector<std::string> values;
+  if (!buffer.empty()) {
+    ds.read(buffer.data(), type);
+    for (char* s : buffer) values.emplace_back(s == nullptr ? "" : s);
+    H5::DataSet::vlenReclaim(buffer.data(), type, space);
+  }
+  std::string units;
+  const H5::Attribute a = ds.openAttribute("units");
+  a.read(a.getStrType(), units);
+  out.units[full] = units;
+  return values;
+}
+
+template <typename T, typename Make>
+std::vector<T> Rows(const std::vector<double>& flat, hsize_t rows, std::size_t width, Make make) {
+  std::vector<T> v;
+  v.reserve(rows);
+  for (std::size_t k = 0; k < rows; ++k) v.push_back(make(&flat[k * width]));
+  return v;
+}
+
+std::vector<math::Vec3> Vec3Rows(const std::vector<double>& flat, hsize_t rows) {
+  return Rows<math::Vec3>(flat, rows, 3,
+                          [](const double* x) { return math::Vec3(x[0], x[1], x[2]); });
+}
+
+H5::Group OpenGroup(const std::string& path, const H5::Group& parent, const std::string& name) {
+  if (!parent.nameExists(name)) throw std::runtime_error(path + ": /" + name + ": missing group");
+  return parent.openGroup(name);
+}
+
+TrajectoryFile ReadContents(const std::string& path) {
+  TrajectoryFile out;
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) throw std::runtime_error(path + ": cannot read: " + std::strerror(errno));
+  }
+  if (H5Fis_hdf5(path.c_str()) <= 0) {
+    throw std::runtime_error(path + ": not an HDF5 file");
+  }
+  const H5::H5File file(path, H5F_ACC_RDONLY);
+
+  for (int i = 0; i < file.getNumAttrs(); ++i) {
+    const H5::Attribute a = file.openAttribute(static_cast<unsigned>(i));
+    if (a.getTypeClass() != H5T_STRING) continue;
+    std::string value;
+    a.read(a.getStrType(), value);
+    out.attributes[a.getName()] = value;
+  }
+  const auto version = out.attributes.find("schema_version");
+  if (version == out.attributes.end() ||
+      version->second != std::to_string(kTrajectorySchemaVersion)) {
+    throw std::runtime_error(
+        path + ": schema_version = " +
+        (version == out.attributes.end() ? std::string("(missing)") : version->second) +
+        ": this deploysim reads schema_version " + std::to_string(kTrajectorySchemaVersion));
+  }
+
+  Trajectory& t = out.trajectory;
+  hsize_t n = 0;
+  t.time = ReadDoubles(path, file, "", "time", {}, n, out);
+  auto read_rows = [&](const std::string& name, const std::vector<hsize_t>& trailing) {
+    hsize_t rows = 0;
+    std::vector<double> flat = ReadDoubles(path, file, "", name, trailing, rows, out);
+    if (rows != n) {
+      throw std::runtime_error(path + ": /" + name + ": has " + std::to_string(rows) +
+                               " rows, /time has " + std::to_string(n));
+    }
+    return flat;
+  };
+  t.H_B = Vec3Rows(read_rows("H_B", {3}), n);
+  t.w_NB_B = Vec3Rows(read_rows("w_NB_B", {3}), n);
+  t.q_NB = Rows<math::Quat>(read_rows("q_NB", {4}), n, 4, [](const double* x) {
+    return math::FromWxyz(math::Vec4(x[0], x[1], x[2], x[3]));
+  });
+  t.J_B = Rows<math::Mat3>(read_rows("J_B", {3, 3}), n, 9, [](const double* x) {
+    math::Mat3 M;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) M(i, j) = x[3 * i + j];
+    }
+    return M;
+  });
+  t.principal_moments = Vec3Rows(read_rows("principal_moments", {3}), n);
+  t.h_rel_B = Vec3Rows(read_rows("h_rel_B", {3}), n);
+  t.h_N = Vec3Rows(read_rows("h_N", {3}), n);
+  t.energy = read_rows("energy", {});
+  t.euler_313 = Vec3Rows(read_rows("euler_313", {3}), n);
+  t.spin_axis_angle = read_rows("spin_axis_angle", {});
+  if (file.nameExists("hinge_angles")) {
+    const std::vector<double> flat = read_rows("hinge_angles", {0});
+    const std::size_t width = n == 0 ? 0 : flat.size() / n;
+    for (std::size_t k = 0; k < n; ++k) {
+      t.hinge_angles.push_back(
+          Eigen::Map<const Eigen::VectorXd>(&flat[k * width], static_cast<Eigen::Index>(width)));
+    }
+  }
+
+  hsize_t rows = 0;
+  const H5::Group events = OpenGroup(path, file, "events");
+  out.flip_times = ReadDoubles(path, events, "/events", "flip_time", {}, rows, out);
+
+  const H5::Group stages = OpenGroup(path, file, "stages");
+  hsize_t stage_count = 0;
+  const std::vector<double> t_begin =
+      ReadDoubles(path, stages, "/stages", "t_begin", {}, stage_count, out);
+  const std::vector<double> t_end = ReadDoubles(path, stages, "/stages", "t_end", {}, rows, out);
+  const std::vector<std::string> names = ReadStrings(path, stages, "/stages", "name", out);
+  const std::vector<std::string> laws = ReadStrings(path, stages, "/stages", "law", out);
+  const std::vector<std::string> from = ReadStrings(path, stages, "/stages", "from", out);
+  const std::vector<std::string> to = ReadStrings(path, stages, "/stages", "to", out);
+  for (const std::size_t size : {t_end.size(), names.size(), laws.size(), from.size(), to.size()}) {
+    if (size != stage_count) {
+      throw std::runtime_error(path + ": /stages: columns of different lengths");
+    }
+  }
+  for (std::size_t i = 0; i < stage_count; ++i) {
+    out.stages.push_back({names[i], laws[i], from[i], to[i], t_begin[i], t_end[i]});
+  }
+  return out;
+}
+
+}  // namespace
+
+void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult& r) {
+  CheckConsistent(path, r);
+  Hdf5Writer w(path);  // atomic: nothing is left at `path` unless Commit() succeeds
+  WriteContents(w, r);
+  w.Commit();
+}
+
+TrajectoryFile ReadTrajectoryFile(const std::string& path) {
+  const QuietErrors quiet;
+  // As in WriteTrajectoryFile: translate HDF5's exceptions to std::runtime_error.
+  try {
+    return ReadContents(path);
+  } catch (const H5::Exception& e) {
+    hdf5::Throw(path, e);
+  }
+}
+
+}  // namespace deploysim::io

@@ -1,0 +1,67 @@
+#pragma once
+
+/// Trajectory output (DESIGN.md 5, docs/file_formats.md "Trajectory files"): an HDF5
+/// file readable by h5py, MATLAB h5read and h5dump, and an optional CSV. Both are written
+/// atomically (AtomicFile): on any failure nothing is left at `path` (an existing file
+/// there is kept unchanged) and no temporary remains.
+///
+/// HDF5 layout (schema_version 1): row-major datasets of IEEE little-endian doubles,
+/// each with string attributes `units` and `description`; text as variable-length UTF-8
+/// strings. Quaternions scalar first (w, x, y, z); J_B[n][i][j] = J_B(i, j) at time n.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "deploysim/analysis/mission.h"
+
+namespace deploysim::io {
+
+/// Version of the HDF5 layout written by WriteTrajectoryFile (root attribute
+/// `schema_version`); bumped on any incompatible change.
+inline constexpr int kTrajectorySchemaVersion = 1;
+
+/// One row of the /stages table.
+struct StageRow {
+  std::string name;
+  std::string law;       ///< "hold" or the law's name ("minimum-jerk", ...).
+  std::string from;      ///< Configuration at t_begin.
+  std::string to;        ///< Configuration at t_end.
+  double t_begin = 0.0;  ///< [s]
+  double t_end = 0.0;    ///< [s]
+};
+
+/// The contents of a trajectory file, as read back.
+struct TrajectoryFile {
+  analysis::Trajectory trajectory;  ///< hinge_angles empty unless the file has them.
+  std::vector<double> flip_times;   ///< [s] /events/flip_time
+  std::vector<StageRow> stages;     ///< /stages/*
+  /// Root attributes (all strings): deploysim_version, schema_version, profile_name,
+  /// profile_source, profile_text, model_name, integrator, integrator_settings, mode,
+  /// coupling, termination, termination_message, statistics, max_h_N_drift.
+  std::map<std::string, std::string> attributes;
+  /// `units` attribute of every dataset, by absolute path ("/H_B", "/events/flip_time").
+  std::map<std::string, std::string> units;
+};
+
+/// Writes r (its profile, trajectory, flip times and stage table) to `path`.
+/// Throws std::invalid_argument if the trajectory's arrays do not all have one entry per
+/// output time (hinge angles: in geometry mode, one per panel), and std::runtime_error
+/// naming `path` for I/O failures.
+void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult& r);
+
+/// Reads a file written by WriteTrajectoryFile. Throws std::runtime_error naming `path`
+/// and the dataset for unreadable files, missing datasets, wrong shapes or another
+/// schema_version.
+TrajectoryFile ReadTrajectoryFile(const std::string& path);
+
+/// Writes the trajectory as CSV: one header line of column names with units in brackets
+/// ("time [s],H_B_x [kg m^2/s],..."), then one line per output time, numbers in the
+/// shortest form that reads back exactly. Columns: time, H_B_{x,y,z}, w_NB_B_{x,y,z},
+/// q_NB_{w,x,y,z}, J_B_{xx,yy,zz,xy,xz,yz}, principal_moments_{1,2,3},
+/// h_rel_B_{x,y,z}, h_N_{x,y,z}, energy, euler_313_{precession,nutation,spin},
+/// spin_axis_angle, then hinge_angle_{0..P-1} if present. Same atomicity and errors as
+/// WriteTrajectoryFile.
+void WriteTrajectoryCsv(const std::string& path, const analysis::Trajectory& trajectory);
+
+}  // namespace deploysim::io

@@ -1,0 +1,54 @@
+#pragma once
+
+/// Inertia tensors that validate themselves (DESIGN.md section 1, STYLE.md):
+/// finite, symmetric, positive definite, principal moments obeying the triangle
+/// inequalities. Units: kg m^2. Invalid input throws std::invalid_argument whose
+/// message names the violated rule and the offending values.
+
+#include <string>
+
+#include "deploysim/math/types.h"
+
+namespace deploysim::math {
+
+/// Principal decomposition J = axes * diag(moments) * axes^T.
+struct PrincipalAxes {
+  Vec3 moments;  ///< [kg m^2] ascending: moments[0] <= moments[1] <= moments[2].
+  Mat3 axes;     ///< Columns are unit principal axes in the tensor's frame; det = +1.
+};
+
+/// A physically valid rotational inertia about a point, in some frame.
+/// Class invariant: finite, exactly symmetric, positive definite, triangle inequalities.
+class InertiaTensor {
+ public:
+  /// Relative tolerance for the symmetry and triangle-inequality checks.
+  static constexpr double kRelTolerance = 1e-12;
+
+  /// Validates J (throws std::invalid_argument naming the rule) and symmetrizes it.
+  /// `what` names the quantity in error messages (e.g. "models/wing_nut.yaml: inertia").
+  static InertiaTensor FromMatrix(const Mat3& J, const std::string& what = "inertia");
+
+  /// Diagonal tensor from three principal moments (any order), validated.
+  static InertiaTensor FromPrincipalMoments(const Vec3& moments,
+                                            const std::string& what = "inertia");
+
+  /// Returns an empty string when J is valid, else the message FromMatrix would throw.
+  static std::string Check(const Mat3& J, const std::string& what = "inertia");
+
+  const Mat3& matrix() const { return J_; }
+  const Mat3& inverse() const { return J_inv_; }
+  /// Principal moments (ascending) and right-handed principal axes.
+  PrincipalAxes Principal() const;
+
+ private:
+  explicit InertiaTensor(const Mat3& J);
+  Mat3 J_;
+  Mat3 J_inv_;
+};
+
+/// Principal decomposition of a symmetric matrix: ascending eigenvalues, right-handed
+/// orthonormal eigenvector columns. Exact (no rotation) for diagonal input, so a tensor
+/// given by its principal moments keeps its body axes.
+PrincipalAxes PrincipalDecomposition(const Mat3& J);
+
+}  // namespace deploysim::math

@@ -1,0 +1,26 @@
+#pragma once
+
+/// Quaternion helpers. Hamilton convention; `q_NB` is the rotation whose matrix is
+/// `R_NB` (v_N = q_NB * v_B). Outside the core (files, CLI) quaternions are always
+/// scalar-first (w, x, y, z): ToWxyz/FromWxyz are the only conversions.
+
+#include "deploysim/math/types.h"
+
+namespace deploysim::math {
+
+/// Scalar-first 4-vector (w, x, y, z) of q.
+Vec4 ToWxyz(const Quat& q);
+
+/// Quaternion from a scalar-first 4-vector (w, x, y, z). Not normalized.
+Quat FromWxyz(const Vec4& wxyz);
+
+/// Unit quaternion of the rotation by |phi| rad about phi/|phi| (exact series near 0).
+Quat ExpQuat(const Vec3& phi);
+
+/// Rotation vector of a unit quaternion (|result| <= pi; q and -q give the same result).
+Vec3 LogQuat(const Quat& q);
+
+/// Angle [rad] of the rotation q1^-1 q2, in [0, pi]; the same for -q1 or -q2.
+double AngleBetween(const Quat& q1, const Quat& q2);
+
+}  // namespace deploysim::math

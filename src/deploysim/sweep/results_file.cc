@@ -1,0 +1,383 @@
+// Sweep results as HDF5 (written through io::Hdf5Writer) and CSV (docs/sweeps.md
+// "Results file"). ReadSweepResults reads HDF5 directly: io has no reader to share yet.
+
+#include "deploysim/sweep/results_file.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/io/atomic_file.h"
+#include "deploysim/io/hdf5_common.h"
+#include "deploysim/io/hdf5_writer.h"
+#include "deploysim/io/number_format.h"
+
+#ifndef DEPLOYSIM_VERSION
+#define DEPLOYSIM_VERSION "unknown"
+#endif
+
+namespace deploysim::sweep {
+
+namespace {
+
+using io::internal::FormatNumber;
+
+enum class ColumnType { kDouble, kInt, kText };
+
+struct Column {
+  std::string name;
+  std::string units;
+  std::string description;
+  std::string role;  // index | parameter | outcome
+  ColumnType type = ColumnType::kDouble;
+  std::vector<double> d;
+  std::vector<std::int64_t> i;
+  std::vector<std::string> s;
+};
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const std::string& x : v) s += (s.empty() ? "" : ",") + x;
+  return s;
+}
+
+Column Make(std::string name,
+            std::string units,
+            std::string description,
+            std::string role,
+            ColumnType type) {
+  Column c;
+  c.name = std::move(name);
+  c.units = std::move(units);
+  c.description = std::move(description);
+  c.role = std::move(role);
+  c.type = type;
+  return c;
+}
+
+std::vector<Column> BuildColumns(const SweepSpec& spec, const std::vector<CaseOutcome>& outcomes) {
+  const std::size_t n = spec.case_count();
+  if (outcomes.size() != n) {
+    throw std::invalid_argument("sweep results: " + std::to_string(outcomes.size()) +
+                                " outcomes for " + std::to_string(n) + " cases");
+  }
+  std::vector<Column> cols;
+  cols.push_back(Make("case_index", "1",
+                      "case number i (grid point i / samples, sample i % samples)", "index",
+                      ColumnType::kInt));
+  cols.push_back(Make("grid_index", "1", "grid point, row-major over the grid axes (last fastest)",
+                      "index", ColumnType::kInt));
+  cols.push_back(
+      Make("sample_index", "1", "Monte Carlo sample at the grid point", "index", ColumnType::kInt));
+  const std::vector<Target> targets = spec.targets();
+  for (const Target& t : targets) {
+    cols.push_back(Make(t.column, UnitsOf(t.parameter), t.description, "parameter",
+                        IsCategorical(t.parameter) ? ColumnType::kText : ColumnType::kDouble));
+  }
+  const std::size_t first_outcome = cols.size();
+  auto outcome = [&cols](const char* name, const char* units, const char* description,
+                         ColumnType type) {
+    cols.push_back(Make(name, units, description, "outcome", type));
+  };
+  outcome("flipped", "1", "1 if the body flipped at least once (Dzhanibekov flip), else 0",
+          ColumnType::kInt);
+  outcome("flip_count", "1",
+          "number of flips: sign changes of H_B along the spin axis while it is the "
+          "intermediate principal axis",
+          ColumnType::kInt);
+  outcome("first_flip_time", "s", "time of the first flip (NaN: no flip)", ColumnType::kDouble);
+  outcome("first_flip_after_deploy", "s",
+          "first_flip_time - deploy_end_time (NaN: no flip; < 0: during the deployment)",
+          ColumnType::kDouble);
+  outcome("max_spin_axis_angle", "rad",
+          "largest angle between the body spin axis and h_N over the run", ColumnType::kDouble);
+  outcome("final_spin_axis_angle", "rad", "angle between the body spin axis and h_N at the end",
+          ColumnType::kDouble);
+  outcome("final_class", "none",
+          "final motion: spin-minor | spin-major | spin-intermediate | tumbling | failed",
+          ColumnType::kText);
+  outcome("final_axis", "none",
+          "body axis (+x ... -z) nearest the final circulation axis, signed along H_B",
+          ColumnType::kText);
+  outcome("final_regime", "none", "torque-free regime after the end (FreeBodySolution)",
+          ColumnType::kText);
+  outcome("final_cone_angle", "rad",
+          "largest half-angle of the final momentum cone about its circulation axis",
+          ColumnType::kDouble);
+  outcome("energy_initial", "J", "rotational kinetic energy 1/2 w.J w at the start",
+          ColumnType::kDouble);
+  outcome("energy_final", "J", "rotational kinetic energy at the end", ColumnType::kDouble);
+  outcome("energy_change", "1", "(energy_final - energy_initial) / energy_initial",
+          ColumnType::kDouble);
+  outcome("deploy_end_time", "s", "end of the last move stage", ColumnType::kDouble);
+  outcome("deploy_duration", "s", "total duration of the move stages", ColumnType::kDouble);
+  outcome("end_time", "s", "end of the case's last stage", ColumnType::kDouble);
+  outcome("termination", "none", "why the integration stopped", ColumnType::kText);
+  outcome("steps", "1", "accepted integrator steps", ColumnType::kInt);
+  outcome("rejected", "1", "rejected integrator step attempts", ColumnType::kInt);
+
+  for (std::size_t k = 0; k < n; ++k) {
+    const CaseParameters p = ParametersOf(spec, k);
+    cols[0].i.push_back(static_cast<std::int64_t>(p.index));
+    cols[1].i.push_back(static_cast<std::int64_t>(p.grid_index));
+    cols[2].i.push_back(static_cast<std::int64_t>(p.sample_index));
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+      Column& c = cols[3 + t];
+      if (c.type == ColumnType::kText) {
+        c.s.push_back(CategoriesOf(targets[t].parameter).at(static_cast<std::size_t>(p.values[t])));
+      } else {
+        c.d.push_back(p.values[t]);
+      }
+    }
+    const CaseOutcome& o = outcomes[k];
+    const double nan = std::nan("");
+    std::size_t j = first_outcome;
+    cols[j++].i.push_back(o.flip_count > 0 ? 1 : 0);
+    cols[j++].i.push_back(o.flip_count);
+    cols[j++].d.push_back(o.first_flip_time);
+    cols[j++].d.push_back(o.flip_count > 0 ? o.first_flip_time - o.deploy_end_time : nan);
+    cols[j++].d.push_back(o.max_spin_axis_angle);
+    cols[j++].d.push_back(o.final_spin_axis_angle);
+    cols[j++].s.push_back(ToString(o.final_class));
+    cols[j++].s.push_back(o.final_class == MotionClass::kFailed ? "none" : AxisName(o.final_axis));
+    cols[j++].s.push_back(o.final_class == MotionClass::kFailed
+                              ? "none"
+                              : analysis::ToString(static_cast<analysis::Regime>(o.final_regime)));
+    cols[j++].d.push_back(o.final_cone_angle);
+    cols[j++].d.push_back(o.energy_initial);
+    cols[j++].d.push_back(o.energy_final);
+    cols[j++].d.push_back((o.energy_final - o.energy_initial) / o.energy_initial);
+    cols[j++].d.push_back(o.deploy_end_time);
+    cols[j++].d.push_back(o.deploy_duration);
+    cols[j++].d.push_back(o.end_time);
+    cols[j++].s.push_back(integrators::ToString(o.termination));
+    cols[j++].i.push_back(o.steps);
+    cols[j++].i.push_back(o.rejected);
+  }
+  return cols;
+}
+
+// ---- HDF5 ----
+
+using io::hdf5::QuietErrors;
+using io::hdf5::TextType;
+using io::hdf5::Throw;
+
+void WriteColumn(io::Hdf5Writer& out, const std::string& group, const Column& c) {
+  const std::string path = group + "/" + c.name;
+  switch (c.type) {
+    case ColumnType::kDouble:
+      out.Doubles(path, {c.d.size()}, c.d, c.units, c.description);
+      break;
+    case ColumnType::kInt:
+      out.Integers(path, std::vector<long long>(c.i.begin(), c.i.end()), c.units, c.description);
+      break;
+    case ColumnType::kText:
+      out.Strings(path, c.s, c.description);
+      break;
+  }
+  out.Attribute(path, "role", c.role);
+}
+
+std::string IntegratorSettings(const schedule::Profile& p) {
+  const schedule::IntegratorSpec& s = p.integrator;
+  return "rtol=" + FormatNumber(s.rtol) + ", atol=" + FormatNumber(s.atol) +
+         ", step=" + FormatNumber(s.step) + ", max_step=" + FormatNumber(s.max_step);
+}
+
+void WriteContents(io::Hdf5Writer& out,
+                   const SweepSpec& spec,
+                   const std::vector<Column>& cols,
+                   const std::vector<CaseOutcome>& outcomes,
+                   const RunInfo& info) {
+  std::vector<std::string> names;
+  for (const Column& c : cols) {
+    WriteColumn(out, "/cases", c);
+    names.push_back(c.name);
+  }
+  Column rt = Make("run_time", "s", "wall time of each case (varies from run to run)", "timing",
+                   ColumnType::kDouble);
+  for (const CaseOutcome& o : outcomes) rt.d.push_back(o.run_time);
+  WriteColumn(out, "/timing", rt);
+  out.Attribute("/timing", "threads", std::to_string(info.threads));
+  out.Attribute("/timing", "ranks", std::to_string(info.ranks));
+  out.Attribute("/timing", "wall_seconds", FormatNumber(info.wall_seconds));
+  out.Attribute("/timing", "resumed_cases", std::to_string(info.resumed_cases));
+  out.Attribute("/timing", "computed_cases", std::to_string(info.computed_cases));
+
+  std::vector<std::string> grid_columns, grid_shape;
+  for (const GridAxis& a : spec.grid) {
+    grid_columns.push_back(a.target.column);
+    grid_shape.push_back(std::to_string(a.values.size()));
+  }
+  const schedule::Profile& b = spec.base;
+  const std::pair<const char*, std::string> root[] = {
+      {"deploysim_version", DEPLOYSIM_VERSION},
+      {"schema_version", std::to_string(kResultsSchemaVersion)},
+      {"kind", "deploysim sweep results"},
+      {"sweep_name", spec.name},
+      {"sweep_description", spec.description},
+      {"sweep_source", spec.source},
+      {"sweep_text", spec.text},
+      {"profile_name", b.name},
+      {"profile_source", b.source},
+      {"profile_text", b.text},
+      {"model_name", b.model.name},
+      {"integrator", b.integrator.method},
+      {"integrator_settings", IntegratorSettings(b)},
+      {"case_count", std::to_string(spec.case_count())},
+      {"columns", Join(names)},
+      {"grid_columns", Join(grid_columns)},
+      {"grid_shape", Join(grid_shape)},
+      {"monte_carlo_samples", std::to_string(spec.samples())},
+      {"monte_carlo_seed", spec.monte_carlo ? std::to_string(spec.monte_carlo->seed) : ""},
+      {"tumble_angle", FormatNumber(spec.outcome.tumble_angle)},
+  };
+  for (const auto& [name, value] : root) out.Attribute("/", name, value);
+}
+
+std::string ReadTextAttribute(const H5::H5Object& object, const std::string& name) {
+  const H5::Attribute a = object.openAttribute(name);
+  std::string value;
+  a.read(a.getStrType(), value);
+  return value;
+}
+
+SweepTable ReadContents(const std::string& path) {
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) throw std::runtime_error(path + ": cannot read: " + std::strerror(errno));
+  }
+  if (H5Fis_hdf5(path.c_str()) <= 0) throw std::runtime_error(path + ": not an HDF5 file");
+  const H5::H5File file(path, H5F_ACC_RDONLY);
+  SweepTable t;
+  for (int k = 0; k < file.getNumAttrs(); ++k) {
+    const H5::Attribute a = file.openAttribute(static_cast<unsigned>(k));
+    if (a.getTypeClass() != H5T_STRING) continue;
+    std::string value;
+    a.read(a.getStrType(), value);
+    t.attributes[a.getName()] = value;
+  }
+  if (t.attributes["kind"] != "deploysim sweep results" ||
+      t.attributes["schema_version"] != std::to_string(kResultsSchemaVersion)) {
+    throw std::runtime_error(path + ": not a deploysim sweep results file of schema_version " +
+                             std::to_string(kResultsSchemaVersion));
+  }
+  const std::string& columns = t.attributes["columns"];
+  std::size_t start = 0;
+  while (start <= columns.size()) {
+    const std::size_t comma = std::min(columns.find(',', start), columns.size());
+    t.columns.push_back(columns.substr(start, comma - start));
+    start = comma + 1;
+  }
+  const H5::Group cases = file.openGroup("cases");
+  auto read_numbers = [&path](const H5::DataSet& ds, const std::string& name) {
+    const H5::DataSpace space = ds.getSpace();
+    const auto n = static_cast<std::size_t>(space.getSimpleExtentNpoints());
+    std::vector<double> v(n);
+    if (ds.getTypeClass() == H5T_INTEGER) {
+      std::vector<std::int64_t> iv(n);
+      if (n > 0) ds.read(iv.data(), H5::PredType::NATIVE_INT64);
+      for (std::size_t k = 0; k < n; ++k) v[k] = static_cast<double>(iv[k]);
+    } else if (ds.getTypeClass() == H5T_FLOAT) {
+      if (n > 0) ds.read(v.data(), H5::PredType::NATIVE_DOUBLE);
+    } else {
+      throw std::runtime_error(path + ": " + name + ": expected numbers");
+    }
+    return v;
+  };
+  for (const std::string& name : t.columns) {
+    if (!cases.nameExists(name)) throw std::runtime_error(path + ": /cases/" + name + ": missing");
+    const H5::DataSet ds = cases.openDataSet(name);
+    t.units[name] = ReadTextAttribute(ds, "units");
+    std::size_t rows = 0;
+    if (ds.getTypeClass() == H5T_STRING) {
+      const H5::DataSpace space = ds.getSpace();
+      const H5::StrType type = TextType();
+      std::vector<char*> buffer(static_cast<std::size_t>(space.getSimpleExtentNpoints()), nullptr);
+      std::vector<std::string> values;
+      if (!buffer.empty()) {
+        ds.read(buffer.data(), type);
+        for (char* s : buffer) values.emplace_back(s == nullptr ? "" : s);
+        H5::DataSet::vlenReclaim(buffer.data(), type, space);
+      }
+      rows = values.size();
+      t.texts[name] = std::move(values);
+    } else {
+      t.numbers[name] = read_numbers(ds, "/cases/" + name);
+      rows = t.numbers[name].size();
+    }
+    if (name == t.columns.front()) t.rows = rows;
+    if (rows != t.rows) throw std::runtime_error(path + ": /cases/" + name + ": wrong length");
+  }
+  const H5::Group timing = file.openGroup("timing");
+  t.run_time = read_numbers(timing.openDataSet("run_time"), "/timing/run_time");
+  for (int k = 0; k < timing.getNumAttrs(); ++k) {
+    const H5::Attribute a = timing.openAttribute(static_cast<unsigned>(k));
+    std::string value;
+    a.read(a.getStrType(), value);
+    t.timing[a.getName()] = value;
+  }
+  return t;
+}
+
+std::string CsvNumber(double x) { return FormatNumber(x); }
+
+}  // namespace
+
+void WriteSweepResults(const std::string& path,
+                       const SweepSpec& spec,
+                       const std::vector<CaseOutcome>& outcomes,
+                       const RunInfo& info) {
+  const std::vector<Column> cols = BuildColumns(spec, outcomes);
+  io::Hdf5Writer out(path);  // atomic: nothing at `path` unless Commit() succeeds
+  WriteContents(out, spec, cols, outcomes, info);
+  out.Commit();
+}
+
+void WriteSweepCsv(const std::string& path,
+                   const SweepSpec& spec,
+                   const std::vector<CaseOutcome>& outcomes) {
+  const std::vector<Column> cols = BuildColumns(spec, outcomes);
+  io::AtomicFile out(path);
+  {
+    std::ofstream f(out.temporary_path());
+    for (const Column& c : cols) f << c.name << " [" << c.units << "],";
+    f << "run_time [s]\n";
+    for (std::size_t r = 0; r < outcomes.size(); ++r) {
+      for (const Column& c : cols) {
+        switch (c.type) {
+          case ColumnType::kDouble:
+            f << CsvNumber(c.d[r]);
+            break;
+          case ColumnType::kInt:
+            f << c.i[r];
+            break;
+          case ColumnType::kText:
+            f << c.s[r];
+            break;
+        }
+        f << ',';
+      }
+      f << CsvNumber(outcomes[r].run_time) << '\n';
+    }
+    f.close();
+    if (!f) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+  }
+  out.Commit();
+}
+
+SweepTable ReadSweepResults(const std::string& path) {
+  const QuietErrors quiet;
+  try {
+    return ReadContents(path);
+  } catch (const H5::Exception& e) {
+    Throw(path, e);
+  }
+}
+
+}  // namespace deploysim::sweep

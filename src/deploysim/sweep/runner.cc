@@ -1,0 +1,256 @@
+#include "deploysim/sweep/runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "deploysim/sweep/journal.h"
+#include "deploysim/sweep/outcome.h"
+#include "deploysim/sweep/progress.h"
+
+namespace deploysim::sweep {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kSyncInterval = 0.5;   // [s] between fsyncs of the journal
+constexpr double kPollInterval = 0.05;  // [s] main-thread wake-ups (progress, cancel)
+
+/// Every journal of `output` on disk: `<output>.partial` and `<output>.partial.<r>`.
+std::vector<std::string> ExistingJournals(const std::string& output) {
+  const fs::path out(output);
+  const fs::path dir = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+  const std::string stem = out.filename().string() + ".partial";
+  std::vector<std::string> found;
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name == stem ||
+        (name.size() > stem.size() + 1 && name.compare(0, stem.size() + 1, stem + ".") == 0 &&
+         name.find_first_not_of("0123456789", stem.size() + 1) == std::string::npos)) {
+      found.push_back((out.parent_path() / name).string());
+    }
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+int DefaultThreads(const MpiSession* mpi) {
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  const int local = mpi != nullptr ? std::max(1, mpi->local_size()) : 1;
+  return std::max(1, static_cast<int>(hw) / local);
+}
+
+}  // namespace
+
+std::string JournalPath(const std::string& output, int rank) {
+  return output + ".partial" + (rank == 0 ? std::string() : "." + std::to_string(rank));
+}
+
+RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  if (options.output.empty()) throw std::invalid_argument("sweep: no output file given");
+  RunSummary summary;
+  summary.cases = spec.case_count();
+  summary.rank = options.mpi != nullptr ? options.mpi->rank() : 0;
+  summary.ranks = options.mpi != nullptr ? options.mpi->size() : 1;
+  summary.threads = options.threads > 0 ? options.threads : DefaultThreads(options.mpi);
+  summary.journal = JournalPath(options.output, summary.rank);
+  const bool root = summary.rank == 0;
+  const std::uint64_t fingerprint = Fingerprint(spec);
+  const std::size_t n = summary.cases;
+
+  // Resume: load every journal (any rank's, from any earlier run).
+  const std::vector<std::string> journals = ExistingJournals(options.output);
+  if (!journals.empty() && !options.resume) {
+    throw std::runtime_error(journals.front() +
+                             ": an unfinished sweep's journal is in the way: pass --resume to "
+                             "finish that sweep, or delete the journal to start afresh");
+  }
+  std::vector<CaseOutcome> outcomes(n);
+  std::vector<char> done(n, 0);
+  for (const std::string& j : journals) {
+    for (const auto& [index, outcome] : ReadJournal(j, fingerprint, n).records) {
+      if (done[index]) continue;
+      done[index] = 1;
+      outcomes[index] = outcome;
+      ++summary.resumed;
+    }
+  }
+
+  // This process's share.
+  std::vector<std::size_t> todo;
+  for (std::size_t i = static_cast<std::size_t>(summary.rank); i < n;
+       i += static_cast<std::size_t>(summary.ranks)) {
+    if (!done[i]) todo.push_back(i);
+  }
+
+  // Every rank has listed the journals before any rank creates its own.
+  if (options.mpi != nullptr) options.mpi->Barrier();
+
+  std::optional<ProgressReporter> progress;
+  if (options.progress != nullptr && root) {
+    progress.emplace(*options.progress, options.progress_tty, n, summary.resumed,
+                     options.progress_interval,
+                     summary.ranks > 1 ? "sweep (rank 0 of " + std::to_string(summary.ranks) + ")"
+                                       : std::string("sweep"));
+  }
+  {
+    JournalWriter journal(summary.journal, fingerprint, n);
+    std::atomic<std::size_t> next{0};
+    std::atomic<std::size_t> finished{0};
+    std::atomic<bool> stop{false};
+    std::exception_ptr error;
+    std::mutex mutex;  // guards `error`; the main thread waits on `wake` with it
+    std::condition_variable wake;
+    auto cancelled = [&options] { return options.cancel != nullptr && options.cancel->load(); };
+
+    auto worker = [&] {
+      // An exception cannot cross a thread boundary by itself: hand the first one to the
+      // main thread, which rethrows it after the other workers have stopped.
+      try {
+        while (!stop.load() && !cancelled()) {
+          const std::size_t k = next.fetch_add(1);
+          if (k >= todo.size()) break;
+          const std::size_t i = todo[k];
+          const Case c = BuildCase(spec, i);
+          const CaseOutcome o = SimulateOutcome(c, spec.outcome);
+          journal.Append(i, o);
+          outcomes[i] = o;  // slot i is this worker's alone
+          finished.fetch_add(1);
+          if (options.on_case_done) options.on_case_done(i);
+        }
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+        stop.store(true);
+      }
+    };
+
+    const auto parallel0 = std::chrono::steady_clock::now();
+    const std::size_t workers =
+        std::min(static_cast<std::size_t>(summary.threads), std::max<std::size_t>(todo.size(), 1));
+    std::atomic<std::size_t> running{workers};
+    std::vector<std::thread> pool;
+    pool.reserve(workers);
+    for (std::size_t t = 0; t < workers; ++t) {
+      pool.emplace_back([&] {
+        worker();
+        {
+          const std::lock_guard<std::mutex> lock(mutex);
+          running.fetch_sub(1);
+        }
+        wake.notify_all();
+      });
+    }
+    // The main thread: progress and periodic fsync while the workers run.
+    auto last_sync = std::chrono::steady_clock::now();
+    for (;;) {
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        if (wake.wait_for(lock, std::chrono::duration<double>(kPollInterval),
+                          [&] { return running.load() == 0; })) {
+          break;
+        }
+      }
+      const auto now = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(now - last_sync).count() >= kSyncInterval) {
+        journal.Sync();
+        last_sync = now;
+      }
+      // Rank 0 sees its own share only: scaled to the whole sweep for the display.
+      if (progress) {
+        progress->Update(summary.resumed +
+                         finished.load() * static_cast<std::size_t>(summary.ranks));
+      }
+    }
+    for (std::thread& t : pool) t.join();
+    summary.parallel_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - parallel0).count();
+    journal.Sync();
+    if (error) std::rethrow_exception(error);
+    summary.computed = finished.load();
+  }
+
+  const bool complete_here = summary.computed == todo.size();
+  const bool complete =
+      options.mpi != nullptr ? options.mpi->AllTrue(complete_here) : complete_here;
+  const std::size_t computed_everywhere =
+      options.mpi != nullptr ? static_cast<std::size_t>(options.mpi->Sum(summary.computed))
+                             : summary.computed;
+  if (!complete) {
+    summary.finished = summary.resumed + computed_everywhere;
+    if (progress) progress->Finish(summary.finished, false);
+    summary.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    return summary;
+  }
+  for (const std::size_t i : todo) done[i] = 1;
+  if (options.mpi != nullptr && options.mpi->size() > 1) {
+    // Rank 0 collects the outcomes computed on the other ranks.
+    std::vector<CaseRecord> mine;
+    mine.reserve(todo.size());
+    for (const std::size_t i : todo) mine.emplace_back(i, outcomes[i]);
+    const std::vector<char> all = options.mpi->GatherToRoot(EncodeRecords(mine));
+    if (root) {
+      for (const CaseRecord& r : DecodeRecords(all)) {
+        if (r.first >= n) throw std::runtime_error("sweep: a rank sent an unknown case index");
+        if (!done[r.first]) {
+          done[r.first] = 1;
+          outcomes[r.first] = r.second;
+        }
+      }
+    }
+  }
+  if (progress) progress->Finish(n, true);
+
+  summary.complete = true;
+  summary.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  if (root) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!done[i]) {
+        throw std::runtime_error("sweep: case " + std::to_string(i) +
+                                 " has no result after the run (internal error)");
+      }
+      summary.flipped += outcomes[i].flip_count > 0 ? 1 : 0;
+      summary.tumbling += outcomes[i].final_class == MotionClass::kTumbling ? 1 : 0;
+      summary.failed += outcomes[i].final_class == MotionClass::kFailed ? 1 : 0;
+    }
+    RunInfo info;
+    info.threads = summary.threads;
+    info.ranks = summary.ranks;
+    info.wall_seconds = summary.wall_seconds;
+    info.resumed_cases = summary.resumed;
+    info.computed_cases = n - summary.resumed;
+    WriteSweepResults(options.output, spec, outcomes, info);
+    if (options.csv) WriteSweepCsv(options.output + ".csv", spec, outcomes);
+    // Only now that the results are safe: the journals go.
+    for (const std::string& j : ExistingJournals(options.output)) fs::remove(j);
+  }
+  summary.finished = n;
+  if (options.mpi != nullptr) options.mpi->Barrier();
+  return summary;
+}
+
+std::string FormatSummary(const RunSummary& s, const RunOptions& options) {
+  if (!s.complete) {
+    return std::to_string(s.finished) + " of " + std::to_string(s.cases) +
+           " cases finished (journal " + s.journal +
+           "); run the same command with --resume to finish the sweep";
+  }
+  return std::to_string(s.cases) + " cases: " + std::to_string(s.flipped) + " flipped, " +
+         std::to_string(s.tumbling) + " tumbling at the end, " + std::to_string(s.failed) +
+         " failed; wrote " + options.output +
+         (options.csv ? " and " + options.output + ".csv" : "");
+}
+
+}  // namespace deploysim::sweep

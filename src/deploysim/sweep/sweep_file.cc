@@ -1,0 +1,540 @@
+// LoadSweep: sweep files (docs/sweeps.md) with the strict YAML helpers of io.
+
+#include "deploysim/sweep/sweep_file.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "deploysim/analysis/exact_flow.h"
+#include "deploysim/io/yaml_fields.h"
+#include "deploysim/io/yaml_loader.h"
+
+namespace deploysim::sweep {
+
+namespace {
+
+using io::internal::Fields;
+using io::internal::FormatNumber;
+using io::internal::YamlDocument;
+
+constexpr double kDegree = 0.017453292519943295;  // [rad]
+constexpr double kRpm = 0.10471975511965977;      // [rad/s] (2 pi / 60)
+constexpr double kMaxAxisValues = 1e6;            // values per grid axis
+constexpr double kMaxSeed = 9007199254740992.0;   // 2^53: exact in a double
+
+/// How a parameter is written in a file.
+struct ParameterInfo {
+  const char* name;  ///< Key in files (`parameter: ...`).
+  Parameter parameter;
+  const char* column;  ///< Column base name.
+  double to_si;        ///< File value * to_si = SI value.
+  double lower;        ///< Valid range [lower, upper) or (lower, upper) in file units.
+  bool lower_open;     ///< true: value > lower; false: value >= lower.
+  double upper;        ///< value < upper (+inf: unbounded).
+  const char* rule;    ///< The range, for messages.
+  const char* description;
+};
+
+const double kInf = std::numeric_limits<double>::infinity();
+
+const ParameterInfo kParameters[] = {
+    {"deploy_duration_scale", Parameter::kDeployDurationScale, "deploy_duration_scale", 1.0, 0.0,
+     true, kInf, "must be > 0", "factor on the duration of every move stage"},
+    {"stage_duration", Parameter::kStageDuration, "stage_duration", 1.0, 0.0, true, kInf,
+     "must be > 0 [s]", "duration of one stage [s]"},
+    {"spin_rate", Parameter::kSpinRate, "spin_rate", 1.0, 0.0, true, kInf, "must be > 0 [rad/s]",
+     "initial spin rate w_NB_B(t0) . s about the body spin axis s"},
+    {"spin_rate_rpm", Parameter::kSpinRate, "spin_rate", kRpm, 0.0, true, kInf, "must be > 0 [rpm]",
+     "initial spin rate w_NB_B(t0) . s about the body spin axis s"},
+    {"nutation_deg", Parameter::kNutation, "nutation", kDegree, 0.0, false, 90.0,
+     "must be in [0, 90) [deg]", "initial angle between H_B and the body spin axis s"},
+    {"nutation_azimuth_deg", Parameter::kNutationAzimuth, "nutation_azimuth", kDegree, -kInf, false,
+     kInf, "must be finite [deg]",
+     "direction of the initial tilt of H_B about s, from the base profile's tilt"},
+    {"panel_mass_scale", Parameter::kPanelMassScale, "panel_mass_scale", 1.0, 0.0, true, kInf,
+     "must be > 0", "factor on panel mass and inertia"},
+    {"inertia_scale", Parameter::kInertiaScale, "inertia_scale", 1.0, 0.0, true, kInf,
+     "must be > 0", "factor on configuration inertia tensors"},
+    {"law", Parameter::kLaw, "law", 1.0, 0.0, false, kInf, "", "interpolation law of move stages"},
+    {"coupling", Parameter::kCoupling, "coupling", 1.0, 0.0, false, kInf, "",
+     "coupling of the panels' relative momentum"},
+};
+
+std::string ParameterNames() {
+  std::string s;
+  for (const ParameterInfo& p : kParameters) s += (s.empty() ? "" : ", ") + std::string(p.name);
+  return s;
+}
+
+std::string JoinNames(const std::vector<std::string>& v) {
+  std::string s;
+  for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+bool InRange(const ParameterInfo& p, double v) {
+  return (p.lower_open ? v > p.lower : v >= p.lower) && v < p.upper;
+}
+
+/// One axis entry being read: its fields, parameter and target.
+struct Entry {
+  const ParameterInfo* info = nullptr;
+  Target target;
+};
+
+bool IsMoveStage(const schedule::Profile& p, std::size_t i) {
+  return i > 0 && p.stages[i].to != p.stages[i - 1].to;
+}
+
+int ReadStage(const Fields& f, const schedule::Profile& base) {
+  const YAML::Node& node = f.Get("stage");
+  // A plain (unquoted) run of digits is an index; anything else is a stage name.
+  const bool plain = node.IsScalar() && node.Tag() == "?";
+  if (plain && !node.Scalar().empty() &&
+      node.Scalar().find_first_not_of("0123456789") == std::string::npos) {
+    const double x = io::internal::ReadNumber(f.doc(), node, f.Key("stage"));
+    if (x >= static_cast<double>(base.stages.size())) {
+      f.Fail("stage", "a stage index must be in [0, " + std::to_string(base.stages.size()) +
+                          ") (the stages of " + base.source + ", counted from 0)");
+    }
+    return static_cast<int>(x);
+  }
+  const std::string name = f.Text("stage");
+  int found = -1;
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < base.stages.size(); ++i) {
+    names.push_back(base.stages[i].name);
+    if (base.stages[i].name == name) {
+      if (found >= 0) {
+        f.Fail("stage", "the stage name is not unique in " + base.source + ": use its index");
+      }
+      found = static_cast<int>(i);
+    }
+  }
+  if (found < 0) {
+    f.Fail("stage",
+           "no stage of that name in " + base.source + " (stages: " + JoinNames(names) + ")");
+  }
+  return found;
+}
+
+Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
+  Entry e;
+  const std::string name = f.Text("parameter");
+  for (const ParameterInfo& p : kParameters) {
+    if (name == p.name) e.info = &p;
+  }
+  if (e.info == nullptr) f.Fail("parameter", "unknown parameter (valid: " + ParameterNames() + ")");
+  const Parameter par = e.info->parameter;
+  Target& t = e.target;
+  t.parameter = par;
+  t.column = e.info->column;
+  t.description = e.info->description;
+  auto only_for = [&f, &name](const char* key, bool allowed) {
+    if (f.Has(key) && !allowed) f.Fail(key, "not used by parameter " + name);
+  };
+  only_for("stage", par == Parameter::kStageDuration || par == Parameter::kLaw);
+  only_for("panel", par == Parameter::kPanelMassScale);
+  only_for("configuration", par == Parameter::kInertiaScale);
+  only_for("axis", par == Parameter::kInertiaScale);
+  if (par == Parameter::kStageDuration && !f.Has("stage")) {
+    f.doc().Fail(f.Key("stage"), "required key is missing (which stage: index or name)");
+  }
+  if (f.Has("stage")) {
+    t.stage = ReadStage(f, base);
+    if (par == Parameter::kLaw && !IsMoveStage(base, static_cast<std::size_t>(t.stage))) {
+      f.Fail("stage", "stage " + std::to_string(t.stage) + " of " + base.source +
+                          " is a hold: a law applies to move (`to`) stages");
+    }
+    t.column += "[" + std::to_string(t.stage) + "]";
+    t.description += " (stage " + std::to_string(t.stage) + ", '" +
+                     base.stages[static_cast<std::size_t>(t.stage)].name + "')";
+  }
+  if (par == Parameter::kPanelMassScale) {
+    if (base.model.kind != model::ModelKind::kHinged) {
+      f.Fail("parameter", "panel_mass_scale needs a hinged model (model '" + base.model.name +
+                              "' is kind tensors; use inertia_scale)");
+    }
+    if (f.Has("panel")) {
+      const std::string panel = f.Text("panel");
+      std::vector<std::string> names;
+      for (std::size_t i = 0; i < base.model.hinged.panels.size(); ++i) {
+        names.push_back(base.model.hinged.panels[i].name);
+        if (names.back() == panel) t.panel = static_cast<int>(i);
+      }
+      if (t.panel < 0) f.Fail("panel", "no panel of that name (panels: " + JoinNames(names) + ")");
+      if (panel.find(',') != std::string::npos)
+        f.Fail("panel", "panel names in sweeps must not contain ','");
+      t.column += "[" + panel + "]";
+      t.description += " (panel " + panel + ")";
+    }
+  }
+  if (par == Parameter::kInertiaScale) {
+    if (base.model.kind != model::ModelKind::kTensors) {
+      f.Fail("parameter", "inertia_scale needs a tensors model (model '" + base.model.name +
+                              "' is hinged; use panel_mass_scale)");
+    }
+    std::string qualifier;
+    if (f.Has("configuration")) {
+      t.configuration = f.Text("configuration");
+      std::vector<std::string> names;
+      for (const model::Configuration& c : base.model.configurations) names.push_back(c.name);
+      if (std::find(names.begin(), names.end(), t.configuration) == names.end()) {
+        f.Fail("configuration", "no configuration of that name in model '" + base.model.name +
+                                    "' (valid: " + JoinNames(names) + ")");
+      }
+      if (t.configuration.find(',') != std::string::npos) {
+        f.Fail("configuration", "configuration names in sweeps must not contain ','");
+      }
+      qualifier = t.configuration;
+    }
+    if (f.Has("axis")) {
+      const std::string axis = f.Text("axis");
+      if (axis != "x" && axis != "y" && axis != "z") f.Fail("axis", "must be x, y or z");
+      t.axis = axis[0] - 'x';
+      qualifier += (qualifier.empty() ? "" : ".") + axis;
+      t.description += "; J_B -> S J_B S with S = I except S_" + axis + axis + " = sqrt(factor)";
+    }
+    if (!qualifier.empty()) t.column += "[" + qualifier + "]";
+  }
+  return e;
+}
+
+/// A number of the parameter's kind at `key` (file units), checked against its range.
+double ReadValue(const Fields& f,
+                 const YAML::Node& node,
+                 const std::string& key,
+                 const ParameterInfo& p) {
+  const double v = io::internal::ReadNumber(f.doc(), node, key);
+  if (!InRange(p, v)) f.doc().Fail(key, node, std::string(p.name) + " " + p.rule);
+  return v * p.to_si;
+}
+
+/// A category name of a categorical parameter -> its code.
+double ReadCategory(const Fields& f,
+                    const YAML::Node& node,
+                    const std::string& key,
+                    const ParameterInfo& p) {
+  const std::string name = io::internal::ReadText(f.doc(), node, key);
+  const std::vector<std::string>& cats = CategoriesOf(p.parameter);
+  for (std::size_t i = 0; i < cats.size(); ++i) {
+    if (cats[i] == name) return static_cast<double>(i);
+  }
+  f.doc().Fail(key, node, std::string("unknown ") + p.name + " (valid: " + JoinNames(cats) + ")");
+}
+
+double ReadCount(const Fields& f, const YAML::Node& node, const std::string& key, double min) {
+  const double n = io::internal::ReadNumber(f.doc(), node, key);
+  if (n != std::floor(n) || n < min || n > kMaxAxisValues) {
+    f.doc().Fail(
+        key, node,
+        "must be an integer in [" + FormatNumber(min) + ", " + FormatNumber(kMaxAxisValues) + "]");
+  }
+  return n;
+}
+
+std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p) {
+  const bool categorical = IsCategorical(p.parameter);
+  const char* keys[] = {"values", "linspace", "logspace"};
+  int given = 0;
+  for (const char* k : keys) given += f.Has(k) ? 1 : 0;
+  if (given != 1) {
+    f.doc().Fail(f.path(), f.node(),
+                 std::string("exactly one of values, linspace, logspace is required (") +
+                     (given == 0 ? "none" : "several") + " given)");
+  }
+  std::vector<double> values;
+  if (f.Has("values")) {
+    const std::vector<YAML::Node> nodes =
+        io::internal::SequenceElements(f.doc(), f.Get("values"), f.Key("values"), "values");
+    if (nodes.empty()) f.Fail("values", "at least one value is required");
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      const std::string key = f.Key("values") + "[" + std::to_string(i) + "]";
+      values.push_back(categorical ? ReadCategory(f, nodes[i], key, p)
+                                   : ReadValue(f, nodes[i], key, p));
+    }
+    if (static_cast<double>(values.size()) > kMaxAxisValues) {
+      f.Fail("values", "at most " + FormatNumber(kMaxAxisValues) + " values per axis");
+    }
+    return values;
+  }
+  const bool log = f.Has("logspace");
+  const std::string key = log ? "logspace" : "linspace";
+  if (categorical) f.Fail(key, std::string(p.name) + " takes `values` (names), not " + key);
+  const std::vector<YAML::Node> nodes =
+      io::internal::SequenceElements(f.doc(), f.Get(key), f.Key(key), key);
+  if (nodes.size() != 3) f.Fail(key, "must be [first, last, count]");
+  const double a = ReadValue(f, nodes[0], f.Key(key) + "[0]", p);
+  const double b = ReadValue(f, nodes[1], f.Key(key) + "[1]", p);
+  const double n = ReadCount(f, nodes[2], f.Key(key) + "[2]", 2.0);
+  if (log && !(a > 0.0 && b > 0.0)) f.Fail(key, "logspace needs first and last > 0");
+  if (a == b) f.Fail(key, "first and last must differ");
+  const std::size_t count = static_cast<std::size_t>(n);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double u = static_cast<double>(i) / static_cast<double>(count - 1);
+    double v = log ? a * std::pow(b / a, u) : a + (b - a) * u;
+    if (i == count - 1) v = b;  // the end point exactly as written
+    values.push_back(v);
+  }
+  return values;
+}
+
+Distribution ReadDistribution(const Fields& f, const ParameterInfo& p) {
+  const bool categorical = IsCategorical(p.parameter);
+  const char* keys[] = {"uniform", "normal", "choice"};
+  int given = 0;
+  for (const char* k : keys) given += f.Has(k) ? 1 : 0;
+  if (given != 1) {
+    f.doc().Fail(f.path(), f.node(),
+                 std::string("exactly one of uniform, normal, choice is required (") +
+                     (given == 0 ? "none" : "several") + " given)");
+  }
+  Distribution d;
+  if (f.Has("choice")) {
+    d.kind = Distribution::Kind::kChoice;
+    const std::vector<YAML::Node> nodes =
+        io::internal::SequenceElements(f.doc(), f.Get("choice"), f.Key("choice"), "choice");
+    if (nodes.empty()) f.Fail("choice", "at least one choice is required");
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      const std::string key = f.Key("choice") + "[" + std::to_string(i) + "]";
+      d.choices.push_back(categorical ? ReadCategory(f, nodes[i], key, p)
+                                      : ReadValue(f, nodes[i], key, p));
+    }
+    return d;
+  }
+  if (categorical) {
+    f.Fail(f.Has("uniform") ? "uniform" : "normal",
+           std::string(p.name) + " is categorical: use choice: [names]");
+  }
+  if (f.Has("uniform")) {
+    d.kind = Distribution::Kind::kUniform;
+    const std::vector<YAML::Node> nodes =
+        io::internal::SequenceElements(f.doc(), f.Get("uniform"), f.Key("uniform"), "uniform");
+    if (nodes.size() != 2) f.Fail("uniform", "must be [low, high]");
+    d.a = ReadValue(f, nodes[0], f.Key("uniform") + "[0]", p);
+    d.b = ReadValue(f, nodes[1], f.Key("uniform") + "[1]", p);
+    if (!(d.a < d.b)) f.Fail("uniform", "low must be < high");
+    return d;
+  }
+  d.kind = Distribution::Kind::kNormal;
+  const Fields n = f.Mapping("normal", {"mean", "sigma", "min", "max"});
+  const double mean = n.Number("mean");
+  const double sigma = n.Number("sigma");
+  if (!(sigma > 0.0)) n.Fail("sigma", "must be > 0");
+  d.a = mean * p.to_si;
+  d.b = sigma * p.to_si;
+  const bool bounded_below = p.lower > -kInf;
+  const bool bounded_above = p.upper < kInf;
+  if (n.Has("min")) {
+    d.min = ReadValue(f, n.Get("min"), n.Key("min"), p);
+  } else if (bounded_below) {
+    n.doc().Fail(n.Key("min"), std::string("required key is missing: a normal distribution of ") +
+                                   p.name + " needs a truncation bound min (" + p.name + " " +
+                                   p.rule + ")");
+  }
+  if (n.Has("max")) {
+    d.max = ReadValue(f, n.Get("max"), n.Key("max"), p);
+  } else if (bounded_above) {
+    n.doc().Fail(n.Key("max"), std::string("required key is missing: a normal distribution of ") +
+                                   p.name + " needs a truncation bound max (" + p.name + " " +
+                                   p.rule + ")");
+  }
+  if (n.Has("min") && n.Has("max") && !(d.min < d.max)) n.Fail("max", "must be > min");
+  // The bounds must keep a reasonable share of the distribution (rejection sampling).
+  const double lo = (d.min - d.a) / d.b;
+  const double hi = (d.max - d.a) / d.b;
+  if (lo > 3.0 || hi < -3.0) {
+    n.Fail("mean", "the truncation bounds [min, max] lie more than 3 sigma from the mean");
+  }
+  return d;
+}
+
+std::string ResolvePath(const Fields& top, const std::string& key) {
+  const std::string relative = top.Text(key);
+  if (relative.empty()) top.Fail(key, "must name a file");
+  const std::filesystem::path resolved =
+      (std::filesystem::path(top.doc().path()).parent_path() / relative).lexically_normal();
+  std::error_code ec;
+  const bool is_dir = std::filesystem::is_directory(resolved, ec);
+  std::ifstream probe(resolved);
+  if (is_dir || !probe) {
+    throw std::runtime_error(top.doc().path() + ": " + key + " = " + relative + ": cannot read " +
+                             resolved.string() + ": " +
+                             (is_dir ? std::string("is a directory") : std::strerror(errno)));
+  }
+  return resolved.string();
+}
+
+void ReadIntegrator(const Fields& top, schedule::Profile& base) {
+  if (!top.Has("integrator")) return;
+  const Fields f = top.Mapping("integrator", {"method", "rtol", "atol", "step", "max_step"});
+  schedule::IntegratorSpec& s = base.integrator;
+  if (f.Has("method")) {
+    s.method = f.Text("method");
+    const std::vector<std::string> names = analysis::StepperNames();
+    bool known = false;
+    for (const std::string& n : names) known = known || n == s.method;
+    if (!known) f.Fail("method", "unknown integrator (valid: " + JoinNames(names) + ")");
+  }
+  if (f.Has("rtol")) {
+    s.rtol = f.Number("rtol");
+    if (!(s.rtol >= 1e-16 && s.rtol < 1.0)) f.Fail("rtol", "must be in [1e-16, 1)");
+  }
+  if (f.Has("atol")) {
+    s.atol = f.Number("atol");
+    if (!(s.atol > 0.0)) f.Fail("atol", "must be > 0 (relative to |H_B(0)|)");
+  }
+  if (f.Has("step")) {
+    s.step = f.Number("step");
+    if (!(s.step >= 0.0)) f.Fail("step", "must be >= 0 [s] (0: automatic)");
+  }
+  if (f.Has("max_step")) {
+    s.max_step = f.Number("max_step");
+    if (!(s.max_step > 0.0)) f.Fail("max_step", "must be > 0 [s]");
+  }
+  if (!analysis::MakeStepper(s.method)->info().adaptive && !(s.step > 0.0)) {
+    top.doc().Fail(f.Key(f.Has("method") ? "method" : "step"),
+                   f.Get(f.Has("method") ? "method" : "step"),
+                   "the fixed-step method " + s.method + " needs integrator.step > 0 [s]");
+  }
+}
+
+}  // namespace
+
+void ValidateCases(const SweepSpec& spec) {
+  // Every case once, on all hardware threads (building a case costs ~5% of running it);
+  // the error reported is that of the lowest failing case, as a serial loop would.
+  const std::size_t n = spec.case_count();
+  constexpr std::size_t kChunk = 64;
+  std::atomic<std::size_t> next{0};
+  std::atomic<std::size_t> first_bad{n};
+  std::exception_ptr error;
+  std::mutex mutex;
+  auto work = [&] {
+    for (;;) {
+      const std::size_t begin = next.fetch_add(kChunk);
+      if (begin >= n || begin >= first_bad.load()) return;
+      for (std::size_t i = begin; i < std::min(n, begin + kChunk); ++i) {
+        // An exception cannot leave a worker thread: keep the lowest case's for the caller.
+        try {
+          (void)BuildCase(spec, i);
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(mutex);
+          if (i < first_bad.load()) {
+            first_bad.store(i);
+            error = std::current_exception();
+          }
+          return;
+        }
+      }
+    }
+  };
+  const std::size_t threads = std::min<std::size_t>(
+      std::max(1u, std::thread::hardware_concurrency()), (n + kChunk - 1) / kChunk);
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+SweepSpec LoadSweep(const std::string& path) {
+  const YamlDocument doc(path, io::internal::ReadTextFile(path));
+  const Fields top(doc, doc.root(), "",
+                   {"name", "description", "base", "integrator", "grid", "monte_carlo", "outcome"});
+  SweepSpec spec;
+  spec.source = path;
+  spec.text = doc.text();
+  spec.name = top.Text("name");
+  if (spec.name.empty()) top.Fail("name", "must not be empty");
+  spec.description = top.OptionalText("description").value_or("");
+  spec.base = io::LoadProfile(ResolvePath(top, "base"));
+  spec.model_text = io::internal::ReadTextFile(spec.base.model.source);
+  ReadIntegrator(top, spec.base);
+  if (!top.Has("grid") && !top.Has("monte_carlo")) {
+    doc.Fail("grid", "required key is missing: a sweep needs a grid, monte_carlo, or both");
+  }
+
+  std::vector<std::pair<std::string, std::string>> columns;  // column, key path
+  auto claim = [&doc, &columns](const Fields& f, const Target& t) {
+    for (const auto& [column, key] : columns) {
+      if (column == t.column) {
+        doc.Fail(f.Key("parameter"), f.Get("parameter"),
+                 "sets column " + t.column + " again (already set by " + key + ")");
+      }
+    }
+    columns.emplace_back(t.column, f.path());
+  };
+  const std::vector<std::string> target_keys = {"parameter", "stage", "panel", "configuration",
+                                                "axis"};
+  auto with = [&target_keys](std::vector<std::string> extra) {
+    extra.insert(extra.end(), target_keys.begin(), target_keys.end());
+    return extra;
+  };
+
+  double cases = 1.0;
+  if (top.Has("grid")) {
+    const std::vector<YAML::Node> axes =
+        io::internal::SequenceElements(doc, top.Get("grid"), "grid", "grid");
+    if (axes.empty()) top.Fail("grid", "at least one axis is required (or leave grid out)");
+    for (std::size_t k = 0; k < axes.size(); ++k) {
+      const Fields f(doc, axes[k], "grid[" + std::to_string(k) + "]",
+                     with({"values", "linspace", "logspace"}));
+      const Entry e = ReadTarget(f, spec.base);
+      claim(f, e.target);
+      GridAxis axis{e.target, ReadGridValues(f, *e.info)};
+      cases *= static_cast<double>(axis.values.size());
+      spec.grid.push_back(std::move(axis));
+    }
+  }
+  if (top.Has("monte_carlo")) {
+    const Fields m = top.Mapping("monte_carlo", {"samples", "seed", "parameters"});
+    MonteCarlo mc;
+    mc.samples = static_cast<std::size_t>(ReadCount(m, m.Get("samples"), m.Key("samples"), 1.0));
+    const double seed = m.Number("seed");
+    if (seed != std::floor(seed) || seed < 0.0 || seed > kMaxSeed) {
+      m.Fail("seed", "must be an integer in [0, 2^53]");
+    }
+    mc.seed = static_cast<std::uint64_t>(seed);
+    const std::vector<YAML::Node> params =
+        io::internal::SequenceElements(doc, m.Get("parameters"), m.Key("parameters"), "parameters");
+    if (params.empty()) m.Fail("parameters", "at least one parameter is required");
+    for (std::size_t k = 0; k < params.size(); ++k) {
+      const Fields f(doc, params[k], m.Key("parameters") + "[" + std::to_string(k) + "]",
+                     with({"uniform", "normal", "choice"}));
+      const Entry e = ReadTarget(f, spec.base);
+      claim(f, e.target);
+      mc.parameters.push_back({e.target, ReadDistribution(f, *e.info)});
+    }
+    cases *= static_cast<double>(mc.samples);
+    spec.monte_carlo = std::move(mc);
+  }
+  if (cases > kMaxCases) {
+    doc.Fail(top.Has("grid") ? "grid" : "monte_carlo",
+             top.Get(top.Has("grid") ? "grid" : "monte_carlo"),
+             "gives " + FormatNumber(cases) + " cases (at most " + FormatNumber(kMaxCases) + ")");
+  }
+  if (top.Has("outcome")) {
+    const Fields o = top.Mapping("outcome", {"tumble_angle_deg"});
+    if (o.Has("tumble_angle_deg")) {
+      const double a = o.Number("tumble_angle_deg");
+      if (!(a > 0.0 && a < 90.0)) o.Fail("tumble_angle_deg", "must be in (0, 90) [deg]");
+      spec.outcome.tumble_angle = a * kDegree;
+    }
+  }
+  spec.base_spin_axis_B = BaseSpinAxis(spec.base);
+  ValidateCases(spec);
+  return spec;
+}
+
+}  // namespace deploysim::sweep

@@ -1,0 +1,32 @@
+#pragma once
+
+/// Sweep files (YAML, docs/sweeps.md) -> SweepSpec, read as strictly as deployment
+/// profiles (docs/file_formats.md): unknown keys, missing required keys, wrong types,
+/// non-finite numbers and values outside a parameter's range are errors, each thrown as
+/// ONE line naming the file, the key path, the value as written and the rule:
+///
+///     sweeps/x.yaml: grid[1].values[2] = -3: spin_rate_rpm must be > 0
+///
+/// std::invalid_argument for bad content, std::runtime_error for files that cannot be
+/// read. The base profile is read with io::LoadProfile (its errors name the profile).
+/// Degrees and rpm in the file become radians and rad/s here.
+
+#include <string>
+
+#include "deploysim/sweep/sweep_spec.h"
+
+namespace deploysim::sweep {
+
+/// Reads and validates a sweep file: the file itself, its base profile (relative to the
+/// sweep file's directory), and every case's profile (BuildCase), so that a sweep that
+/// starts cannot fail on bad input half-way. SweepSpec::source = path.
+SweepSpec LoadSweep(const std::string& path);
+
+/// Builds every case once (BuildCase) and throws the first case's error. LoadSweep calls
+/// it; specs made in code can call it too.
+void ValidateCases(const SweepSpec& spec);
+
+/// Largest number of cases a sweep may have.
+inline constexpr double kMaxCases = 1e8;
+
+}  // namespace deploysim::sweep

@@ -1,0 +1,295 @@
+#include "deploysim/sweep/sweep_spec.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "deploysim/analysis/mission.h"
+#include "deploysim/io/number_format.h"
+#include "deploysim/io/yaml_loader.h"
+#include "deploysim/schedule/laws.h"
+#include "deploysim/sweep/rng.h"
+
+namespace deploysim::sweep {
+
+namespace {
+
+using io::internal::FormatNumber;
+
+// A transverse momentum smaller than this fraction of |H_B| has no direction of its own:
+// the tilt then goes towards the next principal axis.
+constexpr double kNoTransverse = 1e-12;
+// Truncated normal draws: give up after this many rejections (the loader requires the
+// bounds to hold a reasonable probability mass, so this is never reached in practice).
+constexpr int kMaxRejections = 100000;
+
+double Draw(const Distribution& d, Rng& rng, const std::string& where) {
+  switch (d.kind) {
+    case Distribution::Kind::kUniform:
+      return rng.Uniform(d.a, d.b);
+    case Distribution::Kind::kNormal:
+      for (int k = 0; k < kMaxRejections; ++k) {
+        const double x = d.a + d.b * rng.Normal();
+        if (x >= d.min && x <= d.max) return x;
+      }
+      throw std::invalid_argument(where +
+                                  ": the truncation bounds of the normal distribution "
+                                  "reject nearly every draw");
+    case Distribution::Kind::kChoice:
+      return d.choices.at(static_cast<std::size_t>(rng.Below(d.choices.size())));
+  }
+  return 0.0;
+}
+
+bool IsMove(const schedule::Profile& p, std::size_t i) {
+  const schedule::Stage& st = p.stages[i];
+  return !st.from.empty() ? st.from != st.to : (i > 0 && st.to != p.stages[i - 1].to);
+}
+
+}  // namespace
+
+bool IsCategorical(Parameter p) { return p == Parameter::kLaw || p == Parameter::kCoupling; }
+
+std::string UnitsOf(Parameter p) {
+  switch (p) {
+    case Parameter::kStageDuration:
+      return "s";
+    case Parameter::kSpinRate:
+      return "rad/s";
+    case Parameter::kNutation:
+    case Parameter::kNutationAzimuth:
+      return "rad";
+    case Parameter::kLaw:
+    case Parameter::kCoupling:
+      return "none";
+    case Parameter::kDeployDurationScale:
+    case Parameter::kPanelMassScale:
+    case Parameter::kInertiaScale:
+      return "1";
+  }
+  return "1";
+}
+
+const std::vector<std::string>& CategoriesOf(Parameter p) {
+  static const std::vector<std::string> kLaws = {schedule::ToString(schedule::Law::kStep),
+                                                 schedule::ToString(schedule::Law::kLinear),
+                                                 schedule::ToString(schedule::Law::kSmoothstep),
+                                                 schedule::ToString(schedule::Law::kMinimumJerk)};
+  static const std::vector<std::string> kCouplings = {
+      schedule::ToString(schedule::Coupling::kQuasiRigid),
+      schedule::ToString(schedule::Coupling::kExact)};
+  static const std::vector<std::string> kNone;
+  if (p == Parameter::kLaw) return kLaws;
+  if (p == Parameter::kCoupling) return kCouplings;
+  return kNone;
+}
+
+std::size_t SweepSpec::grid_points() const {
+  std::size_t n = 1;
+  for (const GridAxis& a : grid) n *= a.values.size();
+  return n;
+}
+
+std::size_t SweepSpec::samples() const { return monte_carlo ? monte_carlo->samples : 1; }
+
+std::vector<Target> SweepSpec::targets() const {
+  std::vector<Target> t;
+  for (const GridAxis& a : grid) t.push_back(a.target);
+  if (monte_carlo) {
+    for (const MonteCarloParameter& m : monte_carlo->parameters) t.push_back(m.target);
+  }
+  return t;
+}
+
+CaseParameters ParametersOf(const SweepSpec& spec, std::size_t index) {
+  const std::size_t count = spec.case_count();
+  if (index >= count) {
+    throw std::out_of_range("case index " + std::to_string(index) + " out of range (" +
+                            std::to_string(count) + " cases)");
+  }
+  CaseParameters p;
+  p.index = index;
+  p.grid_index = index / spec.samples();
+  p.sample_index = index % spec.samples();
+  // Row-major: the last axis varies fastest.
+  std::vector<double> grid_values(spec.grid.size());
+  std::size_t rest = p.grid_index;
+  for (std::size_t k = spec.grid.size(); k-- > 0;) {
+    const std::size_t n = spec.grid[k].values.size();
+    grid_values[k] = spec.grid[k].values[rest % n];
+    rest /= n;
+  }
+  p.values = grid_values;
+  if (spec.monte_carlo) {
+    const MonteCarlo& mc = *spec.monte_carlo;
+    for (std::size_t k = 0; k < mc.parameters.size(); ++k) {
+      Rng rng(mc.seed, p.sample_index, k);
+      p.values.push_back(Draw(mc.parameters[k].distribution, rng,
+                              spec.source + ": monte_carlo.parameters[" + std::to_string(k) + "]"));
+    }
+  }
+  return p;
+}
+
+std::string DescribeParameters(const SweepSpec& spec, const CaseParameters& p) {
+  const std::vector<Target> targets = spec.targets();
+  std::string s = "{";
+  for (std::size_t k = 0; k < targets.size() && k < p.values.size(); ++k) {
+    const Parameter par = targets[k].parameter;
+    s += (k ? ", " : "") + targets[k].column + "=";
+    if (IsCategorical(par)) {
+      s += CategoriesOf(par).at(static_cast<std::size_t>(p.values[k]));
+    } else {
+      s += FormatNumber(p.values[k]);
+    }
+  }
+  return s + "}";
+}
+
+math::Vec3 BaseSpinAxis(const schedule::Profile& base) {
+  const schedule::DeploymentSchedule sched(base);
+  const dynamics::InertiaSample s0 = sched.Evaluate(base.t_begin());
+  const math::Vec3 H_B0 =
+      base.initial.H_B ? *base.initial.H_B : math::Vec3(s0.J_B * *base.initial.w_NB_B + s0.h_rel_B);
+  return analysis::InitialSpinAxis(s0.J_B, H_B0);
+}
+
+Case BuildCase(const SweepSpec& spec, std::size_t index) {
+  Case c;
+  c.parameters = ParametersOf(spec, index);
+  const std::vector<Target> targets = spec.targets();
+  const std::vector<double>& v = c.parameters.values;
+  schedule::Profile& p = c.profile;
+  p = spec.base;
+  const std::string where = (spec.source.empty() ? std::string("sweep") : spec.source) + ": case " +
+                            std::to_string(index) + " " + DescribeParameters(spec, c.parameters);
+  try {
+    // 1. Model.
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      const Target& t = targets[k];
+      if (t.parameter == Parameter::kPanelMassScale) {
+        for (std::size_t i = 0; i < p.model.hinged.panels.size(); ++i) {
+          if (t.panel >= 0 && static_cast<std::size_t>(t.panel) != i) continue;
+          model::MassElement& b = p.model.hinged.panels[i].body;
+          b.mass *= v[k];
+          b.inertia_cm *= v[k];
+        }
+      } else if (t.parameter == Parameter::kInertiaScale) {
+        math::Mat3 S = math::Mat3::Identity();
+        if (t.axis >= 0) {
+          S(t.axis, t.axis) = std::sqrt(v[k]);
+        } else {
+          S *= std::sqrt(v[k]);
+        }
+        for (model::Configuration& conf : p.model.configurations) {
+          if (!t.configuration.empty() && conf.name != t.configuration) continue;
+          conf.J_B = S * conf.J_B * S;
+        }
+      }
+    }
+    // 2. Coupling, 3. law (all moves first, then single stages).
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      if (targets[k].parameter == Parameter::kCoupling) {
+        p.coupling = io::ParseCoupling(
+            CategoriesOf(Parameter::kCoupling).at(static_cast<std::size_t>(v[k])));
+      }
+    }
+    for (int pass = 0; pass < 2; ++pass) {
+      for (std::size_t k = 0; k < targets.size(); ++k) {
+        const Target& t = targets[k];
+        if (t.parameter != Parameter::kLaw || (pass == 0) != (t.stage < 0)) continue;
+        const schedule::Law law =
+            schedule::ParseLaw(CategoriesOf(Parameter::kLaw).at(static_cast<std::size_t>(v[k])));
+        for (std::size_t i = 0; i < p.stages.size(); ++i) {
+          if (t.stage >= 0 && static_cast<std::size_t>(t.stage) != i) continue;
+          if (IsMove(p, i)) p.stages[i].law = law;
+        }
+      }
+    }
+    // 4. Timing.
+    std::vector<double> durations;
+    for (const schedule::Stage& st : p.stages) durations.push_back(st.t_end - st.t_begin);
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      if (targets[k].parameter != Parameter::kDeployDurationScale) continue;
+      for (std::size_t i = 0; i < p.stages.size(); ++i) {
+        if (IsMove(p, i)) durations[i] *= v[k];
+      }
+    }
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      if (targets[k].parameter == Parameter::kStageDuration) {
+        durations.at(static_cast<std::size_t>(targets[k].stage)) = v[k];
+      }
+    }
+    double t = p.stages.front().t_begin;
+    for (std::size_t i = 0; i < p.stages.size(); ++i) {
+      p.stages[i].t_begin = t;
+      t += durations[i];
+      p.stages[i].t_end = t;
+    }
+    // The schedule validates the profile (model, modes, stages) and gives J_B(t0).
+    c.schedule = std::make_shared<const schedule::DeploymentSchedule>(p);
+    const dynamics::InertiaSample s0 = c.schedule->Evaluate(p.t_begin());
+    const math::Vec3 base_axis =
+        spec.base_spin_axis_B ? *spec.base_spin_axis_B : BaseSpinAxis(spec.base);
+    c.spin_axis_B = analysis::InitialSpinAxis(s0.J_B, base_axis);
+
+    // 5. Initial state.
+    math::Vec3 H =
+        p.initial.H_B ? *p.initial.H_B : math::Vec3(s0.J_B * *p.initial.w_NB_B + s0.h_rel_B);
+    const math::Vec3& s = c.spin_axis_B;
+    std::optional<double> nutation, azimuth, spin_rate;
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      switch (targets[k].parameter) {
+        case Parameter::kNutation:
+          nutation = v[k];
+          break;
+        case Parameter::kNutationAzimuth:
+          azimuth = v[k];
+          break;
+        case Parameter::kSpinRate:
+          spin_rate = v[k];
+          break;
+        default:
+          break;
+      }
+    }
+    if (nutation || azimuth) {
+      const double M = H.norm();
+      const math::Vec3 transverse = H - H.dot(s) * s;
+      math::Vec3 u;
+      if (transverse.norm() > kNoTransverse * M) {
+        u = transverse.normalized();
+      } else {
+        // No tilt in the base: tilt towards the next principal axis (ascending moments,
+        // cyclic) of J_B(t0).
+        const math::PrincipalAxes pa = math::PrincipalDecomposition(s0.J_B);
+        int i = 0;
+        for (int j = 0; j < 3; ++j) {
+          if (std::abs(pa.axes.col(j).dot(s)) > std::abs(pa.axes.col(i).dot(s))) i = j;
+        }
+        u = pa.axes.col((i + 1) % 3);
+        u = (u - u.dot(s) * s).normalized();
+      }
+      if (azimuth) u = std::cos(*azimuth) * u + std::sin(*azimuth) * s.cross(u);
+      const double theta = nutation ? *nutation : std::atan2(transverse.norm(), H.dot(s));
+      H = M * (std::cos(theta) * s + std::sin(theta) * u);
+    }
+    if (spin_rate) {
+      const math::Vec3 w = s0.J_inv_B * (H - s0.h_rel_B);
+      const double ws = w.dot(s);
+      if (!(std::abs(ws) > 0.0)) {
+        throw std::invalid_argument(
+            "spin_rate: the base angular velocity has no component along the spin axis");
+      }
+      H = s0.J_B * (w * (*spin_rate / std::abs(ws))) + s0.h_rel_B;
+    }
+    p.initial.H_B = H;
+    p.initial.w_NB_B.reset();
+    schedule::ValidateProfile(p);
+    io::CheckRunSettings(p);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(where + ": " + e.what());
+  }
+  return c;
+}
+
+}  // namespace deploysim::sweep

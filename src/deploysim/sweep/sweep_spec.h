@@ -1,0 +1,165 @@
+#pragma once
+
+/// A parameter sweep, free of YAML (docs/sweeps.md): a base deployment profile plus
+/// parameter axes, as a grid (Cartesian product) and/or seeded Monte Carlo samples.
+/// sweep_file.h reads it from YAML; this file turns a case index into the case's
+/// parameter values and its deployment profile.
+///
+/// Case numbering. With G grid points (the product of the axis lengths; 1 without a grid)
+/// and S Monte Carlo samples per grid point (1 without Monte Carlo), there are G * S
+/// cases; case i is grid point g = i / S, sample j = i % S. Grid points are numbered
+/// row-major over the axes in file order (the last axis varies fastest).
+///
+/// Determinism. A case is a pure function of (spec, i): Monte Carlo draws come from
+/// Rng(seed, j, parameter position), so sample j has the same dispersions at every grid
+/// point (common random numbers: differences across the grid are the grid's alone).
+///
+/// Application order in BuildCaseProfile, whatever the order in the file:
+///   1. model: panel_mass_scale (mass and inertia of the panel(s); all-panel and
+///      per-panel factors multiply), inertia_scale (tensor models; factors multiply);
+///   2. coupling; 3. law (all move stages, then per-stage values override);
+///   4. timing: every move stage's duration times deploy_duration_scale, then
+///      stage_duration values replace single stages' durations; stages stay contiguous
+///      from the first stage's start (later stages shift, holds keep their durations);
+///   5. initial state: nutation / nutation_azimuth tilt H_B(t0) about the spin axis
+///      (|H_B| kept), then spin_rate scales H_B so that w_NB_B(t0) . s = spin_rate.
+/// The spin axis s is the principal axis of the case's J_B(t0) nearest the BASE
+/// profile's spin axis (analysis::InitialSpinAxis of the base), so that every case of a
+/// sweep measures its angles from the same body axis.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deploysim/math/types.h"
+#include "deploysim/schedule/deployment_schedule.h"
+#include "deploysim/schedule/profile.h"
+
+namespace deploysim::sweep {
+
+/// What a sweep axis varies.
+enum class Parameter {
+  kDeployDurationScale,  ///< [1] > 0: factor on the duration of every move stage.
+  kStageDuration,        ///< [s] > 0: duration of one stage (Target::stage).
+  kSpinRate,             ///< [rad/s] > 0: w_NB_B(t0) . s (file: spin_rate or spin_rate_rpm).
+  kNutation,             ///< [rad] in [0, pi/2): angle of H_B(t0) from s (file: nutation_deg).
+  kNutationAzimuth,      ///< [rad]: direction of the tilt about s (file: nutation_azimuth_deg).
+  kPanelMassScale,       ///< [1] > 0: factor on panel mass and inertia (hinged models).
+  kInertiaScale,         ///< [1] > 0: factor on configuration tensors (tensors models).
+  kLaw,                  ///< categorical: interpolation law of move stages.
+  kCoupling,             ///< categorical: quasi-rigid | exact.
+};
+
+/// True for the categorical parameters (law, coupling).
+bool IsCategorical(Parameter p);
+/// SI unit of the parameter's column ("1", "s", "rad/s", "rad", "none" for categorical).
+std::string UnitsOf(Parameter p);
+/// Category names of a categorical parameter (code = position), empty otherwise.
+const std::vector<std::string>& CategoriesOf(Parameter p);
+
+/// One varied quantity: the parameter and what it applies to.
+struct Target {
+  Parameter parameter = Parameter::kSpinRate;
+  std::string column;         ///< Result-table column name, unique within a sweep.
+  int stage = -1;             ///< kStageDuration (required), kLaw (-1: every move stage).
+  int panel = -1;             ///< kPanelMassScale: panel index, -1: every panel.
+  std::string configuration;  ///< kInertiaScale: configuration name, empty: all.
+  int axis = -1;              ///< kInertiaScale: body axis 0, 1, 2 or -1: the whole tensor.
+  std::string description;    ///< For the results file: what the column means.
+};
+
+/// A grid axis: the values of one target (SI; categorical values are category codes).
+struct GridAxis {
+  Target target;
+  std::vector<double> values;
+};
+
+/// A Monte Carlo parameter's distribution.
+struct Distribution {
+  enum class Kind { kUniform, kNormal, kChoice };
+  Kind kind = Kind::kUniform;
+  double a = 0.0;  ///< uniform: lower bound; normal: mean (SI).
+  double b = 0.0;  ///< uniform: upper bound; normal: standard deviation (SI, > 0).
+  /// normal: truncation bounds (resampled until inside), -inf/+inf when not given.
+  double min = -1e308;
+  double max = 1e308;
+  std::vector<double> choices;  ///< kChoice: category codes (or numbers), equally likely.
+};
+
+struct MonteCarloParameter {
+  Target target;
+  Distribution distribution;
+};
+
+struct MonteCarlo {
+  std::size_t samples = 1;
+  std::uint64_t seed = 0;
+  std::vector<MonteCarloParameter> parameters;
+};
+
+/// Settings of the per-case outcome analysis.
+struct OutcomeSettings {
+  /// [rad] A final motion whose momentum cone about its circulation axis is wider than
+  /// this is "tumbling", else a spin about that axis.
+  double tumble_angle = 0.3490658503988659;  // 20 deg
+};
+
+struct SweepSpec {
+  std::string name;
+  std::string description;
+  std::string source;          ///< The sweep file's path (for messages), or empty.
+  std::string text;            ///< The sweep file's text (stored in the results file).
+  schedule::Profile base;      ///< The base profile, integrator overrides applied.
+  std::string model_text;      ///< The base model file's text (fingerprint of the journal).
+  std::vector<GridAxis> grid;  ///< Empty: one grid point (the base).
+  std::optional<MonteCarlo> monte_carlo;
+  OutcomeSettings outcome;
+  /// BaseSpinAxis(base), if already computed (the loader sets it; BuildCase computes it
+  /// when unset).
+  std::optional<math::Vec3> base_spin_axis_B;
+
+  /// Number of grid points (product of the axis lengths; 1 without a grid).
+  std::size_t grid_points() const;
+  /// Monte Carlo samples per grid point (1 without Monte Carlo).
+  std::size_t samples() const;
+  std::size_t case_count() const { return grid_points() * samples(); }
+  /// Every target in column order: grid axes, then Monte Carlo parameters.
+  std::vector<Target> targets() const;
+};
+
+/// The parameters of one case, in the order of SweepSpec::targets().
+struct CaseParameters {
+  std::size_t index = 0;         ///< Case index.
+  std::size_t grid_index = 0;    ///< g = index / samples.
+  std::size_t sample_index = 0;  ///< j = index % samples.
+  std::vector<double> values;    ///< SI; categorical: category code.
+};
+
+/// The parameters of case `index` (< case_count(); std::out_of_range otherwise).
+CaseParameters ParametersOf(const SweepSpec& spec, std::size_t index);
+
+/// A case's profile and the body axis its angles are measured from.
+struct Case {
+  CaseParameters parameters;
+  schedule::Profile profile;  ///< initial.H_B set (initial.w_NB_B cleared).
+  /// The schedule of `profile` (built once: it validates the profile and precomputes the
+  /// configurations).
+  std::shared_ptr<const schedule::DeploymentSchedule> schedule;
+  math::Vec3 spin_axis_B = math::Vec3::UnitZ();  ///< Unit, B components.
+};
+
+/// Builds case `index` (application order in the file comment). Throws
+/// std::invalid_argument "<sweep source>: case <i> {<column>=<value>, ...}: <rule>" when
+/// the case's profile is not valid (schedule::ValidateProfile, io::CheckRunSettings).
+Case BuildCase(const SweepSpec& spec, std::size_t index);
+
+/// The spin axis of the base profile: analysis::InitialSpinAxis of J_B(t0), H_B(t0).
+math::Vec3 BaseSpinAxis(const schedule::Profile& base);
+
+/// "{deploy_duration_scale=0.5, law=linear}" for messages (values as written, SI).
+std::string DescribeParameters(const SweepSpec& spec, const CaseParameters& p);
+
+}  // namespace deploysim::sweep
