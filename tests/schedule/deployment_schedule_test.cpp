@@ -198,6 +198,33 @@ TEST(DeploymentScheduleTest, BreakpointsAreStageBoundariesStrictlyInside) {
             (std::vector<double>{25.0, 30.0}));
 }
 
+TEST(DeploymentScheduleTest, TheShortestStagesKeepTheirBoundariesAsBreakpoints) {
+  // Stages of 1.01 x the minimum duration (ValidateProfile) at the start, in the middle
+  // and at the end: every boundary is a breakpoint, and each side of it sees its own stage
+  // (the linear law's rate jump at the end of a short first hold is where a dropped
+  // boundary used to give an error in H_B that no integrator tolerance removed).
+  Profile p = MakeProfile(HingedModel(), Mode::kGeometry, Coupling::kExact, Law::kLinear);
+  const double d = 1.01 * kMinStageDurationFraction * 60.0;
+  p.stages[0].t_end = p.stages[1].t_begin = d;
+  p.stages[2].t_end = p.stages[3].t_begin = 25.0 + d;
+  p.stages[4].t_begin = p.stages[3].t_end = 60.0 - d;
+  const DeploymentSchedule sched(p);
+  EXPECT_EQ(sched.Breakpoints(0.0, 60.0), (std::vector<double>{d, 25.0, 25.0 + d, 60.0 - d}));
+  for (double t : {d, 25.0 + d}) {
+    SCOPED_TRACE("move starts at t = " + std::to_string(t));
+    EXPECT_EQ(sched.Evaluate(t, Side::kLeft).h_rel_B, Vec3::Zero());
+    EXPECT_NE(sched.Evaluate(t, Side::kRight).h_rel_B, Vec3::Zero());
+    EXPECT_EQ(sched.StageAt(t, Side::kLeft) + 1, sched.StageAt(t, Side::kRight));
+  }
+  EXPECT_NE(sched.Evaluate(60.0 - d, Side::kLeft).h_rel_B, Vec3::Zero());
+  EXPECT_EQ(sched.Evaluate(60.0 - d, Side::kRight).h_rel_B, Vec3::Zero());
+  EXPECT_EQ(sched.StageAt(0.5 * d), 0);
+  EXPECT_EQ(sched.StageAt(25.0 + 0.5 * d), 2);
+  EXPECT_EQ(sched.StageAt(60.0 - 0.5 * d), 4);
+  EXPECT_FALSE(sched.IsRigidOn(0.0, 2.0 * d));
+  EXPECT_TRUE(sched.IsRigidOn(0.0, d));
+}
+
 TEST(DeploymentScheduleTest, StageAtIsOneSidedAtBoundaries) {
   const DeploymentSchedule sched(
       MakeProfile(TensorModel(), Mode::kTensor, Coupling::kQuasiRigid, Law::kLinear));

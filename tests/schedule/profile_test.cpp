@@ -98,6 +98,37 @@ TEST(ProfileTest, RejectsDecreasingEndTimes) {
                  "stage starts at 0)");
 }
 
+TEST(ProfileTest, RejectsStagesShorterThanTheMinimumDuration) {
+  // The time scale is 60 s, so the minimum is 1e-8 x 60 s = 6e-7 s. A first hold of
+  // 1e-11 s lay within the scheduler's boundary tolerance (1e-12 x 60 s) of the start:
+  // its end was dropped from the breakpoints (a 3.5e-8 error in H_B under exact coupling).
+  const double min_duration = kMinStageDurationFraction * 60.0;
+  Profile p = ValidGeometryProfile();
+  p.stages[0].t_end = p.stages[1].t_begin = 1e-11;
+  ExpectRejected(p,
+                 "p.yaml: stages[0].until = 1e-11: stage 'hold closed' lasts 1e-11 s, less "
+                 "than the minimum 6e-07 s = 1e-08 x max(|start|, |end|) of the profile (60 "
+                 "s) (rule: minimum stage duration)");
+  // Anywhere in the profile, and just below the minimum.
+  p = ValidGeometryProfile();
+  p.stages[2].t_end = p.stages[3].t_begin = 25.0 + 0.5 * min_duration;
+  ExpectRejected(p, "stages[2].until = 25.0000003: stage 'hold half_open' lasts");
+  p = ValidGeometryProfile();
+  p.stages[4].t_begin = p.stages[3].t_end = 60.0 - 0.9 * min_duration;
+  ExpectRejected(p, "stages[4].until = 60: stage 'hold open' lasts");
+  // The scale is the largest |time|, also when the profile starts at a negative time.
+  p = ValidGeometryProfile();
+  p.stages[0].t_begin = -600.0;
+  p.stages[1].t_begin = p.stages[0].t_end = -600.0 + 1e-6;
+  ExpectRejected(p, "(rule: minimum stage duration)");
+  // Twice the minimum is accepted, at the start, in the middle and at the end.
+  p = ValidGeometryProfile();
+  p.stages[0].t_end = p.stages[1].t_begin = 2.0 * min_duration;
+  p.stages[2].t_end = p.stages[3].t_begin = 25.0 + 2.0 * min_duration;
+  p.stages[4].t_begin = p.stages[3].t_end = 60.0 - 2.0 * min_duration;
+  EXPECT_NO_THROW(ValidateProfile(p));
+}
+
 TEST(ProfileTest, RejectsNonFiniteTimes) {
   Profile p = ValidTensorProfile();
   p.stages[1].t_end = kInf;

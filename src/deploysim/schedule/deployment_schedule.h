@@ -17,9 +17,11 @@
 /// Holds are constant. A step-law stage has its `to` configuration on (t_begin, t_end] and
 /// at t_begin from the right, zero rates. At a stage boundary Side::kLeft takes the stage
 /// that ends there and Side::kRight the stage that starts there; times within
-/// 1e-12 * max|boundary| of a boundary count as the boundary. Before the first stage and
-/// after the last the schedule holds the first stage's start and the last stage's end
-/// configuration with zero rates.
+/// 1e-12 * max|boundary| of a boundary count as the boundary. Every stage lasts at least
+/// kMinStageDurationFraction (1e-8) * max|boundary| (ValidateProfile), 1e4 times that
+/// tolerance, so no boundary is ever absorbed by a neighbour: every stage boundary is a
+/// breakpoint. Before the first stage and after the last the schedule holds the first
+/// stage's start and the last stage's end configuration with zero rates.
 
 #include <Eigen/Core>
 #include <vector>
@@ -76,6 +78,9 @@ class DeploymentSchedule final : public dynamics::InertiaSource {
   /// Relative tolerance within which a time counts as a stage boundary, so that
   /// t_begin + (t_end - t_begin) rounding off by an ulp still picks the side asked for.
   static constexpr double kBoundaryRelTolerance = 1e-12;
+  static_assert(kMinStageDurationFraction >= 1e3 * kBoundaryRelTolerance,
+                "a stage must be much longer than the boundary tolerance, or a boundary "
+                "within the tolerance of another would be dropped from the breakpoints");
 
   Where Locate(double t, dynamics::Side side) const;
   /// Region ordinal: -1 before, stage index inside, stages_.size() after.

@@ -1,5 +1,6 @@
 #include "deploysim/schedule/profile.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -145,6 +146,21 @@ void ValidateStages(const Profile& p, const std::string& where) {
       Fail(where, key +
                       ".law = step: the step law is not allowed with coupling exact (an "
                       "instantaneous hinge motion carries an impulsive relative momentum)");
+    }
+  }
+  // Durations, once every time is known to be finite and increasing.
+  const double scale =
+      std::max(std::abs(p.stages.front().t_begin), std::abs(p.stages.back().t_end));
+  const double min_duration = kMinStageDurationFraction * scale;
+  for (std::size_t i = 0; i < p.stages.size(); ++i) {
+    const Stage& st = p.stages[i];
+    const double duration = st.t_end - st.t_begin;
+    if (!(duration >= min_duration)) {
+      Fail(where, "stages[" + std::to_string(i) + "].until = " + Num(st.t_end) + ": stage '" +
+                      st.name + "' lasts " + Num(duration) + " s, less than the minimum " +
+                      Num(min_duration) + " s = " + Num(kMinStageDurationFraction) +
+                      " x max(|start|, |end|) of the profile (" + Num(scale) +
+                      " s) (rule: minimum stage duration)");
     }
   }
 }

@@ -80,9 +80,20 @@ struct Profile {
   double t_end() const { return stages.back().t_end; }
 };
 
+/// Shortest stage allowed, as a fraction of the profile's time scale
+/// max(|t_begin|, |t_end|) of the whole profile: every stage must last at least
+/// kMinStageDurationFraction * max(|t_begin|, |t_end|). Shorter stages are rejected
+/// (docs/file_formats.md, "Stage durations"): a time that close to a stage boundary is
+/// rounding noise to the scheduler (it snaps times within 1e-12 of the time scale to
+/// the boundary, DeploymentSchedule), to the integrators' step control (1e-14) and to the
+/// Simbody cross-check (which merges report times within 1e-9), so such a stage's
+/// boundaries would be lost instead of being integrator breakpoints.
+inline constexpr double kMinStageDurationFraction = 1e-8;
+
 /// Checks the cross-field rules a file reader cannot see key by key (stages contiguous
-/// and increasing, configurations exist, exact coupling only in geometry mode, step law
-/// not with exact coupling, ...). Throws std::invalid_argument naming the rule.
+/// and increasing, no stage shorter than kMinStageDurationFraction of the time scale,
+/// configurations exist, exact coupling only in geometry mode, step law not with exact
+/// coupling, ...). Throws std::invalid_argument naming the rule.
 void ValidateProfile(const Profile& p);
 
 }  // namespace deploysim::schedule
