@@ -134,15 +134,49 @@ TEST(DeploymentScheduleTest, GeometryMatchesModelMassProperties) {
       EXPECT_EQ(q.J_B, e.J_B) << "t = " << t;
       EXPECT_EQ(q.Jdot_B, e.Jdot_B) << "t = " << t;
       EXPECT_EQ(q.h_rel_B, Vec3::Zero()) << "t = " << t;
+      // The relative kinetic energy likewise: the model's under exact coupling, none for
+      // the instantaneously rigid body of the quasi-rigid coupling.
+      EXPECT_NEAR(e.relative_kinetic_energy, ref.relative_kinetic_energy,
+                  kRoundoff * ref.relative_kinetic_energy)
+          << "t = " << t;
+      EXPECT_GT(e.relative_kinetic_energy, 0.0) << "t = " << t;
+      EXPECT_EQ(q.relative_kinetic_energy, 0.0) << "t = " << t;
       // The full mass properties agree with what the dynamics sees.
       const model::MassProperties mp_e = exact.MassPropertiesAt(t);
       const model::MassProperties mp_q = quasi.MassPropertiesAt(t);
       EXPECT_EQ(mp_e.h_rel_B, e.h_rel_B);
       EXPECT_EQ(mp_q.h_rel_B, Vec3::Zero());
+      EXPECT_EQ(mp_e.relative_kinetic_energy, e.relative_kinetic_energy);
+      EXPECT_EQ(mp_q.relative_kinetic_energy, 0.0);
       EXPECT_LT((mp_e.com_B - ref.com_B).norm(), kRoundoff);
       EXPECT_GT(mp_e.com_rate_B.norm(), 0.0);
       EXPECT_DOUBLE_EQ(mp_e.mass, 90.0);
     }
+  }
+}
+
+TEST(DeploymentScheduleTest, TotalKineticEnergyAddsTheRelativeMotion) {
+  // dynamics::TotalKineticEnergy = 1/2 w.J w + w.h_rel + T_rel with w = J^-1 (H - h_rel);
+  // without relative motion (holds, quasi-rigid coupling, tensor mode) it is 1/2 w.J w.
+  const Vec3 H_B(0.3, 6.0, -0.2);
+  for (const Case& c : AllCases()) {
+    SCOPED_TRACE(c.label);
+    const DeploymentSchedule sched(MakeProfile(c.model, c.mode, c.coupling, Law::kSmoothstep));
+    for (double t : MovingTimes()) {
+      const InertiaSample s = sched.Evaluate(t);
+      const Vec3 w = s.J_inv_B * (H_B - s.h_rel_B);
+      const double rigid = 0.5 * w.dot(s.J_B * w);
+      const double T = dynamics::TotalKineticEnergy(s, H_B);
+      EXPECT_NEAR(T, rigid + w.dot(s.h_rel_B) + s.relative_kinetic_energy, kRoundoff * rigid);
+      if (c.coupling == Coupling::kExact) {
+        EXPECT_GT(std::abs(T - rigid), 1e3 * kRoundoff * rigid) << "t = " << t;
+      } else {
+        EXPECT_EQ(s.relative_kinetic_energy, 0.0) << "t = " << t;
+        EXPECT_NEAR(T, rigid, kRoundoff * rigid) << "t = " << t;
+      }
+    }
+    const InertiaSample hold = sched.Evaluate(5.0);
+    EXPECT_EQ(hold.relative_kinetic_energy, 0.0);
   }
 }
 

@@ -201,7 +201,8 @@ MissionResult RunMission(const schedule::Profile& profile,
     tr.principal_moments.push_back(math::PrincipalDecomposition(js.J_B).moments);
     tr.h_rel_B.push_back(js.h_rel_B);
     tr.h_N.push_back(h_N);
-    tr.energy.push_back(0.5 * w.dot(js.J_B * w));
+    tr.energy.push_back(dynamics::TotalKineticEnergy(js, s.H_B));
+    tr.energy_rigid.push_back(dynamics::KineticEnergy(js, s.H_B));
     tr.euler_313.push_back(Euler313RelativeToMomentum(s.q_NB, h_N));
     tr.spin_axis_angle.push_back(
         std::acos(std::clamp(spin_axis_B.dot(s.H_B) / s.H_B.norm(), -1.0, 1.0)));

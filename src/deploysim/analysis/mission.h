@@ -24,7 +24,8 @@ struct Trajectory {
   std::vector<math::Vec3> principal_moments;  ///< [kg m^2] ascending
   std::vector<math::Vec3> h_rel_B;            ///< [kg m^2/s]
   std::vector<math::Vec3> h_N;                ///< [kg m^2/s]
-  std::vector<double> energy;                 ///< [J]
+  std::vector<double> energy;                 ///< [J] total kinetic energy (TotalKineticEnergy)
+  std::vector<double> energy_rigid;           ///< [J] its rigid-body part 1/2 w.J w
   std::vector<math::Vec3> euler_313;          ///< [rad] precession, nutation, spin w.r.t. h_N
   std::vector<double> spin_axis_angle;        ///< [rad] initial body spin axis vs h_N
   std::vector<Eigen::VectorXd> hinge_angles;  ///< [rad] geometry mode only (else empty)

@@ -81,6 +81,7 @@ dynamics::InertiaSample HingeHistorySource::Evaluate(double t, dynamics::Side si
   s.J_B = mp.J_B;
   s.Jdot_B = mp.Jdot_B;
   s.h_rel_B = mp.h_rel_B;
+  s.relative_kinetic_energy = mp.relative_kinetic_energy;
   s.J_inv_B = mp.J_B.inverse();
   return s;
 }

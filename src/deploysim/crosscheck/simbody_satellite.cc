@@ -198,6 +198,7 @@ struct Snapshot {
   math::Vec3 w_NB_B;
   math::Vec3 h_N;
   math::Vec3 H_B;
+  double kinetic_energy;  // [J] about the system CoM
 };
 
 Snapshot Snap(const Satellite& sat, const SimTK::State& s) {
@@ -207,6 +208,11 @@ Snapshot Snap(const Satellite& sat, const SimTK::State& s) {
   r.w_NB_B = r.R_NB.transpose() * ToEigen(sat.hub.getBodyAngularVelocity(s));
   r.h_N = ToEigen(sat.matter.calcSystemCentralMomentum(s)[0]);
   r.H_B = r.R_NB.transpose() * r.h_N;
+  // Simbody's kinetic energy less that of the system CoM's translation (zero in exact
+  // arithmetic: the initial linear momentum is zero and nothing pushes the system).
+  const SimTK::Vec3 v_cm = sat.matter.calcSystemMassCenterVelocityInGround(s);
+  r.kinetic_energy =
+      sat.matter.calcKineticEnergy(s) - 0.5 * sat.matter.calcSystemMass(s) * v_cm.normSqr();
   return r;
 }
 
@@ -216,6 +222,7 @@ void Record(const Satellite& sat, const SimTK::State& s, double t_label, Simbody
   tr.H_B.push_back(snap.H_B);
   tr.h_N.push_back(snap.h_N);
   tr.w_NB_B.push_back(snap.w_NB_B);
+  tr.kinetic_energy.push_back(snap.kinetic_energy);
   tr.q_NB.push_back(math::Quat(snap.R_NB).normalized());
   Eigen::VectorXd angle(static_cast<Eigen::Index>(sat.pins.size()));
   Eigen::VectorXd rate(angle.size());

@@ -55,6 +55,9 @@ struct SimbodyTrajectory {
   std::vector<math::Quat> q_NB;               ///< hub attitude (unit).
   std::vector<Eigen::VectorXd> hinge_angles;  ///< [rad] per panel (empty rows for one body).
   std::vector<Eigen::VectorXd> hinge_rates;   ///< [rad/s] per panel.
+  /// [J] total kinetic energy about the system CoM (calcKineticEnergy less the CoM's
+  /// translation).
+  std::vector<double> kinetic_energy;
   std::size_t size() const { return time.size(); }
 };
 

@@ -9,6 +9,11 @@
 
 namespace deploysim::dynamics {
 
+double TotalKineticEnergy(const InertiaSample& s, const math::Vec3& H_B) {
+  const math::Vec3 w = s.J_inv_B * (H_B - s.h_rel_B);
+  return 0.5 * w.dot(H_B + s.h_rel_B) + s.relative_kinetic_energy;
+}
+
 std::vector<double> InertiaSource::Breakpoints(double /*t0*/, double /*t1*/) const { return {}; }
 
 bool InertiaSource::IsRigidOn(double /*t0*/, double /*t1*/) const { return false; }

@@ -19,7 +19,22 @@ struct InertiaSample {
   math::Mat3 Jdot_B;   ///< [kg m^2/s] rate of J_B seen in B.
   math::Vec3 h_rel_B;  ///< [kg m^2/s] momentum of motion relative to B.
   math::Mat3 J_inv_B;  ///< [1/(kg m^2)] inverse of J_B.
+  /// [J] T_rel, the kinetic energy of the parts' motion relative to B, about the system
+  /// CoM (DESIGN.md 2.7; model::MassProperties). It enters the energy only, not the
+  /// equations of motion. Zero wherever the source models no relative motion, in the same
+  /// places as h_rel_B: constant and tensor-interpolated inertia, and quasi-rigid coupling
+  /// (h_rel = 0 and T_rel = 0 by the model's assumption of an instantaneously rigid body,
+  /// although the panels do move); FunctionInertia does not model it either (0).
+  double relative_kinetic_energy = 0.0;
 };
+
+/// Total kinetic energy of the system about its CoM [J] (DESIGN.md 2.7, T = 1/2 v^T M v):
+///   T = 1/2 w.J_B w + w.h_rel_B + T_rel = 1/2 w.(H_B + h_rel_B) + T_rel,
+/// with w = J_B^-1 (H_B - h_rel_B). Under quasi-rigid coupling, and for rigid or
+/// tensor-interpolated sources, h_rel_B = 0 and T_rel = 0, so T = 1/2 w.J_B w. Its
+/// rigid-body part 1/2 w.J_B w (the energy of the system turning rigidly at the hub's w)
+/// is dynamics::KineticEnergy (rigid_body.h).
+double TotalKineticEnergy(const InertiaSample& s, const math::Vec3& H_B);
 
 /// Which one-sided limit to take at a breakpoint, where J's rate or h_rel may jump.
 /// A step that ends at a breakpoint evaluates its last stages from the left.

@@ -138,6 +138,7 @@ MassProperties ComputeMassProperties(const HingedBody& body,
   Mat3 J = body.hub.body.inertia_cm;
   Mat3 Jdot = Mat3::Zero();
   Vec3 h = Vec3::Zero();
+  double two_T = 0.0;  // 2 T_rel about c_h: sum m_k |y_k'|^2 + thetadot_k^2 a.(I_k a) [J]
 
   for (Eigen::Index k = 0; k < n; ++k) {
     const Panel& panel = body.panels[static_cast<std::size_t>(k)];
@@ -163,8 +164,10 @@ MassProperties ComputeMassProperties(const HingedBody& body,
     // d/dt (R I R^T) = theta' ([a]x I_k - I_k [a]x), from R' = theta' [a]x R.
     Jdot += rate * (A_I + A_I.transpose());
     Jdot += m * PointInertiaRate(y, y_dot);
-    h += rate * (I_k * a);
+    const Vec3 I_a = I_k * a;
+    h += rate * I_a;
     h += m * y.cross(y_dot);
+    two_T += m * y_dot.squaredNorm() + rate * rate * a.dot(I_a);
     m_y += m * y;
     m_y_dot += m * y_dot;
     M += m;
@@ -175,6 +178,8 @@ MassProperties ComputeMassProperties(const HingedBody& body,
   J -= M * PointInertia(e);
   Jdot -= M * PointInertiaRate(e, e_dot);
   h -= M * e.cross(e_dot);
+  // sum_i m_i |y_i' - e'|^2 = sum_i m_i |y_i'|^2 - M |e'|^2 (sum_i m_i y_i' = M e').
+  two_T -= M * e_dot.squaredNorm();
 
   MassProperties out;
   out.mass = M;
@@ -183,6 +188,7 @@ MassProperties ComputeMassProperties(const HingedBody& body,
   out.J_B = Symmetrized(J);
   out.Jdot_B = Symmetrized(Jdot);
   out.h_rel_B = h;
+  out.relative_kinetic_energy = 0.5 * two_T;
   return out;
 }
 

@@ -18,6 +18,9 @@ struct MassProperties {
   math::Mat3 Jdot_B = math::Mat3::Zero();      ///< [kg m^2/s] dJ_B/dt seen in B.
   /// [kg m^2/s] angular momentum of the motion relative to B, about the system CoM.
   math::Vec3 h_rel_B = math::Vec3::Zero();
+  /// [J] T_rel, kinetic energy of the motion relative to B (DESIGN.md 2.7): the
+  /// system's kinetic energy about its CoM is 1/2 w.J_B w + w.h_rel_B + T_rel.
+  double relative_kinetic_energy = 0.0;
 };
 
 /// Mass properties at hinge angles theta [rad] and rates theta_dot [rad/s] (one entry
@@ -28,7 +31,11 @@ struct MassProperties {
 ///   Jdot_B  = sum_k thetadot_k ([a_k]x R_k I_k R_k^T - R_k I_k R_k^T [a_k]x)
 ///             + sum_i m_i dS(rho_i)/dt,
 ///   h_rel_B = sum_k R_k I_k R_k^T (thetadot_k a_k) + sum_i m_i rho_i x rho_i',
-///   com_rate_B = sum_k m_k thetadot_k (a_k x R_k r_k) / M.
+///   com_rate_B = sum_k m_k thetadot_k (a_k x R_k r_k) / M,
+///   relative_kinetic_energy T_rel = 1/2 sum_i m_i |rho_i'|^2
+///                                 + 1/2 sum_k thetadot_k^2 a_k^T R_k I_k R_k^T a_k,
+/// with rho_i' the rate in B of part i's CoM relative to the system CoM, including the
+/// CoM-shift term -c' (it cancels in h_rel_B, not in T_rel; the hub's rho' is -c').
 /// `body` must have unit hinge axes (as ValidatedHingedBody returns). No heap allocation
 /// (it is evaluated at every Runge-Kutta stage). Throws std::invalid_argument if the sizes
 /// do not match the panels, an angle or rate is not finite, or a hinge axis is not unit.

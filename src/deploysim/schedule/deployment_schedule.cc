@@ -195,7 +195,8 @@ dynamics::InertiaSample DeploymentSchedule::Evaluate(double t, dynamics::Side si
     const model::MassProperties mp = GeometryAt(w, v);
     out.J_B = mp.J_B;
     out.Jdot_B = mp.Jdot_B;
-    out.h_rel_B = mp.h_rel_B;  // zero under quasi-rigid coupling
+    out.h_rel_B = mp.h_rel_B;  // both zero under quasi-rigid coupling
+    out.relative_kinetic_energy = mp.relative_kinetic_energy;
   }
   out.J_inv_B = SymmetricInverse(out.J_B);
   return out;
@@ -255,7 +256,11 @@ model::MassProperties DeploymentSchedule::GeometryAt(const Where& w, const LawVa
   const Eigen::VectorXd theta = (1.0 - v.s) * theta_from_[i] + v.s * theta_to_[i];
   const Eigen::VectorXd theta_dot = (v.ds / duration) * (theta_to_[i] - theta_from_[i]);
   model::MassProperties mp = model::ComputeMassProperties(model_.hinged, theta, theta_dot);
-  if (coupling_ == Coupling::kQuasiRigid) mp.h_rel_B = math::Vec3::Zero();
+  if (coupling_ == Coupling::kQuasiRigid) {
+    // The instantaneously rigid body: no relative momentum and no relative kinetic energy.
+    mp.h_rel_B = math::Vec3::Zero();
+    mp.relative_kinetic_energy = 0.0;
+  }
   return mp;
 }
 

@@ -7,13 +7,15 @@
 /// On stage i with duration D = t_end - t_begin, tau = (t - t_begin) / D and law value
 /// s(tau) (laws.h):
 ///   tensor mode:   J_B = (1 - s) J_from + s J_to,  dJ_B/dt = s'(tau) / D (J_to - J_from),
-///                  h_rel_B = 0. Convex combinations of valid tensors are valid. For a
-///                  hinged model, J_from/J_to are the configurations' zero-rate tensors.
+///                  h_rel_B = 0, relative_kinetic_energy = 0. Convex combinations of valid tensors
+///                  are valid. For a hinged model, J_from/J_to are the configurations' zero-rate
+///                  tensors.
 ///   geometry mode: theta = (1 - s) theta_from + s theta_to [rad],
 ///                  theta' = s'(tau) / D (theta_to - theta_from),
 ///                  theta'' = s''(tau) / D^2 (theta_to - theta_from);
-///                  J_B, dJ_B/dt, h_rel_B from model::ComputeMassProperties (DESIGN.md 2.5),
-///                  h_rel_B set to 0 under quasi-rigid coupling.
+///                  J_B, dJ_B/dt, h_rel_B and the relative kinetic energy T_rel from
+///                  model::ComputeMassProperties (DESIGN.md 2.5, 2.7); h_rel_B and T_rel
+///                  set to 0 under quasi-rigid coupling (the instantaneously rigid body).
 /// Holds are constant. A step-law stage has its `to` configuration on (t_begin, t_end] and
 /// at t_begin from the right, zero rates. At a stage boundary Side::kLeft takes the stage
 /// that ends there and Side::kRight the stage that starts there; times within
@@ -60,8 +62,9 @@ class DeploymentSchedule final : public dynamics::InertiaSource {
   Eigen::VectorXd HingeAccelerations(double t, dynamics::Side side = dynamics::Side::kRight) const;
 
   /// Full mass properties at t as the dynamics sees them. Geometry mode: everything
-  /// (mass, CoM and its rate, J_B, dJ_B/dt, h_rel_B, which is 0 under quasi-rigid coupling).
-  /// Tensor mode: J_B and dJ_B/dt only; mass, CoM and h_rel_B are zero.
+  /// (mass, CoM and its rate, J_B, dJ_B/dt, h_rel_B and relative_kinetic_energy, both 0
+  /// under quasi-rigid coupling). Tensor mode: J_B and dJ_B/dt only; mass, CoM, h_rel_B
+  /// and relative_kinetic_energy are zero.
   model::MassProperties MassPropertiesAt(double t,
                                          dynamics::Side side = dynamics::Side::kRight) const;
 
@@ -91,7 +94,8 @@ class DeploymentSchedule final : public dynamics::InertiaSource {
   LawValue LawAt(const Where& w) const;
   /// The constant sample that applies at w when LawAt has zero rates.
   const dynamics::InertiaSample& RigidSample(const Where& w) const;
-  /// Geometry mode: mass properties at w with law value v (h_rel zeroed if quasi-rigid).
+  /// Geometry mode: mass properties at w with law value v (h_rel and T_rel zeroed if
+  /// quasi-rigid).
   model::MassProperties GeometryAt(const Where& w, const LawValue& v) const;
 
   // implementation details are the schedule module's own

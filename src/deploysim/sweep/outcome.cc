@@ -246,8 +246,7 @@ FinalMotion ClassifyFinal(const math::Mat3& J_B, const math::Vec3& H_B, double t
 }
 
 double Energy(const dynamics::InertiaSample& s, const math::Vec3& H_B) {
-  const math::Vec3 w = s.J_inv_B * (H_B - s.h_rel_B);
-  return 0.5 * w.dot(s.J_B * w);
+  return dynamics::TotalKineticEnergy(s, H_B);
 }
 
 }  // namespace

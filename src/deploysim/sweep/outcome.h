@@ -54,7 +54,7 @@ struct CaseOutcome {
   std::int32_t final_axis = 0;
   std::int32_t final_regime = 0;  ///< analysis::Regime as an integer.
   double final_cone_angle = 0.0;  ///< [rad] half-angle of the final momentum cone.
-  double energy_initial = 0.0;    ///< [J] 1/2 w.J w at t0.
+  double energy_initial = 0.0;    ///< [J] total kinetic energy at t0 (TotalKineticEnergy).
   double energy_final = 0.0;      ///< [J] at t_end.
   double deploy_end_time = 0.0;   ///< [s] end of the last move stage (t0 if none).
   double deploy_duration = 0.0;   ///< [s] total duration of the move stages.

@@ -108,9 +108,8 @@ std::vector<Column> BuildColumns(const SweepSpec& spec, const std::vector<CaseOu
   outcome("final_cone_angle", "rad",
           "largest half-angle of the final momentum cone about its circulation axis",
           ColumnType::kDouble);
-  outcome("energy_initial", "J", "rotational kinetic energy 1/2 w.J w at the start",
-          ColumnType::kDouble);
-  outcome("energy_final", "J", "rotational kinetic energy at the end", ColumnType::kDouble);
+  outcome("energy_initial", "J", "total kinetic energy at the start", ColumnType::kDouble);
+  outcome("energy_final", "J", "total kinetic energy at the end", ColumnType::kDouble);
   outcome("energy_change", "1", "(energy_final - energy_initial) / energy_initial",
           ColumnType::kDouble);
   outcome("deploy_end_time", "s", "end of the last move stage", ColumnType::kDouble);
