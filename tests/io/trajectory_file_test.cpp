@@ -5,10 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
@@ -16,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/quaternion.h"
 #include "temp_dir_test.h"
 
@@ -45,6 +48,8 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   p.source = "profiles/synthetic.yaml";
   p.text = "name: synthetic\n# a profile text with unicode: \xce\xb8 = 90\xc2\xb0\n";
   p.model.name = "synthetic_model";
+  p.model.source = "models/synthetic_model.yaml";
+  p.model.text = "name: synthetic_model\nkind: hinged\n# \xce\xb8 in degrees\n";
   p.mode = mode;
   p.coupling = mode == schedule::Mode::kGeometry ? schedule::Coupling::kExact
                                                  : schedule::Coupling::kQuasiRigid;
@@ -83,6 +88,7 @@ MissionResult SyntheticResult(schedule::Mode mode) {
     t.h_rel_B.push_back(vec());
     t.h_N.push_back(vec());
     t.energy.push_back(u(rng));
+    t.energy_rigid.push_back(u(rng));
     t.euler_313.push_back(vec());
     t.spin_axis_angle.push_back(u(rng));
     if (mode == schedule::Mode::kGeometry) {
@@ -90,6 +96,29 @@ MissionResult SyntheticResult(schedule::Mode mode) {
     }
   }
   r.flip_times = {0.3, 0.7 + 1e-15, 1.1};
+  // Stage reports: a rigid stage with predicted flips, a moving one without.
+  analysis::StageReport a;
+  a.index = 0;
+  a.rigid = true;
+  a.moments_end = vec();
+  a.spin_axis_end = analysis::AxisRole::kIntermediate;
+  a.regime = "minor-axis";
+  a.one_minus_k2 = 6.6492854004460934e-6;
+  a.separatrix_distance = -1.25e-7 * (1.0 + u(rng));
+  a.predicted_flip_half_period = 0.4 + u(rng);
+  a.predicted_flips = {0.3 + 1e-9, 0.7};
+  a.observed_flips = {0.3, 0.7 + 1e-15};
+  a.max_flip_time_difference = 1e-9;
+  analysis::StageReport b;
+  b.index = 1;
+  b.rigid = false;
+  b.moments_end = vec();
+  b.spin_axis_end = analysis::AxisRole::kDegenerate;
+  b.separatrix_distance = u(rng);
+  b.predicted_flip_half_period = std::numeric_limits<double>::infinity();
+  b.observed_flips = {1.1};
+  r.stages = {a, b};
+  r.danger_windows = {{0.0, 0.75}, {1.25, 1.5}};
   r.stats.steps = 123;
   r.stats.rejected = 4;
   r.max_h_N_drift = 1.5e-14;
@@ -109,6 +138,7 @@ void ExpectSameTrajectory(const analysis::Trajectory& a, const analysis::Traject
     EXPECT_EQ(a.h_rel_B[k], b.h_rel_B[k]);
     EXPECT_EQ(a.h_N[k], b.h_N[k]);
     EXPECT_EQ(a.energy[k], b.energy[k]);
+    EXPECT_EQ(a.energy_rigid[k], b.energy_rigid[k]);
     EXPECT_EQ(a.euler_313[k], b.euler_313[k]);
     EXPECT_EQ(a.spin_axis_angle[k], b.spin_axis_angle[k]);
   }
@@ -156,6 +186,49 @@ TEST_F(TrajectoryFileTest, RoundTripIsBitExactInGeometryMode) {
   EXPECT_EQ(f.stages[1].t_end, 1.5);
 }
 
+TEST_F(TrajectoryFileTest, StageAnalysisAndDangerWindowsRoundTrip) {
+  const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);
+  const std::string path = Path("out.h5");
+  WriteTrajectoryFile(path, r);
+  const TrajectoryFile f = ReadTrajectoryFile(path);
+  ASSERT_EQ(f.stages.size(), r.stages.size());
+  for (std::size_t i = 0; i < f.stages.size(); ++i) {
+    SCOPED_TRACE("stage " + std::to_string(i));
+    const StageRow& row = f.stages[i];
+    const analysis::StageReport& a = r.stages[i];
+    EXPECT_EQ(row.index, static_cast<int>(i));
+    EXPECT_EQ(row.rigid, a.rigid);
+    EXPECT_EQ(row.moments_end, a.moments_end);
+    EXPECT_EQ(row.spin_axis_role, analysis::ToString(a.spin_axis_end));
+    EXPECT_EQ(row.regime, a.regime);
+    EXPECT_EQ(row.one_minus_k2, a.one_minus_k2);
+    EXPECT_EQ(row.separatrix_distance, a.separatrix_distance);
+    EXPECT_EQ(row.predicted_flip_half_period, a.predicted_flip_half_period);
+    EXPECT_EQ(row.predicted_flip_count, static_cast<long long>(a.predicted_flips.size()));
+    EXPECT_EQ(row.observed_flip_count, static_cast<long long>(a.observed_flips.size()));
+    EXPECT_EQ(row.max_flip_time_difference, a.max_flip_time_difference);
+  }
+  EXPECT_EQ(f.stages[0].spin_axis_role, "intermediate");
+  EXPECT_EQ(f.stages[1].regime, "");
+  EXPECT_TRUE(std::isinf(f.stages[1].predicted_flip_half_period));
+  EXPECT_EQ(f.predicted_flip_times, (std::vector<double>{0.3 + 1e-9, 0.7}));
+  ASSERT_EQ(f.danger_windows.size(), 2u);
+  EXPECT_EQ(f.danger_windows[0].t_begin, 0.0);
+  EXPECT_EQ(f.danger_windows[0].t_end, 0.75);
+  EXPECT_EQ(f.danger_windows[1].t_begin, 1.25);
+  EXPECT_EQ(f.danger_windows[1].t_end, 1.5);
+}
+
+TEST_F(TrajectoryFileTest, StageReportsMustMatchTheProfileStages) {
+  MissionResult r = SyntheticResult(schedule::Mode::kTensor);
+  r.stages.pop_back();
+  EXPECT_THROW(WriteTrajectoryFile(Path("out.h5"), r), std::invalid_argument);
+  r = SyntheticResult(schedule::Mode::kTensor);
+  r.danger_windows = {{2.0, 1.0}};
+  EXPECT_THROW(WriteTrajectoryFile(Path("out.h5"), r), std::invalid_argument);
+  EXPECT_TRUE(Entries().empty());
+}
+
 TEST_F(TrajectoryFileTest, RootAttributes) {
   const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);
   const std::string path = Path("out.h5");
@@ -163,8 +236,8 @@ TEST_F(TrajectoryFileTest, RootAttributes) {
   const std::map<std::string, std::string> a = ReadTrajectoryFile(path).attributes;
   for (const char* key :
        {"deploysim_version", "schema_version", "profile_name", "profile_source", "profile_text",
-        "model_name", "integrator", "integrator_settings", "mode", "coupling", "termination",
-        "termination_message", "statistics", "max_h_N_drift"}) {
+        "model_name", "model_source", "model_text", "integrator", "integrator_settings", "mode",
+        "coupling", "termination", "termination_message", "statistics", "max_h_N_drift"}) {
     EXPECT_EQ(a.count(key), 1u) << key;
   }
   EXPECT_FALSE(a.at("deploysim_version").empty());
@@ -173,6 +246,8 @@ TEST_F(TrajectoryFileTest, RootAttributes) {
   EXPECT_EQ(a.at("profile_source"), "profiles/synthetic.yaml");
   EXPECT_EQ(a.at("profile_text"), r.profile.text) << "UTF-8 text survives";
   EXPECT_EQ(a.at("model_name"), "synthetic_model");
+  EXPECT_EQ(a.at("model_source"), "models/synthetic_model.yaml");
+  EXPECT_EQ(a.at("model_text"), r.profile.model.text) << "UTF-8 text survives";
   EXPECT_EQ(a.at("integrator"), "rkmk-rkf78");
   EXPECT_NE(a.at("integrator_settings").find("rtol=1e-11"), std::string::npos)
       << a.at("integrator_settings");
@@ -184,6 +259,56 @@ TEST_F(TrajectoryFileTest, RootAttributes) {
   EXPECT_EQ(a.at("termination_message"), "reached the end");
   EXPECT_NE(a.at("statistics").find("steps=123"), std::string::npos) << a.at("statistics");
   EXPECT_EQ(a.at("max_h_N_drift"), "1.5e-14");
+}
+
+std::string FileText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+TEST_F(TrajectoryFileTest, StoredProfileAndModelTextsReproduceTheRun) {
+  // The main job (a hinged model, exact coupling): write its trajectory, rebuild the
+  // profile and model files from the file's two texts alone (the model at the path the
+  // profile names, relative to the profile), run again: the same trajectory, bit for bit.
+  const std::string source =
+      std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/smallsat_three_stage.yaml";
+  const MissionResult r = analysis::RunMission(LoadProfile(source));
+  WriteTrajectoryFile(Path("run.h5"), r);
+  const TrajectoryFile f = ReadTrajectoryFile(Path("run.h5"));
+  const std::map<std::string, std::string>& a = f.attributes;
+  EXPECT_EQ(a.at("profile_text"), FileText(source));
+  EXPECT_EQ(a.at("model_text"),
+            FileText(std::string(DEPLOYSIM_SOURCE_DIR) + "/models/smallsat.yaml"));
+  ASSERT_NE(a.at("model_text").find("kind: hinged"), std::string::npos);
+  // The run's stage analysis and danger windows, as `analyze` reports them.
+  ASSERT_EQ(f.stages.size(), r.stages.size());
+  for (std::size_t i = 0; i < r.stages.size(); ++i) {
+    EXPECT_EQ(f.stages[i].regime, r.stages[i].regime) << i;
+    EXPECT_EQ(f.stages[i].separatrix_distance, r.stages[i].separatrix_distance) << i;
+    EXPECT_EQ(f.stages[i].observed_flip_count,
+              static_cast<long long>(r.stages[i].observed_flips.size()))
+        << i;
+  }
+  EXPECT_GT(f.stages.back().observed_flip_count, 0);
+  EXPECT_EQ(f.stages.back().spin_axis_role, "intermediate");
+  ASSERT_EQ(f.danger_windows.size(), r.danger_windows.size());
+  ASSERT_FALSE(f.danger_windows.empty());
+  EXPECT_EQ(f.danger_windows.back().t_end, r.danger_windows.back().t_end);
+
+  const fs::path profile_dir = fs::path(a.at("profile_source")).parent_path();
+  const fs::path model_relative = fs::relative(a.at("model_source"), profile_dir);
+  const fs::path rerun_profile = fs::path(Path("profiles")) / "rerun.yaml";
+  fs::create_directories(rerun_profile.parent_path());
+  fs::create_directories((rerun_profile.parent_path() / model_relative).parent_path());
+  std::ofstream(rerun_profile, std::ios::binary) << a.at("profile_text");
+  std::ofstream(rerun_profile.parent_path() / model_relative, std::ios::binary)
+      << a.at("model_text");
+  const MissionResult again = analysis::RunMission(LoadProfile(rerun_profile.string()));
+  ExpectSameTrajectory(r.trajectory, again.trajectory);
+  EXPECT_EQ(again.flip_times, r.flip_times);
+  EXPECT_FALSE(r.flip_times.empty()) << "the main job tumbles once deployed";
 }
 
 TEST_F(TrajectoryFileTest, EveryDatasetHasUnits) {
@@ -199,10 +324,25 @@ TEST_F(TrajectoryFileTest, EveryDatasetHasUnits) {
       {"/h_rel_B", "kg m^2/s"},
       {"/h_N", "kg m^2/s"},
       {"/energy", "J"},
+      {"/energy_rigid", "J"},
       {"/euler_313", "rad"},
       {"/spin_axis_angle", "rad"},
       {"/hinge_angles", "rad"},
       {"/events/flip_time", "s"},
+      {"/events/predicted_flip_time", "s"},
+      {"/danger_windows/t_begin", "s"},
+      {"/danger_windows/t_end", "s"},
+      {"/stages/index", "1"},
+      {"/stages/rigid", "1"},
+      {"/stages/moments_end", "kg m^2"},
+      {"/stages/spin_axis_role", "none"},
+      {"/stages/regime", "none"},
+      {"/stages/one_minus_k2", "1"},
+      {"/stages/separatrix_distance", "1"},
+      {"/stages/predicted_flip_half_period", "s"},
+      {"/stages/predicted_flip_count", "1"},
+      {"/stages/observed_flip_count", "1"},
+      {"/stages/max_flip_time_difference", "s"},
       {"/stages/t_begin", "s"},
       {"/stages/t_end", "s"},
       {"/stages/name", "none"},
@@ -335,12 +475,14 @@ TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
   std::string line;
   ASSERT_TRUE(std::getline(in, line));
   const std::vector<std::string> header = Split(line);
-  const std::size_t columns = 1 + 3 + 3 + 4 + 6 + 3 + 3 + 3 + 1 + 3 + 1 + kPanels;
+  const std::size_t columns = 1 + 3 + 3 + 4 + 6 + 3 + 3 + 3 + 1 + 1 + 3 + 1 + kPanels;
   ASSERT_EQ(header.size(), columns) << line;
   EXPECT_EQ(header[0], "time [s]");
   EXPECT_EQ(header[1], "H_B_x [kg m^2/s]");
   EXPECT_EQ(header[7], "q_NB_w [1]");
   EXPECT_EQ(header[11], "J_B_xx [kg m^2]");
+  EXPECT_EQ(header[26], "energy [J]");
+  EXPECT_EQ(header[27], "energy_rigid [J]");
   EXPECT_EQ(header[columns - 1], "hinge_angle_1 [rad]");
   for (const std::string& h : header) {
     EXPECT_NE(h.find(" ["), std::string::npos) << "no unit: " << h;
@@ -357,6 +499,7 @@ TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
     EXPECT_EQ(value(8), t.q_NB[k].x());
     EXPECT_EQ(value(14), t.J_B[k](0, 1));  // J_B_xy
     EXPECT_EQ(value(26), t.energy[k]);
+    EXPECT_EQ(value(27), t.energy_rigid[k]);
     EXPECT_EQ(value(columns - 1), t.hinge_angles[k][1]);
     ++k;
   }

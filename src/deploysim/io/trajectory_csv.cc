@@ -33,6 +33,7 @@ std::vector<std::string> Header(std::size_t hinge_columns) {
   add("h_rel_B", xyz, "kg m^2/s");
   add("h_N", xyz, "kg m^2/s");
   h.push_back("energy [J]");
+  h.push_back("energy_rigid [J]");
   add("euler_313", {"precession", "nutation", "spin"}, "rad");
   h.push_back("spin_axis_angle [rad]");
   for (std::size_t k = 0; k < hinge_columns; ++k) {
@@ -51,6 +52,7 @@ void Check(const std::string& path, const analysis::Trajectory& t, std::size_t& 
                                t.h_rel_B.size(),
                                t.h_N.size(),
                                t.energy.size(),
+                               t.energy_rigid.size(),
                                t.euler_313.size(),
                                t.spin_axis_angle.size()};
   for (std::size_t s : sizes) {
@@ -109,6 +111,7 @@ void WriteTrajectoryCsv(const std::string& path, const analysis::Trajectory& t) 
       for (int i = 0; i < 3; ++i) put(t.h_rel_B[k][i]);
       for (int i = 0; i < 3; ++i) put(t.h_N[k][i]);
       put(t.energy[k]);
+      put(t.energy_rigid[k]);
       for (int i = 0; i < 3; ++i) put(t.euler_313[k][i]);
       put(t.spin_axis_angle[k]);
       for (std::size_t i = 0; i < hinge_columns; ++i) {

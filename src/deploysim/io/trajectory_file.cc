@@ -87,8 +87,20 @@ void CheckConsistent(const std::string& path, const analysis::MissionResult& r) 
   require("h_rel_B", t.h_rel_B.size());
   require("h_N", t.h_N.size());
   require("energy", t.energy.size());
+  require("energy_rigid", t.energy_rigid.size());
   require("euler_313", t.euler_313.size());
   require("spin_axis_angle", t.spin_axis_angle.size());
+  if (r.stages.size() != r.profile.stages.size()) {
+    throw std::invalid_argument(path + ": " + std::to_string(r.stages.size()) +
+                                " stage reports for " + std::to_string(r.profile.stages.size()) +
+                                " profile stages (rule: one report per stage)");
+  }
+  for (const analysis::DangerWindow& d : r.danger_windows) {
+    if (!(d.t_begin <= d.t_end)) {
+      throw std::invalid_argument(path + ": danger window [" + FormatNumber(d.t_begin) + ", " +
+                                  FormatNumber(d.t_end) + "] (rule: t_begin <= t_end)");
+    }
+  }
   const std::size_t panels = HingeColumns(r);
   if (r.profile.mode == schedule::Mode::kGeometry) {
     require("hinge_angles", t.hinge_angles.size());
@@ -116,25 +128,81 @@ std::string StatisticsText(const integrators::Statistics& s) {
          ", dense_steps=" + std::to_string(s.dense_steps);
 }
 
-/// The /stages table: one row per profile stage.
-void WriteStageTable(Hdf5Writer& w, const schedule::Profile& p) {
-  std::vector<double> t_begin, t_end;
-  std::vector<std::string> names, laws, from, to;
-  for (const schedule::Stage& s : p.stages) {
+/// The /stages table: one row per profile stage, its definition and its analysis
+/// (analysis::StageReport; CheckConsistent ensured one report per stage).
+void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
+  const schedule::Profile& p = r.profile;
+  std::vector<double> t_begin, t_end, moments, one_minus_k2, separatrix, half_period, max_diff;
+  std::vector<long long> index, rigid, predicted, observed;
+  std::vector<std::string> names, laws, from, to, roles, regimes;
+  for (std::size_t i = 0; i < p.stages.size(); ++i) {
+    const schedule::Stage& s = p.stages[i];
+    const analysis::StageReport& a = r.stages[i];
+    index.push_back(static_cast<long long>(i));
     t_begin.push_back(s.t_begin);
     t_end.push_back(s.t_end);
     names.push_back(s.name);
     laws.push_back(s.is_hold() ? "hold" : schedule::ToString(s.law));
     from.push_back(s.from);
     to.push_back(s.to);
+    rigid.push_back(a.rigid ? 1 : 0);
+    moments.insert(moments.end(), {a.moments_end[0], a.moments_end[1], a.moments_end[2]});
+    roles.push_back(analysis::ToString(a.spin_axis_end));
+    regimes.push_back(a.regime);
+    one_minus_k2.push_back(a.one_minus_k2);
+    separatrix.push_back(a.separatrix_distance);
+    half_period.push_back(a.predicted_flip_half_period);
+    predicted.push_back(static_cast<long long>(a.predicted_flips.size()));
+    observed.push_back(static_cast<long long>(a.observed_flips.size()));
+    max_diff.push_back(a.max_flip_time_difference);
   }
   const std::size_t count = p.stages.size();
+  w.Integers("/stages/index", index, "1", "position of the stage in the profile, from 0");
   w.Doubles("/stages/t_begin", {count}, t_begin, "s", "stage start time");
   w.Doubles("/stages/t_end", {count}, t_end, "s", "stage end time");
   w.Strings("/stages/name", names, "stage name");
   w.Strings("/stages/law", laws, "interpolation law (hold for a hold)");
   w.Strings("/stages/from", from, "configuration at the stage start");
   w.Strings("/stages/to", to, "configuration at the stage end");
+  w.Integers("/stages/rigid", rigid, "1",
+             "1 if J_B is constant and h_rel_B = 0 over the stage (closed form applies), else 0");
+  w.Doubles("/stages/moments_end", {count, 3}, moments, "kg m^2",
+            "principal moments of J_B at the stage end, ascending");
+  w.Strings("/stages/spin_axis_role", roles,
+            "role of the spin axis in J_B at the stage end: minor, intermediate, major or "
+            "degenerate (two equal moments)");
+  w.Strings("/stages/regime", regimes,
+            "rigid stages: the closed-form regime of the free body; empty otherwise");
+  w.Doubles("/stages/one_minus_k2", {count}, one_minus_k2, "1",
+            "rigid stages: complementary parameter 1 - k^2 of the closed form (0 on the "
+            "separatrix); 0 otherwise");
+  w.Doubles("/stages/separatrix_distance", {count}, separatrix, "1",
+            "(D - I2) / (I3 - I1) at the stage end, D = |H|^2 / (w.J w): 0 on the separatrix, "
+            "< 0 on the minor-axis side");
+  w.Doubles("/stages/predicted_flip_half_period", {count}, half_period, "s",
+            "rigid stages with the spin axis intermediate: closed-form time between flips; "
+            "inf otherwise");
+  w.Integers("/stages/predicted_flip_count", predicted, "1",
+             "closed-form flips within the stage (rigid stages only; 0 otherwise)");
+  w.Integers("/stages/observed_flip_count", observed, "1",
+             "flips located by the integrator within [t_begin, t_end)");
+  w.Doubles("/stages/max_flip_time_difference", {count}, max_diff, "s",
+            "max |observed - nearest predicted flip time| within the stage (0 if none)");
+}
+
+/// /danger_windows: the intervals of the output grid in which the spin axis is the
+/// intermediate principal axis of J_B(t) (flips possible).
+void WriteDangerWindows(Hdf5Writer& w, const analysis::MissionResult& r) {
+  std::vector<double> t_begin, t_end;
+  for (const analysis::DangerWindow& d : r.danger_windows) {
+    t_begin.push_back(d.t_begin);
+    t_end.push_back(d.t_end);
+  }
+  const std::size_t count = t_begin.size();
+  w.Doubles("/danger_windows/t_begin", {count}, t_begin, "s",
+            "first output time at which the spin axis is the intermediate axis");
+  w.Doubles("/danger_windows/t_end", {count}, t_end, "s",
+            "last output time of the window at which it still is");
 }
 
 void WriteContents(Hdf5Writer& w, const analysis::MissionResult& r) {
@@ -156,7 +224,13 @@ void WriteContents(Hdf5Writer& w, const analysis::MissionResult& r) {
             "momentum of the panels' motion relative to B, B components");
   w.Doubles("/h_N", {n, 3}, Flatten(t.h_N), "kg m^2/s",
             "total angular momentum, inertial (N) components (constant in exact arithmetic)");
-  w.Doubles("/energy", {n}, t.energy, "J", "rotational kinetic energy 1/2 w.J w");
+  w.Doubles("/energy", {n}, t.energy, "J",
+            "total kinetic energy about the system centre of mass, 1/2 w.J_B w + w.h_rel_B + "
+            "T_rel (T_rel: kinetic energy of the panels' motion relative to B; h_rel_B and "
+            "T_rel are 0 under quasi-rigid coupling)");
+  w.Doubles("/energy_rigid", {n}, t.energy_rigid, "J",
+            "rigid-body part 1/2 w.J_B w of /energy (equal to it when nothing moves "
+            "relative to B)");
   w.Doubles("/euler_313", {n, 3}, Flatten(t.euler_313), "rad",
             "3-1-3 Euler angles (precession, nutation, spin) of B relative to a frame whose "
             "third axis is h_N");
@@ -169,8 +243,16 @@ void WriteContents(Hdf5Writer& w, const analysis::MissionResult& r) {
   }
 
   w.Doubles("/events/flip_time", {r.flip_times.size()}, r.flip_times, "s",
-            "sign changes of the momentum along the intermediate principal axis");
-  WriteStageTable(w, r.profile);
+            "located flips: sign changes of H_B along the tracked spin axis while it is the "
+            "intermediate principal axis (docs/file_formats.md, Flips)");
+  std::vector<double> predicted;
+  for (const analysis::StageReport& a : r.stages) {
+    predicted.insert(predicted.end(), a.predicted_flips.begin(), a.predicted_flips.end());
+  }
+  w.Doubles("/events/predicted_flip_time", {predicted.size()}, predicted, "s",
+            "closed-form flip times of the rigid stages, in stage order");
+  WriteStageTable(w, r);
+  WriteDangerWindows(w, r);
 
   const schedule::Profile& p = r.profile;
   w.Attribute("/", "deploysim_version", DEPLOYSIM_VERSION);
@@ -179,6 +261,8 @@ void WriteContents(Hdf5Writer& w, const analysis::MissionResult& r) {
   w.Attribute("/", "profile_source", p.source);
   w.Attribute("/", "profile_text", p.text);
   w.Attribute("/", "model_name", p.model.name);
+  w.Attribute("/", "model_source", p.model.source);
+  w.Attribute("/", "model_text", p.model.text);
   w.Attribute("/", "integrator", p.integrator.method);
   w.Attribute("/", "integrator_settings", IntegratorSettings(p));
   w.Attribute("/", "mode", schedule::ToString(p.mode));
@@ -218,6 +302,34 @@ std::vector<double> ReadDoubles(const std::string& path,
   std::vector<double> data(static_cast<std::size_t>(space.getSimpleExtentNpoints()));
   if (!data.empty()) ds.read(data.data(), H5::PredType::NATIVE_DOUBLE);
   rows = dims[0];
+  if (!ds.attrExists("units")) {
+    throw std::runtime_error(path + ": " + full + ": missing units attribute");
+  }
+  std::string units;
+  const H5::Attribute a = ds.openAttribute("units");
+  a.read(a.getStrType(), units);
+  out.units[full] = units;
+  return data;
+}
+
+/// Reads a 1-D dataset of integers and records its units attribute.
+std::vector<long long> ReadIntegers(const std::string& path,
+                                    const H5::Group& group,
+                                    const std::string& group_path,
+                                    const std::string& name,
+                                    TrajectoryFile& out) {
+  const std::string full = group_path + "/" + name;
+  if (!group.nameExists(name)) throw std::runtime_error(path + ": " + full + ": missing dataset");
+  const H5::DataSet ds = group.openDataSet(name);
+  if (ds.getTypeClass() != H5T_INTEGER) {
+    throw std::runtime_error(path + ": " + full + ": expected integer data");
+  }
+  const H5::DataSpace space = ds.getSpace();
+  if (space.getSimpleExtentNdims() != 1) {
+    throw std::runtime_error(path + ": " + full + ": unexpected shape");
+  }
+  std::vector<long long> data(static_cast<std::size_t>(space.getSimpleExtentNpoints()));
+  if (!data.empty()) ds.read(data.data(), H5::PredType::NATIVE_LLONG);
   if (!ds.attrExists("units")) {
     throw std::runtime_error(path + ": " + full + ": missing units attribute");
   }
@@ -328,6 +440,7 @@ TrajectoryFile ReadContents(const std::string& path) {
   t.h_rel_B = Vec3Rows(read_rows("h_rel_B", {3}), n);
   t.h_N = Vec3Rows(read_rows("h_N", {3}), n);
   t.energy = read_rows("energy", {});
+  t.energy_rigid = read_rows("energy_rigid", {});
   t.euler_313 = Vec3Rows(read_rows("euler_313", {3}), n);
   t.spin_axis_angle = read_rows("spin_axis_angle", {});
   if (file.nameExists("hinge_angles")) {
@@ -343,22 +456,86 @@ TrajectoryFile ReadContents(const std::string& path) {
   const H5::Group events = OpenGroup(path, file, "events");
   out.flip_times = ReadDoubles(path, events, "/events", "flip_time", {}, rows, out);
 
+  out.predicted_flip_times =
+      ReadDoubles(path, events, "/events", "predicted_flip_time", {}, rows, out);
+
   const H5::Group stages = OpenGroup(path, file, "stages");
+  const std::string sp = "/stages";
   hsize_t stage_count = 0;
   const std::vector<double> t_begin =
-      ReadDoubles(path, stages, "/stages", "t_begin", {}, stage_count, out);
-  const std::vector<double> t_end = ReadDoubles(path, stages, "/stages", "t_end", {}, rows, out);
-  const std::vector<std::string> names = ReadStrings(path, stages, "/stages", "name", out);
-  const std::vector<std::string> laws = ReadStrings(path, stages, "/stages", "law", out);
-  const std::vector<std::string> from = ReadStrings(path, stages, "/stages", "from", out);
-  const std::vector<std::string> to = ReadStrings(path, stages, "/stages", "to", out);
-  for (const std::size_t size : {t_end.size(), names.size(), laws.size(), from.size(), to.size()}) {
-    if (size != stage_count) {
-      throw std::runtime_error(path + ": /stages: columns of different lengths");
+      ReadDoubles(path, stages, sp, "t_begin", {}, stage_count, out);
+  const std::size_t count = static_cast<std::size_t>(stage_count);
+  auto doubles = [&](const std::string& name, const std::vector<hsize_t>& trailing) {
+    std::vector<double> v = ReadDoubles(path, stages, sp, name, trailing, rows, out);
+    if (rows != stage_count) {
+      throw std::runtime_error(path + ": /stages/" + name + ": has " + std::to_string(rows) +
+                               " rows, /stages/t_begin has " + std::to_string(stage_count));
     }
+    return v;
+  };
+  auto strings = [&](const std::string& name) {
+    std::vector<std::string> v = ReadStrings(path, stages, sp, name, out);
+    if (v.size() != count) {
+      throw std::runtime_error(path + ": /stages/" + name + ": columns of different lengths");
+    }
+    return v;
+  };
+  auto integers = [&](const std::string& name) {
+    std::vector<long long> v = ReadIntegers(path, stages, sp, name, out);
+    if (v.size() != count) {
+      throw std::runtime_error(path + ": /stages/" + name + ": columns of different lengths");
+    }
+    return v;
+  };
+  const std::vector<long long> index = integers("index");
+  const std::vector<double> t_end = doubles("t_end", {});
+  const std::vector<std::string> names = strings("name");
+  const std::vector<std::string> laws = strings("law");
+  const std::vector<std::string> from = strings("from");
+  const std::vector<std::string> to = strings("to");
+  const std::vector<long long> rigid = integers("rigid");
+  const std::vector<double> moments = doubles("moments_end", {3});
+  const std::vector<std::string> roles = strings("spin_axis_role");
+  const std::vector<std::string> regimes = strings("regime");
+  const std::vector<double> one_minus_k2 = doubles("one_minus_k2", {});
+  const std::vector<double> separatrix = doubles("separatrix_distance", {});
+  const std::vector<double> half_period = doubles("predicted_flip_half_period", {});
+  const std::vector<long long> predicted = integers("predicted_flip_count");
+  const std::vector<long long> observed = integers("observed_flip_count");
+  const std::vector<double> max_diff = doubles("max_flip_time_difference", {});
+  for (std::size_t i = 0; i < count; ++i) {
+    StageRow row;
+    row.index = static_cast<int>(index[i]);
+    row.name = names[i];
+    row.law = laws[i];
+    row.from = from[i];
+    row.to = to[i];
+    row.t_begin = t_begin[i];
+    row.t_end = t_end[i];
+    row.rigid = rigid[i] != 0;
+    row.moments_end = math::Vec3(moments[3 * i], moments[3 * i + 1], moments[3 * i + 2]);
+    row.spin_axis_role = roles[i];
+    row.regime = regimes[i];
+    row.one_minus_k2 = one_minus_k2[i];
+    row.separatrix_distance = separatrix[i];
+    row.predicted_flip_half_period = half_period[i];
+    row.predicted_flip_count = predicted[i];
+    row.observed_flip_count = observed[i];
+    row.max_flip_time_difference = max_diff[i];
+    out.stages.push_back(row);
   }
-  for (std::size_t i = 0; i < stage_count; ++i) {
-    out.stages.push_back({names[i], laws[i], from[i], to[i], t_begin[i], t_end[i]});
+
+  const H5::Group windows = OpenGroup(path, file, "danger_windows");
+  hsize_t window_count = 0;
+  const std::vector<double> w_begin =
+      ReadDoubles(path, windows, "/danger_windows", "t_begin", {}, window_count, out);
+  const std::vector<double> w_end =
+      ReadDoubles(path, windows, "/danger_windows", "t_end", {}, rows, out);
+  if (rows != window_count) {
+    throw std::runtime_error(path + ": /danger_windows: columns of different lengths");
+  }
+  for (std::size_t i = 0; i < w_begin.size(); ++i) {
+    out.danger_windows.push_back({w_begin[i], w_end[i]});
   }
   return out;
 }

@@ -5,7 +5,7 @@
 /// atomically (AtomicFile): on any failure nothing is left at `path` (an existing file
 /// there is kept unchanged) and no temporary remains.
 ///
-/// HDF5 layout (schema_version 1): row-major datasets of IEEE little-endian doubles,
+/// HDF5 layout (schema_version 2): row-major datasets of IEEE little-endian doubles,
 /// each with string attributes `units` and `description`; text as variable-length UTF-8
 /// strings. Quaternions scalar first (w, x, y, z); J_B[n][i][j] = J_B(i, j) at time n.
 
@@ -19,35 +19,54 @@ namespace deploysim::io {
 
 /// Version of the HDF5 layout written by WriteTrajectoryFile (root attribute
 /// `schema_version`); bumped on any incompatible change.
-inline constexpr int kTrajectorySchemaVersion = 1;
+/// Version 2: /energy is the total kinetic energy (was 1/2 w.J w), /energy_rigid, the
+/// per-stage analysis in /stages, /danger_windows, /events/predicted_flip_time and the
+/// model_source and model_text attributes.
+inline constexpr int kTrajectorySchemaVersion = 2;
 
-/// One row of the /stages table.
+/// One row of the /stages table: the profile's stage and its analysis
+/// (analysis::StageReport).
 struct StageRow {
+  int index = 0;  ///< Position in the profile, from 0.
   std::string name;
-  std::string law;       ///< "hold" or the law's name ("minimum-jerk", ...).
-  std::string from;      ///< Configuration at t_begin.
-  std::string to;        ///< Configuration at t_end.
-  double t_begin = 0.0;  ///< [s]
-  double t_end = 0.0;    ///< [s]
+  std::string law;                              ///< "hold" or the law's name ("minimum-jerk", ...).
+  std::string from;                             ///< Configuration at t_begin.
+  std::string to;                               ///< Configuration at t_end.
+  double t_begin = 0.0;                         ///< [s]
+  double t_end = 0.0;                           ///< [s]
+  bool rigid = false;                           ///< J constant and h_rel = 0 over the stage.
+  math::Vec3 moments_end = math::Vec3::Zero();  ///< [kg m^2] principal moments at t_end.
+  std::string spin_axis_role;        ///< Role of the spin axis at t_end ("intermediate", ...).
+  std::string regime;                ///< Rigid stages: the analytic regime; else empty.
+  double one_minus_k2 = 0.0;         ///< Rigid stages: 1 - k^2 (0 on the separatrix).
+  double separatrix_distance = 0.0;  ///< (D - I2)/(I3 - I1) at t_end.
+  double predicted_flip_half_period = 0.0;  ///< [s] +inf when no flips are predicted.
+  long long predicted_flip_count = 0;       ///< Analytic flips within the stage.
+  long long observed_flip_count = 0;        ///< Located flips within the stage.
+  double max_flip_time_difference = 0.0;    ///< [s] |observed - predicted|.
 };
 
 /// The contents of a trajectory file, as read back.
 struct TrajectoryFile {
-  analysis::Trajectory trajectory;  ///< hinge_angles empty unless the file has them.
-  std::vector<double> flip_times;   ///< [s] /events/flip_time
-  std::vector<StageRow> stages;     ///< /stages/*
+  analysis::Trajectory trajectory;           ///< hinge_angles empty unless the file has them.
+  std::vector<double> flip_times;            ///< [s] /events/flip_time
+  std::vector<double> predicted_flip_times;  ///< [s] /events/predicted_flip_time
+  std::vector<StageRow> stages;              ///< /stages/*
+  std::vector<analysis::DangerWindow> danger_windows;  ///< /danger_windows/*
   /// Root attributes (all strings): deploysim_version, schema_version, profile_name,
-  /// profile_source, profile_text, model_name, integrator, integrator_settings, mode,
-  /// coupling, termination, termination_message, statistics, max_h_N_drift.
+  /// profile_source, profile_text, model_name, model_source, model_text, integrator,
+  /// integrator_settings, mode, coupling, termination, termination_message, statistics,
+  /// max_h_N_drift.
   std::map<std::string, std::string> attributes;
   /// `units` attribute of every dataset, by absolute path ("/H_B", "/events/flip_time").
   std::map<std::string, std::string> units;
 };
 
-/// Writes r (its profile, trajectory, flip times and stage table) to `path`.
-/// Throws std::invalid_argument if the trajectory's arrays do not all have one entry per
-/// output time (hinge angles: in geometry mode, one per panel), and std::runtime_error
-/// naming `path` for I/O failures.
+/// Writes r (its profile and model texts, trajectory, flip times, stage table with the
+/// per-stage analysis, danger windows) to `path`. Throws std::invalid_argument if the
+/// trajectory's arrays do not all have one entry per output time (hinge angles: in
+/// geometry mode, one per panel) or r.stages does not have one report per profile stage,
+/// and std::runtime_error naming `path` for I/O failures.
 void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult& r);
 
 /// Reads a file written by WriteTrajectoryFile. Throws std::runtime_error naming `path`
@@ -59,7 +78,7 @@ TrajectoryFile ReadTrajectoryFile(const std::string& path);
 /// ("time [s],H_B_x [kg m^2/s],..."), then one line per output time, numbers in the
 /// shortest form that reads back exactly. Columns: time, H_B_{x,y,z}, w_NB_B_{x,y,z},
 /// q_NB_{w,x,y,z}, J_B_{xx,yy,zz,xy,xz,yz}, principal_moments_{1,2,3},
-/// h_rel_B_{x,y,z}, h_N_{x,y,z}, energy, euler_313_{precession,nutation,spin},
+/// h_rel_B_{x,y,z}, h_N_{x,y,z}, energy, energy_rigid, euler_313_{precession,nutation,spin},
 /// spin_axis_angle, then hinge_angle_{0..P-1} if present. Same atomicity and errors as
 /// WriteTrajectoryFile.
 void WriteTrajectoryCsv(const std::string& path, const analysis::Trajectory& trajectory);

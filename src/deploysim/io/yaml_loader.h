@@ -19,7 +19,8 @@
 
 namespace deploysim::io {
 
-/// Reads a model file (`kind: tensors` or `kind: hinged`). Model::source = path.
+/// Reads a model file (`kind: tensors` or `kind: hinged`). Model::source = path,
+/// Model::text = the file's text.
 /// Hinged models have their hinge axes normalized (model::ValidatedHingedBody).
 model::Model LoadModel(const std::string& path);
 

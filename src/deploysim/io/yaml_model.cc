@@ -123,6 +123,7 @@ model::Model LoadModel(const std::string& path) {
                    {"name", "description", "kind", "configurations", "hub", "panels"});
   model::Model m;
   m.source = path;
+  m.text = doc.text();
   m.name = top.Text("name");
   if (m.name.empty()) top.Fail("name", "must not be empty");
   m.description = top.OptionalText("description").value_or("");

@@ -58,6 +58,7 @@ struct Model {
   std::string name;
   std::string description;
   std::string source;  ///< File it was read from (for messages), or empty.
+  std::string text;    ///< The model file's own text (stored in trajectory files), or empty.
   ModelKind kind = ModelKind::kTensors;
   HingedBody hinged;                          ///< Only for kHinged.
   std::vector<Configuration> configurations;  ///< In file order; names unique.
