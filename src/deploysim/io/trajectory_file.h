@@ -5,9 +5,10 @@
 /// atomically (AtomicFile): on any failure nothing is left at `path` (an existing file
 /// there is kept unchanged) and no temporary remains.
 ///
-/// HDF5 layout (schema_version 2): row-major datasets of IEEE little-endian doubles,
-/// each with string attributes `units` and `description`; text as variable-length UTF-8
-/// strings. Quaternions scalar first (w, x, y, z); J_B[n][i][j] = J_B(i, j) at time n.
+/// HDF5 layout (schema_version 2): row-major datasets of IEEE little-endian doubles
+/// (counts and indices: 64-bit integers), each with string attributes `units` and
+/// `description`; text as variable-length UTF-8 strings. Quaternions scalar first (w, x, y, z);
+/// J_B[n][i][j] = J_B(i, j) at time n.
 
 #include <map>
 #include <string>
