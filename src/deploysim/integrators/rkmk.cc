@@ -117,6 +117,15 @@ Anchor Compose(const Anchor& a0, const math::Vec3& spin, const math::Vec3& u) {
   return a1;
 }
 
+// The same composition in double, for output samples (its rounding, ~1e-16 rad, is not
+// propagated).
+Anchor ComposeForOutput(const Anchor& a0, const math::Vec3& spin, const math::Vec3& u) {
+  Anchor a1 = a0;
+  a1.dq = (math::ExpQuat(spin) * a0.dq * math::ExpQuat(a0.carry + u)).normalized();
+  a1.carry = math::Vec3::Zero();
+  return a1;
+}
+
 State PublicState(double t, const Anchor& a) {
   State s;
   s.t = t;
@@ -295,7 +304,7 @@ State RkmkStepper::Dense(const Problem& problem,
       u = HermiteNodes<3>(th, h, n, ws.x.data(), ws.u.data(), ws.f.data());
     }
   }
-  return PublicState(t, Compose(ws.a0, (ws.sigma * tau) * ws.a0.H_ref, u));
+  return PublicState(t, ComposeForOutput(ws.a0, (ws.sigma * tau) * ws.a0.H_ref, u));
 }
 
 }  // namespace deploysim::integrators
