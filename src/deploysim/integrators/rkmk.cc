@@ -220,7 +220,7 @@ StepAttempt RkmkStepper::Step(const Problem& problem,
     }
     // An attitude error du moves H_B = Exp(-du) R^T h_N by about H_B x du: weigh it per
     // component exactly like the momentum components of the vector-space steppers.
-    const math::Vec3& H1 = out.result.H_B;
+    const math::Vec3 H1 = a1.dq.conjugate() * a1.H_ref;
     const math::Vec3 dH = H1.cross(err);
     const double scale = problem.momentum_scale();
     double norm = 0.0;
