@@ -35,7 +35,9 @@ struct StepperInfo {
   int order = 0;           ///< Order of the propagated solution.
   int error_order = 0;     ///< Order of the embedded solution (0: no error estimate).
   bool adaptive = false;   ///< Has an embedded error estimate and is run with step control.
-  bool lie_group = false;  ///< Advances q_NB on SO(3); H_B = R_NB^T h_N exactly.
+  /// Advances q_NB on SO(3) and derives H_B from it (H_B = dR^T H_B(t0), with dR the
+  /// attitude relative to the start, rkmk.h): h_N and |H_B| conserved to rounding.
+  bool lie_group = false;
 };
 
 /// Per-run scratch space of a stepper: its caches, its rounding carries and the data of
