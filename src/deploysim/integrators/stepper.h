@@ -29,12 +29,12 @@ struct StepAttempt {
 };
 
 struct StepperInfo {
-  std::string name;        ///< Key used in profiles and on the CLI, e.g. "rkmk-rkf78".
-  std::string summary;     ///< One line: what the method is.
-  std::string reference;   ///< Citation of the tableau or method.
-  int order = 0;           ///< Order of the propagated solution.
-  int error_order = 0;     ///< Order of the embedded solution (0: no error estimate).
-  bool adaptive = false;   ///< Has an embedded error estimate and is run with step control.
+  std::string name;       ///< Key used in profiles and on the CLI, e.g. "rkmk-rkf78".
+  std::string summary;    ///< One line: what the method is.
+  std::string reference;  ///< Citation of the tableau or method.
+  int order = 0;          ///< Order of the propagated solution.
+  int error_order = 0;    ///< Order of the embedded solution (0: no error estimate).
+  bool adaptive = false;  ///< Has an embedded error estimate and is run with step control.
   /// Advances q_NB on SO(3) and derives H_B from it (H_B = dR^T H_B(t0), with dR the
   /// attitude relative to the start, rkmk.h): h_N and |H_B| conserved to rounding.
   bool lie_group = false;
