@@ -1,8 +1,9 @@
 #pragma once
 
 /// For stepper implementations (the integrators' and analysis::ExactFlowStepper's
-/// workspaces), not for users of the steppers: values (rounding carries, relative attitudes) keyed
-/// on the exact bits of the state they belong to (the keying rule of StepperWorkspace).
+/// workspaces), not for users of the steppers: values (rounding carries, relative
+/// attitudes) keyed on the exact bits of the state they belong to (the keying rule of
+/// StepperWorkspace).
 
 #include "deploysim/integrators/stepper.h"
 
