@@ -76,7 +76,10 @@ using StepObserver = std::function<void(const State&)>;
 
 /// Integrates from `initial` to `t_end` (> initial.t). `output_times` must be
 /// ascending and within [initial.t, t_end]. Events are located to ~1e-13 of the step
-/// (toms748 on the dense output); at most one sign change per step and function is
+/// (toms748 on the continuous extension, then within +-1e-6 of the step around that
+/// root on the stepper's partial steps, so the event time and state have the steps'
+/// accuracy; `exact` on rigid segments: on the closed form); at most one sign change
+/// per step and function is
 /// seen, so steps must be short against the event spacing (the adaptive and exact
 /// methods ensure that on their own).
 IntegrationResult Integrate(const Stepper& stepper,
