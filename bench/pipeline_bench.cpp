@@ -5,7 +5,9 @@
 // each timed cold (everything a user's run builds is inside the timed region), best of
 // the repetitions, and their ratio. Default profile: the main job,
 // deployment_profiles/smallsat_three_stage.yaml (method exact, exact coupling,
-// output dt 0.1 s).
+// output dt 0.1 s). For `exact` it also times the closed form alone (H_B(t) and q_NB(t)
+// at as many times as the trajectory has samples): the floor of a mission run whose
+// dense output is the closed form itself.
 //
 // Usage: pipeline_bench [--quick] [--reps N] [--profile FILE] [--method NAME]
 //        (--method overrides the profile's integrator, e.g. rkmk-rkf78 or dopri5)
