@@ -7,14 +7,17 @@
 /// inertia schedule is integrated without truncation error. Elsewhere it delegates to a
 /// numerical fallback stepper (default rkmk-rkf78).
 ///
-/// The closed-form solution is built once per rigid segment, from the state at the
-/// segment's start, and evaluated at every later time of the segment: restarting it
-/// from each step's end state would add a rounding error per step, which the
-/// near-separatrix motion amplifies. A stepper therefore holds a cache and must not be
-/// shared between threads (make one per thread).
+/// The closed-form solution is built from the state a rigid segment starts from and
+/// evaluated at every later time of the segment: restarting it from each step's end
+/// state would add a rounding error per step, which the near-separatrix motion
+/// amplifies. The solution is a per-run cache in the run's workspace (never in the
+/// stepper, which is const and may be shared between threads), keyed by value: it is
+/// used for a state only if that state is bit for bit the one it was built from or one
+/// it returned (StepperWorkspace's keying rule), and rebuilt from any other state, so
+/// Step always advances exactly the state it is given. Dense output is the closed form
+/// itself.
 
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,29 +32,30 @@ class ExactFlowStepper final : public integrators::Stepper {
  public:
   explicit ExactFlowStepper(std::unique_ptr<integrators::Stepper> fallback);
   const integrators::StepperInfo& info() const override { return info_; }
+  std::unique_ptr<integrators::StepperWorkspace> NewWorkspace() const override;
   integrators::StepAttempt Step(const integrators::Problem& problem,
                                 const integrators::State& y,
                                 double h,
-                                const integrators::Tolerances& tol) const override;
+                                const integrators::Tolerances& tol,
+                                integrators::StepperWorkspace& ws) const override;
+  void Accept(const integrators::Problem& problem,
+              const integrators::State& y0,
+              const integrators::State& y1,
+              integrators::StepperWorkspace& ws) const override;
+  integrators::State Dense(const integrators::Problem& problem,
+                           double t,
+                           const integrators::Tolerances& tol,
+                           integrators::StepperWorkspace& ws) const override;
+  bool DenseIsExact(const integrators::StepperWorkspace& ws) const override;
   /// An eighth of the period of H_B on rigid segments, so that every flip (every half
   /// period) is seen by the event detection; the fallback's limit elsewhere.
-  double MaxStep(const integrators::Problem& problem, const integrators::State& y) const override;
+  double MaxStep(const integrators::Problem& problem,
+                 const integrators::State& y,
+                 integrators::StepperWorkspace& ws) const override;
 
  private:
-  /// The solution of the rigid segment that starts at `begin`, if y lies on it.
-  const FreeBodySolution& SolutionFor(const integrators::Problem& problem,
-                                      const integrators::State& y) const;
-
   std::unique_ptr<integrators::Stepper> fallback_;
   integrators::StepperInfo info_;
-  struct Cache {
-    double begin = 0.0;
-    const dynamics::InertiaSource* source = nullptr;
-    math::Vec3 H_B0 = math::Vec3::Zero();
-    math::Quat q_NB0 = math::Quat::Identity();
-    std::optional<FreeBodySolution> solution;
-  };
-  mutable Cache cache_;
 };
 
 /// All stepper names: the numerical ones and "exact".

@@ -24,7 +24,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 using FastPolicy = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
 constexpr double kPi = 3.14159265358979323846;
 /// Accepted deviation of |q_NB0| from 1.
-constexpr double kUnitQuatTol = 1e-12;
+constexpr double kUnitQuatTol = math::kUnitQuaternionTolerance;  // math::ValidateUnitQuaternion
 
 double Sign(double x) { return std::signbit(x) ? -1.0 : 1.0; }
 

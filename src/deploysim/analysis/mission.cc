@@ -10,6 +10,7 @@
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/dynamics/rigid_body.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/math/quaternion.h"
 #include "deploysim/schedule/deployment_schedule.h"
 
 namespace deploysim::analysis {
@@ -121,7 +122,8 @@ MissionResult RunMission(const schedule::Profile& profile,
   // Initial state.
   integrators::State y0;
   y0.t = t0;
-  y0.q_NB = profile.initial.q_NB.normalized();
+  y0.q_NB =
+      math::ValidateUnitQuaternion(profile.initial.q_NB, profile.source + ": initial attitude");
   const dynamics::InertiaSample s0 = sched.Evaluate(t0);
   y0.H_B = profile.initial.H_B ? *profile.initial.H_B
                                : math::Vec3(s0.J_B * *profile.initial.w_NB_B + s0.h_rel_B);
@@ -188,9 +190,50 @@ MissionResult RunMission(const schedule::Profile& profile,
   };
   Trajectory& tr = out.trajectory;
   const bool geometry = profile.mode == schedule::Mode::kGeometry;
+  const std::size_t n = grid.size();
+  for (std::vector<math::Vec3>* v :
+       {&tr.H_B, &tr.w_NB_B, &tr.principal_moments, &tr.h_rel_B, &tr.h_N, &tr.euler_313}) {
+    v->reserve(n);
+  }
+  tr.time.reserve(n);
+  tr.q_NB.reserve(n);
+  tr.J_B.reserve(n);
+  tr.energy.reserve(n);
+  tr.spin_axis_angle.reserve(n);
+  std::vector<AxisRole> spin_roles;
+  spin_roles.reserve(n);
+  // Inside a rigid stage the inertia sample is the same at every time: evaluate it once
+  // per stage. The principal decomposition is cached on the exact bits of J_B.
+  std::vector<bool> stage_rigid;
+  for (const schedule::Stage& st : profile.stages) {
+    stage_rigid.push_back(sched.IsRigidOn(st.t_begin, st.t_end));
+  }
+  std::size_t stage = 0;
+  std::size_t cached_stage = profile.stages.size();
+  dynamics::InertiaSample stage_sample{};
+  bool have_principal = false;
+  math::Mat3 principal_J = math::Mat3::Zero();
+  math::PrincipalAxes principal{};
   for (double t : grid) {
     const integrators::State& s = state_at(t);
-    const dynamics::InertiaSample js = sched.Evaluate(t);
+    while (stage + 1 < profile.stages.size() && t >= profile.stages[stage].t_end) ++stage;
+    const bool interior = stage < profile.stages.size() && stage_rigid[stage] &&
+                          t > profile.stages[stage].t_begin && t < profile.stages[stage].t_end;
+    dynamics::InertiaSample js;
+    if (interior) {
+      if (cached_stage != stage) {
+        stage_sample = sched.Evaluate(t);
+        cached_stage = stage;
+      }
+      js = stage_sample;
+    } else {
+      js = sched.Evaluate(t);
+    }
+    if (!have_principal || js.J_B != principal_J) {
+      principal = math::PrincipalDecomposition(js.J_B);
+      principal_J = js.J_B;
+      have_principal = true;
+    }
     const math::Vec3 w = dynamics::AngularVelocity(js, s.H_B);
     const math::Vec3 h_N = s.q_NB * s.H_B;
     tr.time.push_back(t);
@@ -198,7 +241,7 @@ MissionResult RunMission(const schedule::Profile& profile,
     tr.w_NB_B.push_back(w);
     tr.q_NB.push_back(s.q_NB);
     tr.J_B.push_back(js.J_B);
-    tr.principal_moments.push_back(math::PrincipalDecomposition(js.J_B).moments);
+    tr.principal_moments.push_back(principal.moments);
     tr.h_rel_B.push_back(js.h_rel_B);
     tr.h_N.push_back(h_N);
     tr.energy.push_back(dynamics::TotalKineticEnergy(js, s.H_B));
@@ -208,6 +251,7 @@ MissionResult RunMission(const schedule::Profile& profile,
         std::acos(std::clamp(spin_axis_B.dot(s.H_B) / s.H_B.norm(), -1.0, 1.0)));
     if (geometry) tr.hinge_angles.push_back(sched.HingeAngles(t));
     out.max_h_N_drift = std::max(out.max_h_N_drift, (h_N - h_N0).norm() / M);
+    spin_roles.push_back(RoleOf(principal.moments, NearestAxis(principal, spin_axis_B)));
   }
 
   // Stage reports.
@@ -234,7 +278,9 @@ MissionResult RunMission(const schedule::Profile& profile,
     }
     rep.predicted_flip_half_period = std::numeric_limits<double>::infinity();
     if (rep.rigid) {
-      const integrators::State& start = state_at(st.t_begin);
+      // The first stage starts from the given initial state itself (the classification
+      // is a function of the inputs, the same for every method).
+      const integrators::State& start = st.t_begin == t0 ? y0 : state_at(st.t_begin);
       // Right after the switch of a step-law stage.
       const dynamics::InertiaSample jr = sched.Evaluate(st.t_begin, dynamics::Side::kRight);
       const FreeBodySolution sol(math::InertiaTensor::FromMatrix(jr.J_B), start.H_B, start.q_NB,
@@ -261,8 +307,7 @@ MissionResult RunMission(const schedule::Profile& profile,
   // Danger windows: the body spin axis is the intermediate principal axis of J(t).
   bool in_window = false;
   for (std::size_t i = 0; i < tr.size(); ++i) {
-    const math::PrincipalAxes p = math::PrincipalDecomposition(tr.J_B[i]);
-    const bool danger = RoleOf(p.moments, NearestAxis(p, spin_axis_B)) == AxisRole::kIntermediate;
+    const bool danger = spin_roles[i] == AxisRole::kIntermediate;
     if (danger && !in_window) {
       out.danger_windows.push_back({tr.time[i], tr.time[i]});
       in_window = true;

@@ -61,7 +61,10 @@ struct StageReport {
   bool rigid = false;                              ///< J constant and h_rel = 0 over the stage.
   math::Vec3 moments_end = math::Vec3::Zero();     ///< Principal moments at the stage end [kg m^2].
   AxisRole spin_axis_end = AxisRole::kDegenerate;  ///< Role of the spin axis in J at the stage end.
-  std::string regime;         ///< Rigid stages: the analytic regime (FreeBodySolution).
+  /// Rigid stages: the analytic regime (FreeBodySolution) of the state at the stage's
+  /// start: for the first stage the given initial state itself (bit for bit, so the
+  /// analysis does not depend on the method), later the integrated state there.
+  std::string regime;
   double one_minus_k2 = 0.0;  ///< Rigid stages: complementary parameter (0 on the separatrix).
   double separatrix_distance =
       0.0;  ///< (D - I2)/(I3 - I1): 0 on the separatrix, < 0 minor-axis side.

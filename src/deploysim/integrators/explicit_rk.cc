@@ -7,25 +7,30 @@
 #include <utility>
 
 #include "deploysim/dynamics/rigid_body.h"
+#include "deploysim/integrators/carry_store.h"
+#include "deploysim/integrators/dense_output.h"
 #include "deploysim/integrators/rk_engine.h"
+#include "deploysim/integrators/vector_state.h"
 
 namespace deploysim::integrators {
 
 namespace {
 
-using Vec7 = Eigen::Matrix<double, 7, 1>;
+using Stages = std::array<Vec7, kMaxRkStages>;
 
-// y = (H_B, q.coeffs() = (x, y, z, w)).
-Vec7 Derivative(const Problem& problem, double t, const Vec7& y) {
-  const dynamics::InertiaSample s = problem.Sample(t);
-  const math::Vec3 H = y.head<3>();
-  const math::Vec3 w = dynamics::AngularVelocity(s, H);
-  const math::Quat q(y[6], y[3], y[4], y[5]);
-  Vec7 dy;
-  dy.head<3>() = dynamics::MomentumRate(H, w);
-  dy.tail<4>() = dynamics::QuaternionRate(q, w);
-  return dy;
-}
+class ExplicitRkWorkspace final : public StepperWorkspace {
+ public:
+  CarryStore<math::Vec3> carries;  // Kahan carry of H_B
+  Stages last_stages{};            // of the last Step call
+  // The accepted step, for Dense.
+  Stages stages{};
+  double h = 0.0;
+  Vec7 y0 = Vec7::Zero(), y1 = Vec7::Zero();
+  bool have_f1 = false, have_nodes = false;
+  Vec7 f1 = Vec7::Zero();
+  std::array<double, kMaxHermiteNodes> x{};
+  std::array<Vec7, kMaxHermiteNodes> y{}, f{};
+};
 
 }  // namespace
 
@@ -40,24 +45,34 @@ ExplicitRkStepper::ExplicitRkStepper(const ButcherTableau& tableau,
   info_.error_order = tableau.b_hat.empty() ? 0 : tableau.embedded_order;
   info_.adaptive = !tableau.b_hat.empty();
   info_.lie_group = false;
+  dense_ = &tableau == &DormandPrince54() ? DenseKind::kDopri
+           : tableau.order <= 4           ? DenseKind::kHermiteCubic
+                                          : DenseKind::kHermiteNodes;
+}
+
+std::unique_ptr<StepperWorkspace> ExplicitRkStepper::NewWorkspace() const {
+  return std::make_unique<ExplicitRkWorkspace>();
 }
 
 StepAttempt ExplicitRkStepper::Step(const Problem& problem,
                                     const State& y,
                                     double h,
-                                    const Tolerances& tol) const {
-  Vec7 y0;
-  y0.head<3>() = y.H_B;
-  y0.tail<4>() = y.q_NB.coeffs();
+                                    const Tolerances& tol,
+                                    StepperWorkspace& workspace) const {
+  auto& ws = static_cast<ExplicitRkWorkspace&>(workspace);
+  const math::Vec3* found = ws.carries.Find(y);
+  const math::Vec3 carry = found != nullptr ? *found : math::Vec3::Zero();
+  const Vec7 y0 = ToVec(y);
   Vec7 err = Vec7::Zero();
-  auto f = [&problem](double t, const Vec7& v) { return Derivative(problem, t, v); };
-  const Vec7 dy = RkIncrement<7>(tableau_, f, y.t, y0, h, info_.adaptive ? &err : nullptr);
+  auto f = [&problem](double t, const Vec7& v) { return RigidBodyDerivative(problem, t, v); };
+  const Vec7 dy =
+      RkIncrement<7>(tableau_, f, y.t, y0, h, info_.adaptive ? &err : nullptr, &ws.last_stages);
   // Compensated (Kahan) summation of the momentum: near the separatrix the distance to
   // it, 2T I2 - M^2, is a small difference of large numbers, and the plain update's
   // rounding (1e-16 |H| per step) moves it enough to scatter the flip times by ~1e-9 s
   // over 40 s; carrying the rounding error removes most of that.
   Vec7 y1 = y0 + dy;
-  const math::Vec3 d = dy.head<3>() + y.H_B_carry;
+  const math::Vec3 d = dy.head<3>() + carry;
   const math::Vec3 H1 = y.H_B + d;
   y1.head<3>() = H1;
   StepAttempt out;
@@ -73,9 +88,67 @@ StepAttempt ExplicitRkStepper::Step(const Problem& problem,
   }
   out.result.t = y.t + h;
   out.result.H_B = H1;
-  out.result.H_B_carry = (y.H_B - H1) + d;
   out.result.q_NB = math::Quat(y1[6], y1[3], y1[4], y1[5]).normalized();
+  ws.carries.Propose(out.result, math::Vec3((y.H_B - H1) + d));
   return out;
+}
+
+void ExplicitRkStepper::Accept(const Problem& /*problem*/,
+                               const State& y0,
+                               const State& y1,
+                               StepperWorkspace& workspace) const {
+  auto& ws = static_cast<ExplicitRkWorkspace&>(workspace);
+  ws.carries.Accept(y1);
+  ws.step_begin = y0;
+  ws.step_end = y1;
+  ws.stages = ws.last_stages;
+  ws.h = y1.t - y0.t;
+  ws.y0 = ToVec(y0);
+  ws.y1 = ToVec(y1);
+  // The quaternion's sign is continuous over a step (it is renormalized, not flipped).
+  ws.have_f1 = false;
+  ws.have_nodes = false;
+}
+
+State ExplicitRkStepper::Dense(const Problem& problem,
+                               double t,
+                               const Tolerances& tol,
+                               StepperWorkspace& workspace) const {
+  auto& ws = static_cast<ExplicitRkWorkspace&>(workspace);
+  if (t <= ws.step_begin.t) return ws.step_begin;
+  if (t >= ws.step_end.t) return ws.step_end;
+  const double th = (t - ws.step_begin.t) / ws.h;
+  if (dense_ == DenseKind::kDopri)
+    return FromVec(t, DopriDense<7>(th, ws.h, ws.y0, ws.y1, ws.stages));
+  if (!ws.have_f1) {
+    ws.f1 = RigidBodyDerivative(problem, ws.step_end.t, ws.y1);
+    ws.have_f1 = true;
+  }
+  if (dense_ == DenseKind::kHermiteCubic) {
+    return FromVec(t, HermiteCubic<7>(th, ws.h, ws.y0, ws.stages[0], ws.y1, ws.f1));
+  }
+  const int n = kHighOrderHermiteNodes;
+  if (!ws.have_nodes) {
+    // Interior nodes by partial steps from the step's start (its carry is still known).
+    const State begin = ws.step_begin;
+    for (int j = 0; j < n; ++j) {
+      ws.x[j] = static_cast<double>(j) / (n - 1);
+      if (j == 0) {
+        ws.y[j] = ws.y0;
+        ws.f[j] = ws.stages[0];
+      } else if (j == n - 1) {
+        ws.y[j] = ws.y1;
+        ws.f[j] = ws.f1;
+      } else {
+        const State node = Step(problem, begin, ws.x[j] * ws.h, tol, ws).result;
+        ++ws.dense_steps;
+        ws.y[j] = ToVec(node);
+        ws.f[j] = RigidBodyDerivative(problem, node.t, ws.y[j]);
+      }
+    }
+    ws.have_nodes = true;
+  }
+  return FromVec(t, HermiteNodes<7>(th, ws.h, n, ws.x.data(), ws.y.data(), ws.f.data()));
 }
 
 }  // namespace deploysim::integrators

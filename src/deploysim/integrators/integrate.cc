@@ -5,8 +5,11 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
+
+#include "deploysim/math/quaternion.h"
 
 namespace deploysim::integrators {
 
@@ -18,6 +21,11 @@ constexpr double kMinShrink = 0.2;
 constexpr double kMaxGrow = 5.0;
 // Fraction of the step to which an event is located.
 constexpr double kEventRelTolerance = 1e-13;
+// Half-width, as a fraction of the step, of the bracket around the root on the
+// continuous extension in which an event is finished on exact partial steps (the
+// interpolants are accurate to far better than this, dense_output.h).
+constexpr double kEventDenseBracket = 1e-6;
+constexpr std::uintmax_t kMaxEventIterations = 100;
 // Two times closer than this fraction of the segment length are the same time.
 constexpr double kTimeEps = 1e-14;
 
@@ -60,18 +68,40 @@ bool Finite(const State& s) {
   return std::isfinite(s.t) && s.H_B.allFinite() && s.q_NB.coeffs().allFinite();
 }
 
-// Dense output inside the step that starts at y0: the stepper's partial step.
-State DenseAt(const Stepper& stepper,
-              const Problem& problem,
-              const State& y0,
-              const State& y1,
-              double t,
-              const Tolerances& tol,
-              Statistics& stats) {
-  if (t <= y0.t) return y0;
-  if (t >= y1.t) return y1;
-  ++stats.dense_steps;
-  return stepper.Step(problem, y0, t - y0.t, tol).result;
+// The time of the sign change of fn.g over the step [y0, y1] (g0, g1 of opposite signs,
+// g1 != 0): bracketed on the continuous extension (no right-hand sides), then, unless
+// the stepper's dense output is exact, finished on exact partial steps inside a narrow
+// bracket around that root (so the located time has the accuracy of the steps, not of
+// the interpolant); if the narrow bracket holds no sign change, on the whole step.
+template <class Dense, class Exact>
+double LocateEvent(const EventFunction& fn,
+                   const State& y0,
+                   const State& y1,
+                   double g0,
+                   double g1,
+                   Dense&& dense_at,
+                   Exact&& exact_at,
+                   bool dense_is_exact) {
+  const double tol_t = kEventRelTolerance * (y1.t - y0.t);
+  auto term = [tol_t](double lo, double hi) { return hi - lo <= tol_t; };
+  auto solve = [&](auto&& g, double a, double b, double ga, double gb) {
+    std::uintmax_t iters = kMaxEventIterations;
+    const auto bracket = boost::math::tools::toms748_solve(g, a, b, ga, gb, term, iters);
+    return 0.5 * (bracket.first + bracket.second);
+  };
+  auto g_dense = [&](double t) { return fn.g(dense_at(y0, y1, t)); };
+  const double t_dense = solve(g_dense, y0.t, y1.t, g0, g1);
+  if (dense_is_exact) return t_dense;
+  auto g_exact = [&](double t) { return fn.g(exact_at(y0, y1, t)); };
+  const double delta = kEventDenseBracket * (y1.t - y0.t);
+  const double a = std::max(y0.t, t_dense - delta);
+  const double b = std::min(y1.t, t_dense + delta);
+  const double ga = a == y0.t ? g0 : g_exact(a);
+  const double gb = b == y1.t ? g1 : g_exact(b);
+  if (ga == 0.0) return a;
+  if (gb == 0.0) return b;
+  if ((ga < 0.0) != (gb < 0.0)) return solve(g_exact, a, b, ga, gb);
+  return solve(g_exact, y0.t, y1.t, g0, g1);
 }
 
 }  // namespace
@@ -116,9 +146,7 @@ IntegrationResult Integrate(const Stepper& stepper,
   const StepperInfo& info = stepper.info();
   ValidateSettings(info, settings);
   Require(Finite(initial), "initial state must be finite");
-  Require(initial.q_NB.norm() > 0.5,
-          "initial attitude quaternion must be a unit quaternion (rule: |q| = 1; got a norm of " +
-              std::to_string(initial.q_NB.norm()) + ")");
+  const math::Quat q_NB0 = math::ValidateUnitQuaternion(initial.q_NB, "initial attitude q_NB");
   Require(std::all_of(output_times.begin(), output_times.end(),
                       [](double t) { return std::isfinite(t); }),
           "output times must be finite");
@@ -129,11 +157,27 @@ IntegrationResult Integrate(const Stepper& stepper,
       output_times.empty() || (output_times.front() >= initial.t && output_times.back() <= t_end),
       "output times must lie within [t0, t_end]");
 
+  // The initial condition is the given state: H_B bit for bit, q_NB normalized (the
+  // steppers carry their attitude relative to it, rkmk.h). h_N only for reporting and
+  // the error weights.
   State y = initial;
-  y.q_NB.normalize();
-  const math::Vec3 h_N = y.q_NB * y.H_B;
-  Problem problem(source, h_N);
-  if (info.lie_group) y.H_B = y.q_NB.conjugate() * h_N;
+  y.q_NB = q_NB0;
+  Problem problem(source, math::Vec3(y.q_NB * y.H_B));
+  const std::unique_ptr<StepperWorkspace> workspace = stepper.NewWorkspace();
+  StepperWorkspace& ws = *workspace;
+  long event_partial_steps = 0;
+  // The exact solution at t in the last accepted step [y0, y1]: a partial step.
+  auto exact_at = [&](const State& y0, const State& y1, double t) {
+    if (t <= y0.t) return y0;
+    if (t >= y1.t) return y1;
+    ++event_partial_steps;
+    return stepper.Step(problem, y0, t - y0.t, settings.tolerances, ws).result;
+  };
+  auto dense_at = [&](const State& y0, const State& y1, double t) {
+    if (t <= y0.t) return y0;
+    if (t >= y1.t) return y1;
+    return stepper.Dense(problem, t, settings.tolerances, ws);
+  };
 
   IntegrationResult result;
   result.samples.reserve(output_times.size());
@@ -176,12 +220,13 @@ IntegrationResult Integrate(const Stepper& stepper,
         result.message = "max_steps reached at t = " + std::to_string(y.t);
         result.final_state = y;
         result.stats.evaluations = problem.evaluations();
+        result.stats.dense_steps = ws.dense_steps + event_partial_steps;
         return result;
       }
       double h;
       bool last = false;
       if (info.adaptive) {
-        h = std::min({h_adapt, settings.max_step, stepper.MaxStep(problem, y)});
+        h = std::min({h_adapt, settings.max_step, stepper.MaxStep(problem, y, ws)});
         if (y.t + h >= b - eps) {
           h = b - y.t;
           last = true;
@@ -191,7 +236,7 @@ IntegrationResult Integrate(const Stepper& stepper,
         last = k_fixed >= n_fixed;
         h = (last ? b : a + (b - a) * (k_fixed / n_fixed)) - y.t;
       }
-      StepAttempt att = stepper.Step(problem, y, h, tol);
+      StepAttempt att = stepper.Step(problem, y, h, tol, ws);
       if (info.adaptive) {
         const double err = att.error_norm;
         if (!std::isfinite(err) || err > 1.0) {
@@ -205,6 +250,7 @@ IntegrationResult Integrate(const Stepper& stepper,
             result.message = "step size underflow at t = " + std::to_string(y.t);
             result.final_state = y;
             result.stats.evaluations = problem.evaluations();
+            result.stats.dense_steps = ws.dense_steps + event_partial_steps;
             return result;
           }
           continue;
@@ -223,9 +269,11 @@ IntegrationResult Integrate(const Stepper& stepper,
         result.message = "state became non-finite at t = " + std::to_string(y.t);
         result.final_state = y;
         result.stats.evaluations = problem.evaluations();
+        result.stats.dense_steps = ws.dense_steps + event_partial_steps;
         return result;
       }
       ++result.stats.steps;
+      stepper.Accept(problem, y, y1, ws);
 
       // Events: sign changes of g over the step, located on the dense output.
       if (!events.empty()) {
@@ -234,23 +282,15 @@ IntegrationResult Integrate(const Stepper& stepper,
           const double g1 = events[e].g(y1);
           const double g0 = g_prev[e];
           if ((g0 < 0.0 && g1 >= 0.0) || (g0 > 0.0 && g1 <= 0.0)) {
-            auto g_at = [&](double t) {
-              return events[e].g(DenseAt(stepper, problem, y, y1, t, tol, result.stats));
-            };
+            const EventFunction& fn = events[e];
             double t_ev = y1.t;
-            if (g1 != 0.0) {
-              std::uintmax_t iters = 100;
-              const double tol_t = kEventRelTolerance * (y1.t - y.t);
-              auto term = [tol_t](double lo, double hi) { return hi - lo <= tol_t; };
-              const auto bracket =
-                  boost::math::tools::toms748_solve(g_at, y.t, y1.t, g0, g1, term, iters);
-              t_ev = 0.5 * (bracket.first + bracket.second);
-            }
+            if (g1 != 0.0)
+              t_ev = LocateEvent(fn, y, y1, g0, g1, dense_at, exact_at, stepper.DenseIsExact(ws));
             Event ev;
             ev.t = t_ev;
             ev.index = static_cast<int>(e);
             ev.direction = g1 > g0 ? 1 : -1;
-            ev.state = DenseAt(stepper, problem, y, y1, t_ev, tol, result.stats);
+            ev.state = stepper.DenseIsExact(ws) ? dense_at(y, y1, t_ev) : exact_at(y, y1, t_ev);
             found.push_back(ev);
           }
           g_prev[e] = g1;
@@ -261,8 +301,7 @@ IntegrationResult Integrate(const Stepper& stepper,
       }
 
       while (next_out < output_times.size() && output_times[next_out] <= y1.t) {
-        result.samples.push_back(
-            DenseAt(stepper, problem, y, y1, output_times[next_out], tol, result.stats));
+        result.samples.push_back(dense_at(y, y1, output_times[next_out]));
         result.samples.back().t = output_times[next_out];
         ++next_out;
       }
@@ -278,6 +317,7 @@ IntegrationResult Integrate(const Stepper& stepper,
   }
   result.final_state = y;
   result.stats.evaluations = problem.evaluations();
+  result.stats.dense_steps = ws.dense_steps + event_partial_steps;
   result.termination = Termination::kReachedEnd;
   result.message = ToString(result.termination);
   return result;

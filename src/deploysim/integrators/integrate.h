@@ -6,9 +6,18 @@
 /// independent of the steps, and locates events (sign changes of scalar functions of
 /// the state, e.g. the Dzhanibekov flip).
 ///
-/// Dense output: the solution at t in (t_n, t_n + h) is the stepper's own partial step
-/// from t_n of size t - t_n. It has the method's order, agrees with the step at both
-/// ends, and costs one step per sample or event iteration.
+/// Dense output: the solution at t in (t_n, t_n + h) is the stepper's continuous
+/// extension of the accepted step (Stepper::Dense: Dormand-Prince's own, Hermite
+/// interpolants, the closed form of `exact`), which agrees with the step at both ends
+/// and costs at most one partial step per accepted step. Events are bracketed on it and
+/// finished on the stepper's exact partial steps (unless the dense output is exact).
+///
+/// The stepper is only read: its per-run caches and carries live in a workspace that
+/// Integrate creates (Stepper::NewWorkspace) and owns for the run, so one stepper
+/// object may serve several runs in several threads at once.
+///
+/// Initial state: H_B is used bit for bit; q_NB must be a unit quaternion
+/// (math::ValidateUnitQuaternion) and is normalized.
 
 #include <functional>
 #include <string>
@@ -47,7 +56,7 @@ struct Statistics {
   long steps = 0;        ///< Accepted steps.
   long rejected = 0;     ///< Rejected step attempts.
   long evaluations = 0;  ///< Right-hand-side (inertia source) evaluations, dense output included.
-  long dense_steps = 0;  ///< Partial steps taken for output samples and event location.
+  long dense_steps = 0;  ///< Partial steps taken for the continuous extensions and events.
 };
 
 enum class Termination { kReachedEnd, kMaxSteps, kStepSizeUnderflow, kNonFinite };
@@ -67,7 +76,10 @@ using StepObserver = std::function<void(const State&)>;
 
 /// Integrates from `initial` to `t_end` (> initial.t). `output_times` must be
 /// ascending and within [initial.t, t_end]. Events are located to ~1e-13 of the step
-/// (toms748 on the dense output); at most one sign change per step and function is
+/// (toms748 on the continuous extension, then within +-1e-6 of the step around that
+/// root on the stepper's partial steps, so the event time and state have the steps'
+/// accuracy; `exact` on rigid segments: on the closed form); at most one sign change
+/// per step and function is
 /// seen, so steps must be short against the event spacing (the adaptive and exact
 /// methods ensure that on their own).
 IntegrationResult Integrate(const Stepper& stepper,

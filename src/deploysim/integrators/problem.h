@@ -12,17 +12,12 @@ struct State {
   double t = 0.0;
   math::Vec3 H_B = math::Vec3::Zero();       ///< [kg m^2/s] total momentum, B components.
   math::Quat q_NB = math::Quat::Identity();  ///< Attitude of B in N (unit).
-  /// Compensated-summation carry of H_B (Kahan): the rounding error of the last
-  /// update, added back in the next one by the vector-space steppers. Zero elsewhere.
-  math::Vec3 H_B_carry = math::Vec3::Zero();
-  /// The Lie-group steppers' carry of the attitude: the true attitude is
-  /// q_NB * Exp(attitude_carry), the rounding error of the last update (~1e-16 rad),
-  /// computed in extended precision and folded into the next step. Zero elsewhere.
-  math::Vec3 attitude_carry = math::Vec3::Zero();
 };
 
 /// The source of J(t), h_rel(t) plus what is fixed for a whole run: the inertial
-/// momentum h_N (for Lie-group methods) and the end of the current smooth segment.
+/// momentum h_N = R_NB(t0) H_B(t0) (for reporting and the error weights; the Lie-group
+/// steppers carry the attitude relative to the state they start from, see rkmk.h) and
+/// the current smooth segment.
 /// Counts the source evaluations (right-hand-side evaluations) for benchmarks.
 class Problem {
  public:

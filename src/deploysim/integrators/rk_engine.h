@@ -8,6 +8,7 @@
 #include <array>
 
 #include "deploysim/integrators/butcher_tableau.h"
+#include "deploysim/integrators/dense_output.h"
 
 namespace deploysim::integrators {
 
@@ -16,19 +17,22 @@ namespace deploysim::integrators {
 /// compensated summation). Stage times with c_i = 1 are exactly t + h, so a step that
 /// ends on a breakpoint evaluates those stages at the breakpoint itself.
 /// If `error` is non-null and the tableau has an embedded solution, it receives
-/// h * sum (b_i - b_hat_i) k_i.
+/// h * sum (b_i - b_hat_i) k_i. If `stages` is non-null it receives the stage
+/// derivatives k_i (for the continuous extensions, dense_output.h).
 template <int N, class F>
-Eigen::Matrix<double, N, 1> RkIncrement(const ButcherTableau& tab,
-                                        F&& f,
-                                        double t,
-                                        const Eigen::Matrix<double, N, 1>& y,
-                                        double h,
-                                        Eigen::Matrix<double, N, 1>* error = nullptr) {
+Eigen::Matrix<double, N, 1> RkIncrement(
+    const ButcherTableau& tab,
+    F&& f,
+    double t,
+    const Eigen::Matrix<double, N, 1>& y,
+    double h,
+    Eigen::Matrix<double, N, 1>* error = nullptr,
+    std::array<Eigen::Matrix<double, N, 1>, kMaxRkStages>* stages = nullptr) {
   using Vec = Eigen::Matrix<double, N, 1>;
-  constexpr int kMaxStages = 16;
   const int s = tab.stages();
   const double t_end = t + h;
-  std::array<Vec, kMaxStages> k;
+  std::array<Vec, kMaxRkStages> local;
+  std::array<Vec, kMaxRkStages>& k = stages != nullptr ? *stages : local;
   for (int i = 0; i < s; ++i) {
     Vec yi = y;
     for (int j = 0; j < i; ++j) {

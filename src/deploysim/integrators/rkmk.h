@@ -7,6 +7,19 @@
 /// method; with the exact inverse Jacobian the Lie-group method keeps the tableau's
 /// order. Reference: H. Munthe-Kaas, "High order Runge-Kutta methods on manifolds",
 /// Appl. Numer. Math. 29 (1999) 115-127; Iserles et al., Acta Numerica 9 (2000).
+///
+/// State: the attitude relative to the state a run starts from (its anchor), in the
+/// run's workspace: R_NB(t) = R_NB(t0) dR(t), H_B(t) = dR(t)^T H_B(t0), so h_N is
+/// conserved to rounding and H_B(t0) is the given momentum bit for bit. dR carries its
+/// rounding error in extended precision (the next step folds it in). A state the
+/// workspace did not produce becomes a new anchor: Step advances exactly the state it
+/// is given.
+///
+/// Dense output: Hermite interpolation of the Lie-algebra coordinate u of the step (the
+/// spin about h_N is exact), R(t0 + tau) = Exp(sigma tau h_N) R0 Exp(u(tau)):
+/// the Dormand-Prince continuous extension for rkmk-dopri5, cubic Hermite on
+/// (u, u') at both ends for rkmk4, Hermite of degree 9 on five nodes (the interior ones
+/// from partial steps) for rkmk-rkf78 (see explicit_rk.h for the measured errors).
 
 #include "deploysim/integrators/butcher_tableau.h"
 #include "deploysim/integrators/stepper.h"
@@ -17,15 +30,29 @@ class RkmkStepper final : public Stepper {
  public:
   RkmkStepper(const ButcherTableau& tableau, std::string name, std::string summary);
   const StepperInfo& info() const override { return info_; }
-  /// The input y.H_B is ignored: the momentum is R_NB^T h_N of problem.h_N().
+  std::unique_ptr<StepperWorkspace> NewWorkspace() const override;
   StepAttempt Step(const Problem& problem,
                    const State& y,
                    double h,
-                   const Tolerances& tol) const override;
+                   const Tolerances& tol,
+                   StepperWorkspace& ws) const override;
+  void Accept(const Problem& problem,
+              const State& y0,
+              const State& y1,
+              StepperWorkspace& ws) const override;
+  State Dense(const Problem& problem,
+              double t,
+              const Tolerances& tol,
+              StepperWorkspace& ws) const override;
+
+  enum class DenseKind { kDopri, kHermiteCubic, kHermiteNodes };
+  /// Nodes (ends included, equispaced) of the Hermite interpolant of the high-order methods.
+  static constexpr int kHighOrderHermiteNodes = 5;
 
  private:
   const ButcherTableau& tableau_;
   StepperInfo info_;
+  DenseKind dense_;
 };
 
 }  // namespace deploysim::integrators

@@ -1,12 +1,27 @@
 #include "deploysim/math/quaternion.h"
 
 #include <cmath>
+#include <sstream>
+#include <stdexcept>
 
 namespace deploysim::math {
 
 Vec4 ToWxyz(const Quat& q) { return Vec4(q.w(), q.x(), q.y(), q.z()); }
 
 Quat FromWxyz(const Vec4& wxyz) { return Quat(wxyz[0], wxyz[1], wxyz[2], wxyz[3]); }
+
+Quat ValidateUnitQuaternion(const Quat& q, const std::string& what) {
+  const double n = q.norm();
+  if (!q.coeffs().allFinite() || !(std::abs(n - 1.0) <= kUnitQuaternionTolerance)) {
+    std::ostringstream os;
+    os.precision(17);
+    os << what << " = (" << q.w() << ", " << q.x() << ", " << q.y() << ", " << q.z()
+       << ") has norm " << n
+       << " (rule: a finite unit quaternion, | |q| - 1 | <= " << kUnitQuaternionTolerance << ")";
+    throw std::invalid_argument(os.str());
+  }
+  return q.normalized();
+}
 
 Quat ExpQuat(const Vec3& phi) {
   const double a2 = phi.squaredNorm();

@@ -4,6 +4,8 @@
 /// `R_NB` (v_N = q_NB * v_B). Outside the core (files, CLI) quaternions are always
 /// scalar-first (w, x, y, z): ToWxyz/FromWxyz are the only conversions.
 
+#include <string>
+
 #include "deploysim/math/types.h"
 
 namespace deploysim::math {
@@ -13,6 +15,12 @@ Vec4 ToWxyz(const Quat& q);
 
 /// Quaternion from a scalar-first 4-vector (w, x, y, z). Not normalized.
 Quat FromWxyz(const Vec4& wxyz);
+
+/// The one rule for an attitude quaternion given as input: finite and of norm 1 within
+/// kUnitQuaternionTolerance. Returns q normalized; throws std::invalid_argument naming
+/// `what`, the value and the rule otherwise.
+inline constexpr double kUnitQuaternionTolerance = 1e-12;
+Quat ValidateUnitQuaternion(const Quat& q, const std::string& what);
 
 /// Unit quaternion of the rotation by |phi| rad about phi/|phi| (exact series near 0).
 Quat ExpQuat(const Vec3& phi);

@@ -1,0 +1,85 @@
+#pragma once
+
+/// Internal to the steppers: interpolants of one step [t0, t0 + h] in the variable
+/// theta = (t - t0) / h in [0, 1], for any vector-valued solution y (the state of the
+/// vector-space methods, the Lie-algebra coordinate u of the Lie-group methods).
+///   HermiteCubic:   y and h f at both ends; error O(h^4) (local).
+///   HermiteNodes:   y and h f at n nodes; degree 2n - 1, error O(h^{2n}) (local).
+///   DopriDense:     the continuous extension of Dormand-Prince 5(4) (Hairer, Norsett,
+///                   Wanner I, sec. II.6, the dense output of DOPRI5, from the step's
+///                   seven stages (the seventh, FSAL, is f at the step's end); fourth
+///                   order: error O(h^5) (local).
+
+#include <Eigen/Core>
+#include <array>
+
+namespace deploysim::integrators {
+
+template <int N>
+using VecN = Eigen::Matrix<double, N, 1>;
+
+constexpr int kMaxRkStages = 16;
+
+template <int N>
+VecN<N> HermiteCubic(double th,
+                     double h,
+                     const VecN<N>& y0,
+                     const VecN<N>& f0,
+                     const VecN<N>& y1,
+                     const VecN<N>& f1) {
+  const double th2 = th * th;
+  const double th3 = th2 * th;
+  const double h00 = 2.0 * th3 - 3.0 * th2 + 1.0;
+  const double h10 = th3 - 2.0 * th2 + th;
+  const double h01 = -2.0 * th3 + 3.0 * th2;
+  const double h11 = th3 - th2;
+  return h00 * y0 + (h10 * h) * f0 + h01 * y1 + (h11 * h) * f1;
+}
+
+constexpr int kMaxHermiteNodes = 6;
+
+/// Hermite interpolation on n <= kMaxHermiteNodes nodes x_j in [0, 1] (x_0 = 0,
+/// x_{n-1} = 1) with values y_j and derivatives f_j (d/dt; times h for d/dtheta):
+/// degree 2n - 1, error O(h^{2n}) (local). Basis with the Lagrange polynomials L_j:
+/// H_j = (1 - 2 L_j'(x_j)(x - x_j)) L_j^2, K_j = (x - x_j) L_j^2.
+template <int N>
+VecN<N> HermiteNodes(
+    double th, double h, int n, const double* x, const VecN<N>* y, const VecN<N>* f) {
+  VecN<N> out = VecN<N>::Zero();
+  for (int j = 0; j < n; ++j) {
+    double L = 1.0;
+    double dL = 0.0;  // L_j'(x_j)
+    for (int k = 0; k < n; ++k) {
+      if (k == j) continue;
+      L *= (th - x[k]) / (x[j] - x[k]);
+      dL += 1.0 / (x[j] - x[k]);
+    }
+    const double L2 = L * L;
+    const double d = th - x[j];
+    out += ((1.0 - 2.0 * dL * d) * L2) * y[j] + (h * d * L2) * f[j];
+  }
+  return out;
+}
+
+template <int N>
+VecN<N> DopriDense(double th,
+                   double h,
+                   const VecN<N>& y0,
+                   const VecN<N>& y1,
+                   const std::array<VecN<N>, kMaxRkStages>& k) {
+  // Hairer's DOPRI5 (dopri5.f, CONTD5): the fifth-order solution's dense output.
+  constexpr double d1 = -12715105075.0 / 11282082432.0;
+  constexpr double d3 = 87487479700.0 / 32700410799.0;
+  constexpr double d4 = -10690763975.0 / 1880347072.0;
+  constexpr double d5 = 701980252875.0 / 199316789632.0;
+  constexpr double d6 = -1453857185.0 / 822651844.0;
+  constexpr double d7 = 69997945.0 / 29380423.0;
+  const VecN<N> ydiff = y1 - y0;
+  const VecN<N> bspl = h * k[0] - ydiff;
+  const VecN<N> r4 = ydiff - h * k[6] - bspl;
+  const VecN<N> r5 = h * (d1 * k[0] + d3 * k[2] + d4 * k[3] + d5 * k[4] + d6 * k[5] + d7 * k[6]);
+  const double th1 = 1.0 - th;
+  return y0 + th * (ydiff + th1 * (bspl + th * (r4 + th1 * r5)));
+}
+
+}  // namespace deploysim::integrators
