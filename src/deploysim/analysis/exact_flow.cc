@@ -157,17 +157,4 @@ std::unique_ptr<integrators::Stepper> MakeStepper(const std::string& name) {
   return integrators::MakeNumericalStepper(name);
 }
 
-integrators::EventFunction FlipEvent(const math::InertiaTensor& J_B) {
-  const math::PrincipalAxes p = J_B.Principal();
-  const double spread = p.moments[2] - p.moments[0];
-  if (!(p.moments[1] - p.moments[0] > 1e-12 * spread &&
-        p.moments[2] - p.moments[1] > 1e-12 * spread)) {
-    throw std::invalid_argument(
-        "flip event: two principal moments are equal, so there is no intermediate axis "
-        "and no Dzhanibekov flip");
-  }
-  const math::Vec3 e = p.axes.col(1);
-  return {"flip", [e](const integrators::State& s) { return s.H_B.dot(e); }};
-}
-
 }  // namespace deploysim::analysis

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "deploysim/analysis/flip_rule.h"
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/integrators/stepper.h"
@@ -64,9 +65,6 @@ std::vector<std::string> StepperNames();
 /// A stepper by name ("exact" uses rkmk-rkf78 on non-rigid segments).
 std::unique_ptr<integrators::Stepper> MakeStepper(const std::string& name);
 
-/// The Dzhanibekov flip of a body of constant inertia: the sign of the momentum
-/// component along the intermediate principal axis. Throws std::invalid_argument when
-/// two principal moments are equal (no intermediate axis, no flip).
-integrators::EventFunction FlipEvent(const math::InertiaTensor& J_B);
+/// FlipEvent (the flip of a body of constant inertia) is in flip_rule.h.
 
 }  // namespace deploysim::analysis

@@ -15,72 +15,6 @@
 
 namespace deploysim::analysis {
 
-namespace {
-
-// Two principal moments closer than this (relative to the largest) are equal: the
-// axes between them are not distinguished (the seed's half-open configuration).
-constexpr double kDegenerateMoments = 1e-9;
-// A located sign change counts as a flip only if the momentum along the intermediate
-// axis is this small (relative to |H|) there: a jump of the axis labelling while two
-// moments cross is not a flip.
-constexpr double kFlipResidual = 1e-6;
-AxisRole RoleOf(const math::Vec3& moments, int index) {
-  const double scale = moments[2];
-  const bool low_tie = moments[1] - moments[0] <= kDegenerateMoments * scale;
-  const bool high_tie = moments[2] - moments[1] <= kDegenerateMoments * scale;
-  if (index == 1 && (low_tie || high_tie)) return AxisRole::kDegenerate;
-  if (index == 0 && low_tie) return AxisRole::kDegenerate;
-  if (index == 2 && high_tie) return AxisRole::kDegenerate;
-  return index == 0 ? AxisRole::kMinor : index == 1 ? AxisRole::kIntermediate : AxisRole::kMajor;
-}
-
-// Index of the principal axis most nearly parallel to v.
-int NearestAxis(const math::PrincipalAxes& p, const math::Vec3& v) {
-  int best = 0;
-  double best_dot = -1.0;
-  for (int i = 0; i < 3; ++i) {
-    const double d = std::abs(p.axes.col(i).dot(v));
-    if (d > best_dot) {
-      best_dot = d;
-      best = i;
-    }
-  }
-  return best;
-}
-
-}  // namespace
-
-math::Vec3 InitialSpinAxis(const math::Mat3& J_B0, const math::Vec3& H_B0) {
-  const math::PrincipalAxes p = math::PrincipalDecomposition(J_B0);
-  math::Vec3 s = p.axes.col(NearestAxis(p, H_B0));
-  if (s.dot(H_B0) < 0.0) s = -s;
-  return s;
-}
-
-SpinAxisRole LocateSpinAxis(const math::Mat3& J_B, const math::Vec3& spin_axis_B) {
-  const math::PrincipalAxes p = math::PrincipalDecomposition(J_B);
-  const int i = NearestAxis(p, spin_axis_B);
-  SpinAxisRole r;
-  r.axis_B = p.axes.col(i);
-  if (r.axis_B.dot(spin_axis_B) < 0.0) r.axis_B = -r.axis_B;
-  r.role = RoleOf(p.moments, i);
-  return r;
-}
-
-std::string ToString(AxisRole r) {
-  switch (r) {
-    case AxisRole::kMinor:
-      return "minor";
-    case AxisRole::kIntermediate:
-      return "intermediate";
-    case AxisRole::kMajor:
-      return "major";
-    case AxisRole::kDegenerate:
-      return "degenerate";
-  }
-  return "?";
-}
-
 math::Vec3 Euler313RelativeToMomentum(const math::Quat& q_NB, const math::Vec3& h_N) {
   const math::Vec3 e3 = h_N.normalized();
   // e1: the inertial x axis made perpendicular to e3 (y if x is nearly parallel).
@@ -136,8 +70,8 @@ MissionResult RunMission(const schedule::Profile& profile,
   const math::Vec3 spin_axis_B = InitialSpinAxis(s0.J_B, y0.H_B);
   out.spin_axis_B = spin_axis_B;
   integrators::EventFunction flip{"flip", [&sched, spin_axis_B](const integrators::State& s) {
-                                    const dynamics::InertiaSample js = sched.Evaluate(s.t);
-                                    return s.H_B.dot(LocateSpinAxis(js.J_B, spin_axis_B).axis_B);
+                                    return FlipFunction(sched.Evaluate(s.t).J_B, spin_axis_B,
+                                                        s.H_B);
                                   }};
 
   // Output grid plus the stage boundaries (kept apart for the stage reports).
@@ -172,14 +106,9 @@ MissionResult RunMission(const schedule::Profile& profile,
   out.termination = run.termination;
   out.message = run.message;
 
-  // Flip events: true zero crossings (not jumps where the nearest principal axis
-  // changes while two moments cross) while the spin axis is the intermediate axis.
+  // Flip events: the rule of flip_rule.h.
   for (const integrators::Event& e : run.events) {
-    const bool intermediate =
-        LocateSpinAxis(sched.Evaluate(e.t).J_B, spin_axis_B).role == AxisRole::kIntermediate;
-    if (intermediate && std::abs(flip.g(e.state)) <= kFlipResidual * M) {
-      out.flip_times.push_back(e.t);
-    }
+    if (IsFlip(sched.Evaluate(e.t).J_B, spin_axis_B, e.state.H_B)) out.flip_times.push_back(e.t);
   }
 
   // States at the stage boundaries, and the trajectory on the output grid.
@@ -251,7 +180,7 @@ MissionResult RunMission(const schedule::Profile& profile,
         std::acos(std::clamp(spin_axis_B.dot(s.H_B) / s.H_B.norm(), -1.0, 1.0)));
     if (geometry) tr.hinge_angles.push_back(sched.HingeAngles(t));
     out.max_h_N_drift = std::max(out.max_h_N_drift, (h_N - h_N0).norm() / M);
-    spin_roles.push_back(RoleOf(principal.moments, NearestAxis(principal, spin_axis_B)));
+    spin_roles.push_back(LocateSpinAxis(principal, spin_axis_B).role);
   }
 
   // Stage reports.

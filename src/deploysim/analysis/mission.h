@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "deploysim/analysis/flip_rule.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/math/types.h"
 #include "deploysim/schedule/profile.h"
@@ -32,24 +33,7 @@ struct Trajectory {
   std::size_t size() const { return time.size(); }
 };
 
-/// Which principal axis of J the momentum is closest to.
-enum class AxisRole { kMinor, kIntermediate, kMajor, kDegenerate };
-std::string ToString(AxisRole r);
-
-/// The body spin axis of a run: the principal axis of J_B(t0) nearest the initial
-/// momentum H_B(t0), signed along it (unit, B components).
-math::Vec3 InitialSpinAxis(const math::Mat3& J_B0, const math::Vec3& H_B0);
-
-/// Where the spin axis is in J_B: the principal axis of J_B nearest `spin_axis_B`
-/// (signed along it) and its role. Flips (DESIGN.md 2.3: sign changes of the momentum
-/// along the intermediate axis) are counted while this role is kIntermediate: a body
-/// spinning about its minor or major axis only wobbles, and a body with two equal
-/// moments has no intermediate axis (seed 3.3).
-struct SpinAxisRole {
-  math::Vec3 axis_B = math::Vec3::Zero();
-  AxisRole role = AxisRole::kDegenerate;
-};
-SpinAxisRole LocateSpinAxis(const math::Mat3& J_B, const math::Vec3& spin_axis_B);
+// AxisRole, InitialSpinAxis, LocateSpinAxis and the flip rule: flip_rule.h.
 
 /// Stability of one stage.
 struct StageReport {

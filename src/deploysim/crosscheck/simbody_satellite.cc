@@ -32,9 +32,6 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 // Two report times closer than this (relative to max(1, |t|)) are the same instant: a
 // grid time that rounds next to a stage boundary is integrated to the boundary.
 constexpr double kSameTime = 1e-9;
-// A located sign change counts as a flip only if the momentum along the spin axis is this
-// small there (relative to |H|): not a jump of the axis labelling (analysis::RunMission).
-constexpr double kFlipResidual = 1e-6;
 // Flip location: stop when the bracket is this narrow (relative to max(1, |t|)) [s].
 constexpr double kFlipTimeTolerance = 1e-13;
 constexpr std::uintmax_t kFlipMaxIterations = 100;
@@ -256,14 +253,16 @@ void RecordKnot(const Satellite& sat, const SimTK::State& s, HingeHistory& h) {
 struct FlipValue {
   double g = 0.0;
   bool intermediate = false;
+  bool is_flip = false;  ///< A sign change located here counts (analysis::IsFlip).
 };
 FlipValue Flip(const Satellite& sat, const SimTK::State& s, const math::Vec3& spin_axis_B) {
   const Snapshot snap = Snap(sat, s);
   const math::Mat3 I_N = ToEigen(sat.matter.calcSystemCentralInertiaInGround(s).toMat33());
-  const math::Mat3 J_B = snap.R_NB.transpose() * I_N * snap.R_NB;
-  const analysis::SpinAxisRole r =
-      analysis::LocateSpinAxis(0.5 * (J_B + J_B.transpose()), spin_axis_B);
-  return {snap.H_B.dot(r.axis_B), r.role == analysis::AxisRole::kIntermediate};
+  const math::Mat3 J_B0 = snap.R_NB.transpose() * I_N * snap.R_NB;
+  const math::Mat3 J_B = 0.5 * (J_B0 + J_B0.transpose());
+  const analysis::SpinAxisRole r = analysis::LocateSpinAxis(J_B, spin_axis_B);
+  return {snap.H_B.dot(r.axis_B), r.role == analysis::AxisRole::kIntermediate,
+          analysis::IsFlip(J_B, spin_axis_B, snap.H_B)};
 }
 
 /// Throws std::runtime_error if Simbody's integrator gave up.
@@ -286,7 +285,7 @@ void StepExactlyTo(SimTK::Integrator& integ, double t) {
 
 /// Time of the sign change of the flip function in (a.t, t_b], by toms748 on
 /// integrations restarted from `a` at the same accuracy. NaN if the sign change is a jump
-/// (residual above kFlipResidual |H|).
+/// (not a flip by the rule of analysis/flip_rule.h).
 double LocateFlip(const Satellite& sat,
                   const SimTK::State& a,
                   double t_b,
@@ -311,8 +310,14 @@ double LocateFlip(const Satellite& sat,
   const std::pair<double, double> bracket =
       boost::math::tools::toms748_solve(g, t_a, t_b, g_a, g_b, done, iterations);
   const double t = 0.5 * (bracket.first + bracket.second);
-  const double M = Snap(sat, a).H_B.norm();
-  return std::abs(g(t)) <= kFlipResidual * M ? t : std::numeric_limits<double>::quiet_NaN();
+  // The flip rule (analysis/flip_rule.h) at the located time.
+  if (t <= t_a)
+    return Flip(sat, a, spin_axis_B).is_flip ? t : std::numeric_limits<double>::quiet_NaN();
+  integ.initialize(a);
+  StepExactlyTo(integ, t);
+  return Flip(sat, integ.getState(), spin_axis_B).is_flip
+             ? t
+             : std::numeric_limits<double>::quiet_NaN();
 }
 
 /// A report time of the Simbody run: a grid sample and/or a stage boundary.

@@ -19,10 +19,6 @@ namespace deploysim::crosscheck {
 
 namespace {
 
-// As analysis::RunMission: a sign change is a flip only if the momentum along the spin
-// axis is this small there (relative to |H|).
-constexpr double kFlipResidual = 1e-6;
-
 std::string Num(double x) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.3g", x);
@@ -79,8 +75,7 @@ SpringDeploymentResult RunSpringDeployment(const schedule::Profile& profile,
   const double M = H_B0.norm();
   const integrators::EventFunction flip{
       "flip", [&source, spin_axis_B](const integrators::State& s) {
-        const math::Mat3 J = source.Evaluate(s.t).J_B;
-        return s.H_B.dot(analysis::LocateSpinAxis(J, spin_axis_B).axis_B);
+        return analysis::FlipFunction(source.Evaluate(s.t).J_B, spin_axis_B, s.H_B);
       }};
   integrators::IntegratorSettings settings;
   settings.tolerances = {options.replay_rtol, options.replay_atol};
@@ -92,9 +87,7 @@ SpringDeploymentResult RunSpringDeployment(const schedule::Profile& profile,
   }
   r.replay_stats = run.stats;
   for (const integrators::Event& e : run.events) {
-    const math::Mat3 J = source.Evaluate(e.t).J_B;
-    if (analysis::LocateSpinAxis(J, spin_axis_B).role == analysis::AxisRole::kIntermediate &&
-        std::abs(flip.g(e.state)) <= kFlipResidual * M) {
+    if (analysis::IsFlip(source.Evaluate(e.t).J_B, spin_axis_B, e.state.H_B)) {
       r.replay_flip_times.push_back(e.t);
     }
   }

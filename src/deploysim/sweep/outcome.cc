@@ -16,10 +16,6 @@ namespace deploysim::sweep {
 
 namespace {
 
-// As analysis::RunMission (mission.cc): a located sign change counts as a flip only if
-// the momentum along the spin axis is this small (relative to |H|) there, so that a jump
-// of the axis labelling while two moments cross is not taken for a flip.
-constexpr double kFlipResidual = 1e-6;
 // Rates of s . H_B / |H_B| below this fraction of |w| are rounding noise (a pure spin
 // has a rate of exactly zero in exact arithmetic): they count as zero, so that noise
 // does not look like an extremum.
@@ -297,14 +293,12 @@ CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings) {
   y0.q_NB = p.initial.q_NB.normalized();
   const dynamics::InertiaSample s0 = sched.Evaluate(t0);
   y0.H_B = *p.initial.H_B;
-  const double M = y0.H_B.norm();
   out.energy_initial = Energy(s0, y0.H_B);
 
   CachedSchedule cache(sched);
-  integrators::EventFunction flip{
-      "flip", [&cache, s](const integrators::State& y) {
-        return y.H_B.dot(analysis::LocateSpinAxis(cache.At(y.t).J_B, s).axis_B);
-      }};
+  integrators::EventFunction flip{"flip", [&cache, s](const integrators::State& y) {
+                                    return analysis::FlipFunction(cache.At(y.t).J_B, s, y.H_B);
+                                  }};
   const auto stepper = analysis::MakeStepper(p.integrator.method);
   integrators::IntegratorSettings is;
   is.step = p.integrator.step;
@@ -320,10 +314,7 @@ CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings) {
   out.rejected = run.stats.rejected;
   out.first_flip_time = std::numeric_limits<double>::quiet_NaN();
   for (const integrators::Event& e : run.events) {
-    // Flip rule of analysis::RunMission.
-    const bool intermediate = analysis::LocateSpinAxis(sched.Evaluate(e.t).J_B, s).role ==
-                              analysis::AxisRole::kIntermediate;
-    if (intermediate && std::abs(flip.g(e.state)) <= kFlipResidual * M) {
+    if (analysis::IsFlip(sched.Evaluate(e.t).J_B, s, e.state.H_B)) {
       if (out.flip_count == 0) out.first_flip_time = e.t;
       ++out.flip_count;
     }
