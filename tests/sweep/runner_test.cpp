@@ -285,6 +285,24 @@ TEST_F(SweepDirTest, JournalOfAnotherBuildIsRefusedOnResume) {
   EXPECT_EQ(s.resumed, 1u);
 }
 
+TEST_F(SweepDirTest, JournalOfAnOlderFormatIsRefusedOnResume) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", SweepText(2, 3)));
+  const std::string out = Path("r.h5");
+  // The header of a format-1 journal (before the build identity was recorded).
+  Write("r.h5.partial", std::string("DSWPJRN1") + std::string(24, '\0'));
+  RunOptions r = Options(out, 1);
+  r.resume = true;
+  try {
+    RunSweep(spec, r);
+    FAIL() << "resumed a journal of an older format";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("written by another version of deploysim (journal "
+                                         "format 1, this build writes 2)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(SweepJournal, BuildIdentityNamesVersionSourcesAndCompiler) {
   const std::string id = kBuildId;
   EXPECT_EQ(id.rfind(std::string("deploysim ") + kVersion + " (", 0), 0u) << id;

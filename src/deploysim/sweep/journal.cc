@@ -205,7 +205,7 @@ JournalContents ReadJournal(const std::string& path,
                                 std::istreambuf_iterator<char>());
   JournalContents out;
   const std::size_t stem = std::min(bytes.size(), kMagicStem);
-  if (std::memcmp(bytes.data(), kMagic, stem) != 0) {
+  if (stem > 0 && std::memcmp(bytes.data(), kMagic, stem) != 0) {
     throw std::runtime_error(path + ": not a deploysim sweep journal");
   }
   if (bytes.size() >= sizeof(kMagic) && bytes[kMagicStem] != kMagic[kMagicStem]) {
@@ -233,7 +233,9 @@ JournalContents ReadJournal(const std::string& path,
   const std::string file_build(bytes.data() + kFixedHeaderSize, id_length);
   std::uint64_t header_sum;
   std::memcpy(&header_sum, bytes.data() + kFixedHeaderSize + id_length, sizeof(header_sum));
-  if (Fnv1a(bytes.data(), kFixedHeaderSize + id_length) != header_sum) return torn_header();
+  if (Fnv1a(bytes.data(), kFixedHeaderSize + id_length) != header_sum) {
+    throw std::runtime_error(path + ": corrupt sweep journal (bad header checksum)");
+  }
   if (file_build != build_id) {
     throw std::runtime_error(path + ": the journal was written by another build (" + file_build +
                              "; this is " + build_id +
