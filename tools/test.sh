@@ -1,12 +1,19 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds deploysim and runs its whole test suite.
-# Usage: tools/test.sh [release|asan]   (default release: optimised, warnings as errors;
-#        asan: AddressSanitizer + UndefinedBehaviorSanitizer)
+# Installs what is missing, builds deploysim and runs its test suite.
+# Usage: tools/test.sh [release|asan|tsan]
+#   release (default): optimised, warnings as errors; the whole suite, then
+#            tools/check_install.sh (install, and build examples/ against the package)
+#   asan:    AddressSanitizer + UndefinedBehaviorSanitizer, the whole suite
+#   tsan:    ThreadSanitizer, only what runs threads: the sweep tests (runner, thread
+#            pool, MPI) and the libraries below them
 set -euo pipefail
 preset="${1:-release}"
-case "$preset" in release|asan) ;; *) echo "usage: tools/test.sh [release|asan]" >&2; exit 2 ;; esac
+case "$preset" in release|asan|tsan) ;; *) echo "usage: tools/test.sh [release|asan|tsan]" >&2; exit 2 ;; esac
 cd "$(dirname "$0")/.."
 tools/install_deps.sh
 cmake --preset "$preset" >/dev/null
 cmake --build --preset "$preset"
 ctest --preset "$preset" -j2
+if [ "$preset" = release ]; then
+  tools/check_install.sh build/release
+fi

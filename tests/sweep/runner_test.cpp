@@ -251,6 +251,64 @@ TEST_F(SweepDirTest, JournalOfAnotherSweepIsRefused) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST_F(SweepDirTest, JournalOfAnotherBuildIsRefusedOnResume) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", SweepText(2, 3)));
+  const std::string out = Path("r.h5");
+  // A journal as another build of deploysim (another version or commit) would leave it,
+  // with one finished case in it.
+  const std::string other_build = "deploysim 0.0.9 (v0.0.9-3-g0123456789ab; GNU 11.0.0)";
+  ASSERT_NE(other_build, kBuildId);
+  {
+    JournalWriter w(JournalPath(out, 0), Fingerprint(spec), spec.case_count(), other_build);
+    w.Append(0, CaseOutcome{});
+  }
+  RunOptions r = Options(out, 1);
+  r.resume = true;
+  try {
+    RunSweep(spec, r);
+    FAIL() << "resumed a journal of another build";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("written by another build (" + other_build + "; this is " + kBuildId),
+              std::string::npos)
+        << what;
+  }
+  EXPECT_FALSE(fs::exists(out));
+  // The same build resumes its own journal.
+  fs::remove(JournalPath(out, 0));
+  {
+    JournalWriter w(JournalPath(out, 0), Fingerprint(spec), spec.case_count());
+    w.Append(0, CaseOutcome{});
+  }
+  const RunSummary s = RunSweep(spec, r);
+  EXPECT_TRUE(s.complete);
+  EXPECT_EQ(s.resumed, 1u);
+}
+
+TEST_F(SweepDirTest, JournalOfAnOlderFormatIsRefusedOnResume) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", SweepText(2, 3)));
+  const std::string out = Path("r.h5");
+  // The header of a format-1 journal (before the build identity was recorded).
+  Write("r.h5.partial", std::string("DSWPJRN1") + std::string(24, '\0'));
+  RunOptions r = Options(out, 1);
+  r.resume = true;
+  try {
+    RunSweep(spec, r);
+    FAIL() << "resumed a journal of an older format";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("written by another version of deploysim (journal "
+                                         "format 1, this build writes 2)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(SweepJournal, BuildIdentityNamesVersionSourcesAndCompiler) {
+  const std::string id = kBuildId;
+  EXPECT_EQ(id.rfind(std::string("deploysim ") + kVersion + " (", 0), 0u) << id;
+  EXPECT_NE(id.find("; "), std::string::npos) << id;  // "<git describe>; <compiler>"
+}
+
 // ---- MPI ----
 
 /// Run by mpirun (below) in each rank: the sweep named by DEPLOYSIM_SWEEP_MPI_WORKER

@@ -17,6 +17,7 @@
 #include "deploysim/cli/report.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/version.h"
 #ifdef DEPLOYSIM_HAVE_SWEEP
 #include "deploysim/sweep/interrupt.h"
 #include "deploysim/sweep/mpi_session.h"
@@ -88,7 +89,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "deploysim: does a spinning spacecraft stay put when it deploys its panels, or "
       "does it start to tumble? (Dzhanibekov effect with time-varying inertia)"};
-  app.set_version_flag("--version", std::string("deploysim ") + DEPLOYSIM_VERSION);
+  app.set_version_flag("--version", deploysim::kBuildId);
   app.require_subcommand(1);
   app.footer(
       "Examples:\n"
@@ -281,6 +282,11 @@ int main(int argc, char** argv) {
     }
   } catch (const std::exception& e) {
     std::cerr << "deploysim: error: " << e.what() << "\n";
+#ifdef DEPLOYSIM_HAVE_SWEEP
+    // Under mpirun the other ranks would wait for this one forever: end the job.
+    std::cerr.flush();
+    mpi.AbortIfParallel(kExitBadInput);
+#endif
     return kExitBadInput;
   }
   return 0;

@@ -1,7 +1,6 @@
 #include "deploysim/crosscheck/crosscheck.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -11,6 +10,7 @@
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/math/quaternion.h"
 #include "deploysim/schedule/deployment_schedule.h"
 
@@ -27,12 +27,8 @@ std::string Num(double x) {
   return buf;
 }
 
-/// Shortest text that reads back as x (for error messages: "95", "0.1").
-std::string Exact(double x) {
-  char buf[32];
-  const std::to_chars_result r = std::to_chars(buf, buf + sizeof(buf), x);
-  return std::string(buf, r.ptr);
-}
+/// The project's number formatting (math/number_format.h) under a short local name.
+constexpr auto& Exact = math::FormatNumber;
 
 }  // namespace
 

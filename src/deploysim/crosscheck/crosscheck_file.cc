@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "deploysim/io/hdf5_writer.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/math/quaternion.h"
 
 #ifndef DEPLOYSIM_VERSION
@@ -15,11 +16,8 @@ namespace deploysim::crosscheck {
 
 namespace {
 
-std::string Num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.17g", x);
-  return buf;
-}
+/// The project's number formatting (math/number_format.h) under a short local name.
+constexpr auto& Num = math::FormatNumber;
 
 void Vectors(io::Hdf5Writer& w,
              const std::string& name,

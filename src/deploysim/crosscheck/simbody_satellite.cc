@@ -8,7 +8,6 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <boost/math/tools/toms748_solve.hpp>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -18,6 +17,7 @@
 #include <string>
 
 #include "deploysim/analysis/mission.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/schedule/deployment_schedule.h"
 
@@ -40,12 +40,8 @@ constexpr double kTensorBodyMass = 1.0;
 // Relative tolerance within which a tensor-mode inertia counts as constant.
 constexpr double kConstantInertiaTolerance = 1e-14;
 
-/// Shortest text that reads back as x (for messages).
-std::string Exact(double x) {
-  char buf[32];
-  const std::to_chars_result r = std::to_chars(buf, buf + sizeof(buf), x);
-  return std::string(buf, r.ptr);
-}
+/// The project's number formatting (math/number_format.h) under a short local name.
+constexpr auto& Exact = math::FormatNumber;
 
 SimTK::Vec3 ToSimTK(const math::Vec3& v) { return SimTK::Vec3(v[0], v[1], v[2]); }
 math::Vec3 ToEigen(const SimTK::Vec3& v) { return math::Vec3(v[0], v[1], v[2]); }

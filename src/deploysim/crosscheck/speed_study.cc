@@ -12,6 +12,7 @@
 #include "deploysim/crosscheck/simbody_satellite.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/io/atomic_file.h"
+#include "deploysim/math/number_format.h"
 
 namespace deploysim::crosscheck {
 
@@ -177,7 +178,8 @@ void WriteSpeedStudyCsv(const std::string& path, const SpeedStudyResult& r) {
                           w.simbody_momentum_drift,
                           w.simbody_wall_seconds,
                           w.reduced_wall_seconds};
-      for (std::size_t i = 0; i < std::size(v); ++i) f << (i ? "," : "") << Num(v[i], "%.17g");
+      for (std::size_t i = 0; i < std::size(v); ++i)
+        f << (i ? "," : "") << math::FormatNumber(v[i]);
       f << "\n";
     }
     f.flush();

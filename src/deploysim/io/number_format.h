@@ -1,13 +1,12 @@
 #pragma once
 
-/// Number formatting shared by the io writers and error messages (internal to io).
+/// io's name for the project's number formatting (internal to io): the rule itself is
+/// math::FormatNumber (deploysim/math/number_format.h), defined once.
 
-#include <string>
+#include "deploysim/math/number_format.h"
 
 namespace deploysim::io::internal {
 
-/// Shortest decimal text that reads back as exactly x ("40", "0.1", "1e-10",
-/// "60.000000000001"); "nan", "inf", "-inf" for non-finite values.
-std::string FormatNumber(double x);
+using math::FormatNumber;
 
 }  // namespace deploysim::io::internal

@@ -1,5 +1,7 @@
 #include "deploysim/io/yaml_fields.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -8,9 +10,19 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace deploysim::io::internal {
+namespace deploysim::io::yaml {
+
+struct YamlNode::Impl {
+  YAML::Node node;
+};
 
 namespace {
+
+YamlNode Wrap(const YAML::Node& node) {
+  return YamlNode(std::make_shared<const YamlNode::Impl>(YamlNode::Impl{node}));
+}
+
+const YAML::Node& Y(const YamlNode& node) { return node.impl().node; }
 
 constexpr std::size_t kMaxRenderedLength = 80;
 
@@ -50,13 +62,25 @@ std::string RenderUnbounded(const YAML::Node& node) {
   return "?";
 }
 
-bool IsPlainScalar(const YAML::Node& node) {
+bool PlainScalar(const YAML::Node& node) {
   // yaml-cpp tags plain scalars "?" and quoted ones "!"; explicit numeric tags are fine.
   return node.IsScalar() && (node.Tag() == "?" || node.Tag() == "tag:yaml.org,2002:float" ||
                              node.Tag() == "tag:yaml.org,2002:int");
 }
 
 }  // namespace
+
+YamlNode::YamlNode() : impl_(std::make_shared<const Impl>()) {}
+YamlNode::YamlNode(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
+YamlNode::~YamlNode() = default;
+YamlNode::YamlNode(const YamlNode&) = default;
+YamlNode& YamlNode::operator=(const YamlNode&) = default;
+
+bool YamlNode::IsPlainScalar() const { return PlainScalar(impl_->node); }
+
+std::string YamlNode::Scalar() const {
+  return impl_->node.IsScalar() ? impl_->node.Scalar() : std::string();
+}
 
 std::string ReadTextFile(const std::string& path) {
   std::error_code ec;
@@ -71,8 +95,8 @@ std::string ReadTextFile(const std::string& path) {
   return text.str();
 }
 
-std::string Render(const YAML::Node& node) {
-  std::string s = RenderUnbounded(node);
+std::string Render(const YamlNode& value) {
+  std::string s = RenderUnbounded(Y(value));
   if (s.size() > kMaxRenderedLength) s = s.substr(0, kMaxRenderedLength - 3) + "...";
   // One line: newlines of block scalars become visible escapes.
   std::string out;
@@ -99,15 +123,15 @@ YamlDocument::YamlDocument(std::string path, std::string text)
     throw std::invalid_argument(path_ + ": " + std::to_string(docs.size()) +
                                 " YAML documents ('---'): one document per file");
   }
-  root_ = docs.front();
-  if (!root_.IsMap()) {
+  root_ = Wrap(docs.front());
+  if (!docs.front().IsMap()) {
     throw std::invalid_argument(path_ + ": top level = " + Render(root_) +
                                 ": expected a mapping of keys to values");
   }
 }
 
 void YamlDocument::Fail(const std::string& key,
-                        const YAML::Node& value,
+                        const YamlNode& value,
                         const std::string& rule) const {
   throw std::invalid_argument(path_ + ": " + key + " = " + Render(value) + ": " + rule);
 }
@@ -120,72 +144,78 @@ std::string JoinKey(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
 }
 
-std::vector<std::pair<std::string, YAML::Node>> MappingEntries(const YamlDocument& doc,
-                                                               const YAML::Node& node,
-                                                               const std::string& path) {
-  if (!node.IsMap()) doc.Fail(path, node, "expected a mapping (key: value entries)");
-  std::vector<std::pair<std::string, YAML::Node>> entries;
+std::vector<std::pair<std::string, YamlNode>> MappingEntries(const YamlDocument& doc,
+                                                             const YamlNode& value,
+                                                             const std::string& path) {
+  const YAML::Node& node = Y(value);
+  if (!node.IsMap()) doc.Fail(path, value, "expected a mapping (key: value entries)");
+  std::vector<std::pair<std::string, YamlNode>> entries;
   for (const auto& kv : node) {
     if (!kv.first.IsScalar()) {
-      doc.Fail(JoinKey(path, Render(kv.first)), kv.second, "keys must be plain strings");
+      doc.Fail(JoinKey(path, Render(Wrap(kv.first))), Wrap(kv.second),
+               "keys must be plain strings");
     }
     const std::string key = kv.first.Scalar();
-    for (const auto& [seen, value] : entries) {
+    for (const auto& [seen, first] : entries) {
       if (seen == key) {
         doc.Fail(
-            JoinKey(path, key), kv.second,
-            "duplicate key (first given on line " + std::to_string(value.Mark().line + 1) + ")");
+            JoinKey(path, key), Wrap(kv.second),
+            "duplicate key (first given on line " + std::to_string(Y(first).Mark().line + 1) + ")");
       }
     }
-    entries.emplace_back(key, kv.second);
+    entries.emplace_back(key, Wrap(kv.second));
   }
   return entries;
 }
 
-std::vector<YAML::Node> SequenceElements(const YamlDocument& doc,
-                                         const YAML::Node& node,
-                                         const std::string& path,
-                                         const std::string& what) {
-  if (!node.IsSequence()) doc.Fail(path, node, "expected a sequence of " + what);
-  std::vector<YAML::Node> elements;
-  for (const YAML::Node& e : node) elements.push_back(e);
+std::vector<YamlNode> SequenceElements(const YamlDocument& doc,
+                                       const YamlNode& value,
+                                       const std::string& path,
+                                       const std::string& what) {
+  const YAML::Node& node = Y(value);
+  if (!node.IsSequence()) doc.Fail(path, value, "expected a sequence of " + what);
+  std::vector<YamlNode> elements;
+  for (const YAML::Node& e : node) elements.push_back(Wrap(e));
   return elements;
 }
 
-double ReadNumber(const YamlDocument& doc, const YAML::Node& node, const std::string& path) {
+double ReadNumber(const YamlDocument& doc, const YamlNode& given, const std::string& path) {
+  const YAML::Node& node = Y(given);
   if (node.IsScalar() && node.Tag() == "!") {
-    doc.Fail(path, node, "expected a number, not a quoted string");
+    doc.Fail(path, given, "expected a number, not a quoted string");
   }
   double value = 0.0;
-  if (!IsPlainScalar(node) || !YAML::convert<double>::decode(node, value)) {
-    doc.Fail(path, node, "expected a number");
+  if (!PlainScalar(node) || !YAML::convert<double>::decode(node, value)) {
+    doc.Fail(path, given, "expected a number");
   }
-  if (!std::isfinite(value)) doc.Fail(path, node, "must be finite");
+  if (!std::isfinite(value)) doc.Fail(path, given, "must be finite");
   return value;
 }
 
-std::string ReadText(const YamlDocument& doc, const YAML::Node& node, const std::string& path) {
-  if (!node.IsScalar()) doc.Fail(path, node, "expected a string");
+std::string ReadText(const YamlDocument& doc, const YamlNode& given, const std::string& path) {
+  const YAML::Node& node = Y(given);
+  if (!node.IsScalar()) doc.Fail(path, given, "expected a string");
   return node.Scalar();
 }
 
-bool ReadBool(const YamlDocument& doc, const YAML::Node& node, const std::string& path) {
+bool ReadBool(const YamlDocument& doc, const YamlNode& given, const std::string& path) {
+  const YAML::Node& node = Y(given);
   bool value = false;
-  if (!IsPlainScalar(node) && !(node.IsScalar() && node.Tag() == "tag:yaml.org,2002:bool")) {
-    doc.Fail(path, node, "expected true or false");
+  if (!PlainScalar(node) && !(node.IsScalar() && node.Tag() == "tag:yaml.org,2002:bool")) {
+    doc.Fail(path, given, "expected true or false");
   }
-  if (!YAML::convert<bool>::decode(node, value)) doc.Fail(path, node, "expected true or false");
+  if (!YAML::convert<bool>::decode(node, value)) doc.Fail(path, given, "expected true or false");
   return value;
 }
 
 Eigen::VectorXd ReadNumbers(const YamlDocument& doc,
-                            const YAML::Node& node,
+                            const YamlNode& value,
                             const std::string& path,
                             int size) {
   const std::string what = size >= 0 ? std::to_string(size) + " numbers" : "numbers";
-  const std::vector<YAML::Node> elements = SequenceElements(doc, node, path, what);
+  const std::vector<YamlNode> elements = SequenceElements(doc, value, path, what);
   if (size >= 0 && elements.size() != static_cast<std::size_t>(size)) {
-    doc.Fail(path, node,
+    doc.Fail(path, value,
              "must have " + std::to_string(size) + " elements (has " +
                  std::to_string(elements.size()) + ")");
   }
@@ -197,10 +227,10 @@ Eigen::VectorXd ReadNumbers(const YamlDocument& doc,
   return v;
 }
 
-math::Mat3 ReadMatrix3(const YamlDocument& doc, const YAML::Node& node, const std::string& path) {
-  const std::vector<YAML::Node> rows = SequenceElements(doc, node, path, "3 rows of 3 numbers");
+math::Mat3 ReadMatrix3(const YamlDocument& doc, const YamlNode& value, const std::string& path) {
+  const std::vector<YamlNode> rows = SequenceElements(doc, value, path, "3 rows of 3 numbers");
   if (rows.size() != 3) {
-    doc.Fail(path, node,
+    doc.Fail(path, value,
              "must have 3 rows of 3 numbers (has " + std::to_string(rows.size()) + " rows)");
   }
   math::Mat3 M;
@@ -211,7 +241,7 @@ math::Mat3 ReadMatrix3(const YamlDocument& doc, const YAML::Node& node, const st
 }
 
 Fields::Fields(const YamlDocument& doc,
-               const YAML::Node& node,
+               const YamlNode& node,
                std::string path,
                const std::vector<std::string>& allowed)
     : doc_(&doc), node_(node), path_(std::move(path)), entries_(MappingEntries(doc, node, path_)) {
@@ -222,7 +252,7 @@ Fields::Fields(const YamlDocument& doc,
   }
 }
 
-const YAML::Node* Fields::Find(const std::string& key) const {
+const YamlNode* Fields::Find(const std::string& key) const {
   for (const auto& kv : entries_) {
     if (kv.first == key) return &kv.second;
   }
@@ -231,8 +261,8 @@ const YAML::Node* Fields::Find(const std::string& key) const {
 
 bool Fields::Has(const std::string& key) const { return Find(key) != nullptr; }
 
-const YAML::Node& Fields::Get(const std::string& key) const {
-  const YAML::Node* n = Find(key);
+const YamlNode& Fields::Get(const std::string& key) const {
+  const YamlNode* n = Find(key);
   if (n == nullptr) doc_->Fail(Key(key), "required key is missing");
   return *n;
 }
@@ -277,6 +307,22 @@ Fields Fields::Mapping(const std::string& key, const std::vector<std::string>& a
   return Fields(*doc_, Get(key), Key(key), allowed);
 }
 
+std::string Fields::FilePath(const std::string& key) const {
+  const std::string relative = Text(key);
+  if (relative.empty()) Fail(key, "must name a file");
+  const std::filesystem::path resolved =
+      (std::filesystem::path(doc_->path()).parent_path() / relative).lexically_normal();
+  std::error_code ec;
+  const bool is_dir = std::filesystem::is_directory(resolved, ec);
+  std::ifstream probe(resolved);
+  if (is_dir || !probe) {
+    throw std::runtime_error(doc_->path() + ": " + Key(key) + " = " + relative + ": cannot read " +
+                             resolved.string() + ": " +
+                             (is_dir ? std::string("is a directory") : std::strerror(errno)));
+  }
+  return resolved.string();
+}
+
 void Fields::Fail(const std::string& key, const std::string& rule) const {
   doc_->Fail(Key(key), Get(key), rule);
 }
@@ -294,4 +340,4 @@ void Fields::RequireExactlyOne(const std::string& a, const std::string& b) const
   }
 }
 
-}  // namespace deploysim::io::internal
+}  // namespace deploysim::io::yaml

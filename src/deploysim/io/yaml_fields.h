@@ -1,6 +1,9 @@
 #pragma once
 
-/// Strict reading of YAML documents (internal to io; yaml-cpp stays inside this module).
+/// Strict reading of YAML documents, for the readers of deploysim's own file formats
+/// (models and profiles in io, sweep files in sweep). yaml-cpp stays inside io: no
+/// yaml-cpp type appears here (YamlNode is an opaque handle), so a reader outside io
+/// neither includes nor links yaml-cpp. Library deploysim::io_yaml.
 /// Every rejection is ONE line (docs/file_formats.md):
 ///
 ///     <file>: <key.path[index]> = <value as written>: <rule>
@@ -14,24 +17,45 @@
 /// list; numbers are plain (unquoted) finite scalars; vectors are sequences of the
 /// exact length.
 
-#include <yaml-cpp/yaml.h>
-
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "deploysim/io/number_format.h"
 #include "deploysim/math/types.h"
 
-namespace deploysim::io::internal {
+namespace deploysim::io::yaml {
+
+/// One node of a parsed document (a scalar, sequence or mapping): an opaque handle,
+/// cheap to copy; copies refer to the same node. Read it with the functions below.
+class YamlNode {
+ public:
+  YamlNode();  ///< An undefined node.
+  ~YamlNode();
+  YamlNode(const YamlNode&);
+  YamlNode& operator=(const YamlNode&);
+
+  /// A scalar written without quotes (`12`, `rk4`; not `"12"`), or with an explicit
+  /// numeric tag (`!!int 12`).
+  bool IsPlainScalar() const;
+  /// The text of a scalar as written (without quotes); empty for other nodes.
+  std::string Scalar() const;
+
+  struct Impl;  ///< Defined where yaml-cpp is included (yaml_fields.cc).
+  const Impl& impl() const { return *impl_; }
+  explicit YamlNode(std::shared_ptr<const Impl> impl);
+
+ private:
+  std::shared_ptr<const Impl> impl_;
+};
 
 /// The whole file as text. Throws std::runtime_error "<path>: cannot read: <reason>".
 std::string ReadTextFile(const std::string& path);
 
 /// A node as written, for messages (flow style, at most ~80 characters).
-std::string Render(const YAML::Node& node);
+std::string Render(const YamlNode& node);
 
 /// One parsed YAML file: the document and the file name that every message starts with.
 class YamlDocument {
@@ -44,11 +68,11 @@ class YamlDocument {
 
   const std::string& path() const { return path_; }
   const std::string& text() const { return text_; }
-  const YAML::Node& root() const { return root_; }
+  const YamlNode& root() const { return root_; }
 
   /// Throws std::invalid_argument "<path>: <key> = <Render(value)>: <rule>".
   [[noreturn]] void Fail(const std::string& key,
-                         const YAML::Node& value,
+                         const YamlNode& value,
                          const std::string& rule) const;
   /// Throws std::invalid_argument "<path>: <key>: <rule>" (for a key that has no value,
   /// e.g. a missing one).
@@ -57,7 +81,7 @@ class YamlDocument {
  private:
   std::string path_;
   std::string text_;
-  YAML::Node root_;
+  YamlNode root_;
 };
 
 /// `parent.key` (or `key` at the top level).
@@ -65,51 +89,51 @@ std::string JoinKey(const std::string& parent, const std::string& key);
 
 /// The entries of a mapping in file order. Rejects a node that is not a mapping, keys
 /// that are not plain scalars, and duplicate keys.
-std::vector<std::pair<std::string, YAML::Node>> MappingEntries(const YamlDocument& doc,
-                                                               const YAML::Node& node,
-                                                               const std::string& path);
+std::vector<std::pair<std::string, YamlNode>> MappingEntries(const YamlDocument& doc,
+                                                             const YamlNode& node,
+                                                             const std::string& path);
 
 /// The elements of a sequence (rejects anything else).
-std::vector<YAML::Node> SequenceElements(const YamlDocument& doc,
-                                         const YAML::Node& node,
-                                         const std::string& path,
-                                         const std::string& what);
+std::vector<YamlNode> SequenceElements(const YamlDocument& doc,
+                                       const YamlNode& node,
+                                       const std::string& path,
+                                       const std::string& what);
 
 /// A finite number written as a plain scalar.
-double ReadNumber(const YamlDocument& doc, const YAML::Node& node, const std::string& path);
+double ReadNumber(const YamlDocument& doc, const YamlNode& node, const std::string& path);
 
 /// A string (a scalar; plain, quoted or block).
-std::string ReadText(const YamlDocument& doc, const YAML::Node& node, const std::string& path);
+std::string ReadText(const YamlDocument& doc, const YamlNode& node, const std::string& path);
 
 /// true / false (YAML 1.1 spellings as yaml-cpp reads them: yes/no, on/off too).
-bool ReadBool(const YamlDocument& doc, const YAML::Node& node, const std::string& path);
+bool ReadBool(const YamlDocument& doc, const YamlNode& node, const std::string& path);
 
 /// A sequence of finite numbers; exactly `size` of them unless size < 0.
 Eigen::VectorXd ReadNumbers(const YamlDocument& doc,
-                            const YAML::Node& node,
+                            const YamlNode& node,
                             const std::string& path,
                             int size);
 
 /// A 3x3 matrix written as three rows [[a, b, c], [d, e, f], [g, h, i]].
-math::Mat3 ReadMatrix3(const YamlDocument& doc, const YAML::Node& node, const std::string& path);
+math::Mat3 ReadMatrix3(const YamlDocument& doc, const YamlNode& node, const std::string& path);
 
 /// A mapping read strictly: every key must be in `allowed`.
 class Fields {
  public:
   Fields(const YamlDocument& doc,
-         const YAML::Node& node,
+         const YamlNode& node,
          std::string path,
          const std::vector<std::string>& allowed);
 
   const YamlDocument& doc() const { return *doc_; }
   const std::string& path() const { return path_; }
-  const YAML::Node& node() const { return node_; }
+  const YamlNode& node() const { return node_; }
 
   bool Has(const std::string& key) const;
   /// Key path of `key` in this mapping.
   std::string Key(const std::string& key) const { return JoinKey(path_, key); }
   /// The value of a required key (throws "<path>.<key>: required key is missing").
-  const YAML::Node& Get(const std::string& key) const;
+  const YamlNode& Get(const std::string& key) const;
 
   double Number(const std::string& key) const;
   std::optional<double> OptionalNumber(const std::string& key) const;
@@ -122,18 +146,23 @@ class Fields {
   math::Mat3 Matrix3(const std::string& key) const;
   Fields Mapping(const std::string& key, const std::vector<std::string>& allowed) const;
 
+  /// The file named by `key` (a path relative to this document's directory), resolved and
+  /// checked to be readable. Throws std::invalid_argument for an empty name and
+  /// std::runtime_error "<file>: <key> = <value>: cannot read <resolved>: <reason>".
+  std::string FilePath(const std::string& key) const;
+
   /// Throws "<path>.<key> = <value>: <rule>".
   [[noreturn]] void Fail(const std::string& key, const std::string& rule) const;
   /// Requires exactly one of `a`, `b` to be present.
   void RequireExactlyOne(const std::string& a, const std::string& b) const;
 
  private:
-  const YAML::Node* Find(const std::string& key) const;
+  const YamlNode* Find(const std::string& key) const;
 
   const YamlDocument* doc_;
-  YAML::Node node_;
+  YamlNode node_;
   std::string path_;
-  std::vector<std::pair<std::string, YAML::Node>> entries_;
+  std::vector<std::pair<std::string, YamlNode>> entries_;
 };
 
-}  // namespace deploysim::io::internal
+}  // namespace deploysim::io::yaml

@@ -1,33 +1,19 @@
 #pragma once
 
-/// Model and deployment-profile files (YAML) -> validated structs, strictly
-/// (docs/file_formats.md, DESIGN.md 5): unknown keys, missing required keys, wrong types,
-/// non-finite numbers and non-physical values are errors. Every error is thrown as ONE
-/// line naming the file, the key path, the value as written and the rule:
-///
-///     deployment_profiles/x.yaml: stages[2].until = 40: stage end times must increase (previous
-///     stage ends at 60)
-///
-/// std::invalid_argument for bad content, std::runtime_error for files that cannot be
-/// read. Degrees in files (`..._deg`) become radians here; nothing downstream sees them.
+/// Profiles that are to be run: io_yaml's ReadProfile (yaml_reader.h) plus the rules
+/// on the run settings that need the integrator registry, and command-line overrides.
+/// Errors are thrown as ONE line naming the file, the key, the value and the rule
+/// (std::invalid_argument for bad content, std::runtime_error for unreadable files).
+/// Library deploysim::io.
 
 #include <optional>
 #include <string>
 
-#include "deploysim/model/model.h"
-#include "deploysim/schedule/profile.h"
+#include "deploysim/io/yaml_reader.h"
 
 namespace deploysim::io {
 
-/// Reads a model file (`kind: tensors` or `kind: hinged`). Model::source = path,
-/// Model::text = the file's text.
-/// Hinged models have their hinge axes normalized (model::ValidatedHingedBody).
-model::Model LoadModel(const std::string& path);
-
-/// Reads a deployment profile and the model it names (`model:`, relative to the
-/// profile's directory). Profile::source = path, Profile::text = the file's text.
-/// The attitude quaternion is normalized; stages get contiguous [t_begin, t_end] and
-/// their `from` configuration (the previous stage's `to`). The result has passed
+/// ReadProfile (yaml_reader.h), then CheckRunSettings: the result has passed
 /// schedule::ValidateProfile and CheckRunSettings.
 schedule::Profile LoadProfile(const std::string& path);
 
@@ -58,10 +44,5 @@ void CheckRunSettings(const schedule::Profile& profile);
 
 /// Largest number of output samples a profile may ask for ((t_end - t_begin)/dt + 1).
 inline constexpr double kMaxOutputSamples = 1e7;
-
-/// "tensor" | "geometry" -> Mode, "quasi-rigid" | "exact" -> Coupling (the names of
-/// schedule::ToString). Throw std::invalid_argument "<name>: unknown mode (valid: ...)".
-schedule::Mode ParseMode(const std::string& name);
-schedule::Coupling ParseCoupling(const std::string& name);
 
 }  // namespace deploysim::io

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "deploysim/io/yaml_fields.h"
-#include "deploysim/io/yaml_loader.h"
+#include "deploysim/io/yaml_reader.h"
 #include "deploysim/math/inertia.h"
 #include "deploysim/model/mass_properties.h"
 
@@ -13,8 +13,9 @@ namespace deploysim::io {
 
 namespace {
 
-using internal::Fields;
-using internal::YamlDocument;
+using yaml::Fields;
+using yaml::YamlDocument;
+using yaml::YamlNode;
 
 constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
 
@@ -55,8 +56,8 @@ model::Hub ReadHub(const Fields& top) {
 }
 
 std::vector<model::Panel> ReadPanels(const Fields& top) {
-  const std::vector<YAML::Node> nodes =
-      internal::SequenceElements(top.doc(), top.Get("panels"), "panels", "panels");
+  const std::vector<YamlNode> nodes =
+      yaml::SequenceElements(top.doc(), top.Get("panels"), "panels", "panels");
   if (nodes.empty()) top.Fail("panels", "at least one panel is required");
   std::vector<model::Panel> panels;
   for (std::size_t k = 0; k < nodes.size(); ++k) {
@@ -81,7 +82,7 @@ std::vector<model::Panel> ReadPanels(const Fields& top) {
 
 model::Configuration ReadTensorConfiguration(const YamlDocument& doc,
                                              const std::string& name,
-                                             const YAML::Node& node) {
+                                             const YamlNode& node) {
   const Fields f(doc, node, "configurations." + name, {"principal_moments", "tensor"});
   f.RequireExactlyOne("principal_moments", "tensor");
   model::Configuration c;
@@ -100,11 +101,11 @@ model::Configuration ReadTensorConfiguration(const YamlDocument& doc,
 
 model::Configuration ReadHingedConfiguration(const YamlDocument& doc,
                                              const std::string& name,
-                                             const YAML::Node& node,
+                                             const YamlNode& node,
                                              std::size_t panels) {
   const Fields f(doc, node, "configurations." + name, {"hinge_angles_deg"});
-  const YAML::Node& angles = f.Get("hinge_angles_deg");
-  const Eigen::VectorXd deg = internal::ReadNumbers(doc, angles, f.Key("hinge_angles_deg"), -1);
+  const YamlNode& angles = f.Get("hinge_angles_deg");
+  const Eigen::VectorXd deg = yaml::ReadNumbers(doc, angles, f.Key("hinge_angles_deg"), -1);
   if (static_cast<std::size_t>(deg.size()) != panels) {
     f.Fail("hinge_angles_deg", "must have one hinge angle per panel (the model has " +
                                    std::to_string(panels) + " panels, in panel order)");
@@ -118,7 +119,7 @@ model::Configuration ReadHingedConfiguration(const YamlDocument& doc,
 }  // namespace
 
 model::Model LoadModel(const std::string& path) {
-  const YamlDocument doc(path, internal::ReadTextFile(path));
+  const YamlDocument doc(path, yaml::ReadTextFile(path));
   const Fields top(doc, doc.root(), "",
                    {"name", "description", "kind", "configurations", "hub", "panels"});
   model::Model m;
@@ -144,7 +145,7 @@ model::Model LoadModel(const std::string& path) {
     top.Fail("kind", "unknown model kind (valid: tensors, hinged)");
   }
 
-  const auto entries = internal::MappingEntries(doc, top.Get("configurations"), "configurations");
+  const auto entries = yaml::MappingEntries(doc, top.Get("configurations"), "configurations");
   if (entries.empty()) top.Fail("configurations", "at least one configuration is required");
   for (const auto& [name, node] : entries) {
     m.configurations.push_back(

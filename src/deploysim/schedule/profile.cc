@@ -1,24 +1,20 @@
 #include "deploysim/schedule/profile.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 #include "deploysim/math/inertia.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
 
 namespace deploysim::schedule {
 
 namespace {
 
-/// Shortest decimal text that reads back as x ("40", "0.1", "60.000000000001").
-std::string Num(double x) {
-  char buf[32];
-  const std::to_chars_result r = std::to_chars(buf, buf + sizeof(buf), x);
-  return std::string(buf, r.ptr);
-}
+/// The project's number formatting (math/number_format.h) under a short local name.
+constexpr auto& Num = math::FormatNumber;
 
 std::string Vec(const Eigen::VectorXd& v) {
   std::string s = "[";

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -14,8 +15,11 @@ namespace deploysim::sweep {
 
 namespace {
 
-constexpr char kMagic[8] = {'D', 'S', 'W', 'P', 'J', 'R', 'N', '1'};
-constexpr std::size_t kHeaderSize = 8 + 8 + 8 + 4 + 4;
+constexpr char kMagic[8] = {'D', 'S', 'W', 'P', 'J', 'R', 'N', '2'};
+constexpr std::size_t kMagicStem = 7;  // "DSWPJRN": a journal of any format version
+// The fixed part of the header; the build identity and the header checksum follow.
+constexpr std::size_t kFixedHeaderSize = 8 + 8 + 8 + 4 + 4;
+constexpr std::size_t kMaxBuildIdLength = 4096;
 // Bump when CaseOutcome's record layout or its meaning changes.
 constexpr std::uint64_t kRecordLayoutVersion = 1;
 
@@ -111,13 +115,18 @@ std::vector<char> Record(std::size_t index, const CaseOutcome& o) {
   return std::move(w.bytes());
 }
 
-std::vector<char> Header(std::uint64_t fingerprint, std::size_t case_count) {
+std::vector<char> Header(std::uint64_t fingerprint,
+                         std::size_t case_count,
+                         const std::string& build_id) {
   Writer w;
   for (char c : kMagic) w.Put(c);
   w.Put(fingerprint);
   w.Put(static_cast<std::uint64_t>(case_count));
   w.Put(static_cast<std::uint32_t>(JournalRecordSize()));
-  w.Put(std::uint32_t{0});
+  w.Put(static_cast<std::uint32_t>(build_id.size()));
+  for (char c : build_id) w.Put(c);
+  const std::uint64_t sum = Fnv1a(w.bytes().data(), w.bytes().size());
+  w.Put(sum);
   return std::move(w.bytes());
 }
 
@@ -177,6 +186,7 @@ std::uint64_t Fingerprint(const SweepSpec& spec) {
     h = Fnv1a(s.data(), s.size(), h);
   };
   h = Fnv1a(&kRecordLayoutVersion, sizeof(kRecordLayoutVersion), h);
+  add(kBuildId);
   add(spec.text);
   add(spec.base.text);
   add(spec.model_text);
@@ -187,25 +197,51 @@ std::uint64_t Fingerprint(const SweepSpec& spec) {
 
 JournalContents ReadJournal(const std::string& path,
                             std::uint64_t fingerprint,
-                            std::size_t case_count) {
+                            std::size_t case_count,
+                            const std::string& build_id) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw std::runtime_error(path + ": cannot read the sweep journal: " + Errno());
   const std::vector<char> bytes((std::istreambuf_iterator<char>(f)),
                                 std::istreambuf_iterator<char>());
   JournalContents out;
-  if (bytes.size() < kHeaderSize || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
-    // A header torn by a crash right after creation holds no records: start afresh.
-    if (bytes.size() < kHeaderSize &&
-        std::memcmp(bytes.data(), kMagic, std::min(bytes.size(), sizeof(kMagic))) == 0) {
-      out.torn_tail = !bytes.empty();
-      return out;
-    }
+  const std::size_t stem = std::min(bytes.size(), kMagicStem);
+  if (stem > 0 && std::memcmp(bytes.data(), kMagic, stem) != 0) {
     throw std::runtime_error(path + ": not a deploysim sweep journal");
   }
+  if (bytes.size() >= sizeof(kMagic) && bytes[kMagicStem] != kMagic[kMagicStem]) {
+    throw std::runtime_error(path +
+                             ": the journal was written by another version of deploysim "
+                             "(journal format " +
+                             std::string(1, bytes[kMagicStem]) + ", this build writes " +
+                             std::string(1, kMagic[kMagicStem]) +
+                             "): delete it to start the sweep afresh");
+  }
+  // A header torn by a crash right after creation holds no records: start afresh.
+  auto torn_header = [&out, &bytes] {
+    out.torn_tail = !bytes.empty();
+    return out;
+  };
+  if (bytes.size() < kFixedHeaderSize) return torn_header();
   Reader h(bytes.data() + sizeof(kMagic));
   const auto file_fingerprint = h.Get<std::uint64_t>();
   const auto file_cases = h.Get<std::uint64_t>();
   const auto record_size = h.Get<std::uint32_t>();
+  const auto id_length = h.Get<std::uint32_t>();
+  if (id_length > kMaxBuildIdLength) throw std::runtime_error(path + ": corrupt sweep journal");
+  const std::size_t header_size = kFixedHeaderSize + id_length + sizeof(std::uint64_t);
+  if (bytes.size() < header_size) return torn_header();
+  const std::string file_build(bytes.data() + kFixedHeaderSize, id_length);
+  std::uint64_t header_sum;
+  std::memcpy(&header_sum, bytes.data() + kFixedHeaderSize + id_length, sizeof(header_sum));
+  if (Fnv1a(bytes.data(), kFixedHeaderSize + id_length) != header_sum) {
+    throw std::runtime_error(path + ": corrupt sweep journal (bad header checksum)");
+  }
+  if (file_build != build_id) {
+    throw std::runtime_error(path + ": the journal was written by another build (" + file_build +
+                             "; this is " + build_id +
+                             "): finish the sweep with that build, or delete the journal to "
+                             "start the sweep afresh");
+  }
   if (file_fingerprint != fingerprint || file_cases != case_count ||
       record_size != JournalRecordSize()) {
     throw std::runtime_error(
@@ -215,7 +251,7 @@ JournalContents ReadJournal(const std::string& path,
         "start the sweep afresh");
   }
   const std::size_t rs = JournalRecordSize();
-  std::size_t pos = kHeaderSize;
+  std::size_t pos = header_size;
   while (pos + rs <= bytes.size()) {
     const char* rec = bytes.data() + pos;
     std::uint64_t sum;
@@ -232,12 +268,15 @@ JournalContents ReadJournal(const std::string& path,
   return out;
 }
 
-JournalWriter::JournalWriter(std::string path, std::uint64_t fingerprint, std::size_t case_count)
+JournalWriter::JournalWriter(std::string path,
+                             std::uint64_t fingerprint,
+                             std::size_t case_count,
+                             const std::string& build_id)
     : path_(std::move(path)) {
   struct stat st {};
   const bool exists = ::stat(path_.c_str(), &st) == 0;
   std::size_t keep = 0;
-  if (exists) keep = ReadJournal(path_, fingerprint, case_count).valid_bytes;
+  if (exists) keep = ReadJournal(path_, fingerprint, case_count, build_id).valid_bytes;
   fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0666);
   if (fd_ < 0) throw std::runtime_error(path_ + ": cannot open the sweep journal: " + Errno());
   // Drop a torn tail (or a torn header) so that new records follow whole ones.
@@ -248,7 +287,7 @@ JournalWriter::JournalWriter(std::string path, std::uint64_t fingerprint, std::s
     throw std::runtime_error(path_ + ": cannot repair the sweep journal: " + err);
   }
   if (keep == 0) {
-    WriteAll(fd_, Header(fingerprint, case_count), path_);
+    WriteAll(fd_, Header(fingerprint, case_count, build_id), path_);
     Sync();
   }
 }

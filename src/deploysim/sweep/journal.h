@@ -11,11 +11,15 @@
 /// part of the file: readers stop there and the writer truncates it away before appending.
 ///
 /// Layout (native byte order; the journal is a scratch file of one machine):
-///   header  "DSWPJRN1" | u64 fingerprint | u64 case count | u32 record size | u32 0
+///   header  "DSWPJRN2" | u64 fingerprint | u64 case count | u32 record size |
+///           u32 length L | L bytes: the build identity (kBuildId) | u64 FNV-1a of the header
 ///   records u64 case index | payload (the CaseOutcome fields) | u64 FNV-1a of both
-/// A journal belongs to one sweep definition: its fingerprint (Fingerprint()) covers the
-/// sweep file, the base profile and model files and the result layout; opening a journal
-/// with another fingerprint is an error (the sweep changed since it was written).
+/// A journal belongs to one sweep definition run by one build of deploysim: its
+/// fingerprint (Fingerprint()) covers the sweep file, the base profile and model files
+/// and the result layout, and the build identity (version, git describe of the sources,
+/// compiler; deploysim/version.h) is stored beside it. Opening a journal with another
+/// fingerprint or written by another build is an error: a resumed sweep never mixes the
+/// results of two definitions or of two builds.
 
 #include <cstddef>
 #include <cstdint>
@@ -26,11 +30,12 @@
 
 #include "deploysim/sweep/outcome.h"
 #include "deploysim/sweep/sweep_spec.h"
+#include "deploysim/version.h"
 
 namespace deploysim::sweep {
 
-/// FNV-1a (64-bit) of the texts that define the sweep's results and of the journal and
-/// results layout versions.
+/// FNV-1a (64-bit) of the texts that define the sweep's results, of the journal and
+/// results layout versions and of the build identity kBuildId.
 std::uint64_t Fingerprint(const SweepSpec& spec);
 
 /// What a journal file holds (ReadJournal).
@@ -41,17 +46,24 @@ struct JournalContents {
 };
 
 /// Reads `path`. Throws std::runtime_error "<path>: ..." when it cannot be read, is not a
-/// sweep journal, or belongs to another sweep (fingerprint or case count differ).
+/// sweep journal, was written by another build than `build_id` ("... was written by
+/// <its build>; this is <build_id> ..."), or belongs to another sweep (fingerprint or
+/// case count differ).
 JournalContents ReadJournal(const std::string& path,
                             std::uint64_t fingerprint,
-                            std::size_t case_count);
+                            std::size_t case_count,
+                            const std::string& build_id = kBuildId);
 
 /// Appends records to a journal; thread-safe.
 class JournalWriter {
  public:
   /// Opens `path` for appending, creating it with its header if missing; an existing
   /// journal must match (ReadJournal's rules) and a torn tail is truncated away.
-  JournalWriter(std::string path, std::uint64_t fingerprint, std::size_t case_count);
+  /// `build_id` is the identity recorded in a new journal (tests pass another one).
+  JournalWriter(std::string path,
+                std::uint64_t fingerprint,
+                std::size_t case_count,
+                const std::string& build_id = kBuildId);
   ~JournalWriter();
   JournalWriter(const JournalWriter&) = delete;
   JournalWriter& operator=(const JournalWriter&) = delete;

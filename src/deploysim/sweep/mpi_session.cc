@@ -121,6 +121,12 @@ std::vector<char> MpiSession::GatherToRoot(const std::vector<char>& local) const
   return local;
 }
 
+void MpiSession::AbortIfParallel([[maybe_unused]] int exit_code) const {
+#ifdef DEPLOYSIM_WITH_MPI
+  if (active_ && size_ > 1) MPI_Abort(MPI_COMM_WORLD, exit_code);
+#endif
+}
+
 void MpiSession::Barrier() const {
 #ifdef DEPLOYSIM_WITH_MPI
   if (active_) Check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier");

@@ -43,6 +43,12 @@ class MpiSession {
   std::vector<char> GatherToRoot(const std::vector<char>& local) const;
   void Barrier() const;
 
+  /// Ends the whole job (MPI_Abort with `exit_code`) when this session spans more than one
+  /// rank; returns (doing nothing) otherwise. For an error that escapes on one rank: the
+  /// other ranks would otherwise wait forever in the next collective. The caller prints
+  /// its message first.
+  void AbortIfParallel(int exit_code) const;
+
  private:
   bool active_ = false;
   int rank_ = 0;

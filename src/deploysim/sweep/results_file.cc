@@ -1,5 +1,5 @@
-// Sweep results as HDF5 (written through io::Hdf5Writer) and CSV (docs/sweeps.md
-// "Results file"). ReadSweepResults reads HDF5 directly: io has no reader to share yet.
+// Sweep results as HDF5 (through io::Hdf5Writer and io::Hdf5Reader: no HDF5 here) and
+// CSV (docs/sweeps.md "Results file").
 
 #include "deploysim/sweep/results_file.h"
 
@@ -12,19 +12,16 @@
 
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/io/atomic_file.h"
-#include "deploysim/io/hdf5_common.h"
+#include "deploysim/io/hdf5_reader.h"
 #include "deploysim/io/hdf5_writer.h"
-#include "deploysim/io/number_format.h"
-
-#ifndef DEPLOYSIM_VERSION
-#define DEPLOYSIM_VERSION "unknown"
-#endif
+#include "deploysim/math/number_format.h"
+#include "deploysim/version.h"
 
 namespace deploysim::sweep {
 
 namespace {
 
-using io::internal::FormatNumber;
+using math::FormatNumber;
 
 enum class ColumnType { kDouble, kInt, kText };
 
@@ -162,10 +159,6 @@ std::vector<Column> BuildColumns(const SweepSpec& spec, const std::vector<CaseOu
 
 // ---- HDF5 ----
 
-using io::hdf5::QuietErrors;
-using io::hdf5::TextType;
-using io::hdf5::Throw;
-
 void WriteColumn(io::Hdf5Writer& out, const std::string& group, const Column& c) {
   const std::string path = group + "/" + c.name;
   switch (c.type) {
@@ -215,7 +208,8 @@ void WriteContents(io::Hdf5Writer& out,
   }
   const schedule::Profile& b = spec.base;
   const std::pair<const char*, std::string> root[] = {
-      {"deploysim_version", DEPLOYSIM_VERSION},
+      {"deploysim_version", kVersion},
+      {"deploysim_build", kBuildId},
       {"schema_version", std::to_string(kResultsSchemaVersion)},
       {"kind", "deploysim sweep results"},
       {"sweep_name", spec.name},
@@ -239,28 +233,10 @@ void WriteContents(io::Hdf5Writer& out,
   for (const auto& [name, value] : root) out.Attribute("/", name, value);
 }
 
-std::string ReadTextAttribute(const H5::H5Object& object, const std::string& name) {
-  const H5::Attribute a = object.openAttribute(name);
-  std::string value;
-  a.read(a.getStrType(), value);
-  return value;
-}
-
 SweepTable ReadContents(const std::string& path) {
-  {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) throw std::runtime_error(path + ": cannot read: " + std::strerror(errno));
-  }
-  if (H5Fis_hdf5(path.c_str()) <= 0) throw std::runtime_error(path + ": not an HDF5 file");
-  const H5::H5File file(path, H5F_ACC_RDONLY);
+  const io::Hdf5Reader file(path);
   SweepTable t;
-  for (int k = 0; k < file.getNumAttrs(); ++k) {
-    const H5::Attribute a = file.openAttribute(static_cast<unsigned>(k));
-    if (a.getTypeClass() != H5T_STRING) continue;
-    std::string value;
-    a.read(a.getStrType(), value);
-    t.attributes[a.getName()] = value;
-  }
+  t.attributes = file.Attributes("/");
   if (t.attributes["kind"] != "deploysim sweep results" ||
       t.attributes["schema_version"] != std::to_string(kResultsSchemaVersion)) {
     throw std::runtime_error(path + ": not a deploysim sweep results file of schema_version " +
@@ -273,54 +249,23 @@ SweepTable ReadContents(const std::string& path) {
     t.columns.push_back(columns.substr(start, comma - start));
     start = comma + 1;
   }
-  const H5::Group cases = file.openGroup("cases");
-  auto read_numbers = [&path](const H5::DataSet& ds, const std::string& name) {
-    const H5::DataSpace space = ds.getSpace();
-    const auto n = static_cast<std::size_t>(space.getSimpleExtentNpoints());
-    std::vector<double> v(n);
-    if (ds.getTypeClass() == H5T_INTEGER) {
-      std::vector<std::int64_t> iv(n);
-      if (n > 0) ds.read(iv.data(), H5::PredType::NATIVE_INT64);
-      for (std::size_t k = 0; k < n; ++k) v[k] = static_cast<double>(iv[k]);
-    } else if (ds.getTypeClass() == H5T_FLOAT) {
-      if (n > 0) ds.read(v.data(), H5::PredType::NATIVE_DOUBLE);
-    } else {
-      throw std::runtime_error(path + ": " + name + ": expected numbers");
-    }
-    return v;
-  };
   for (const std::string& name : t.columns) {
-    if (!cases.nameExists(name)) throw std::runtime_error(path + ": /cases/" + name + ": missing");
-    const H5::DataSet ds = cases.openDataSet(name);
-    t.units[name] = ReadTextAttribute(ds, "units");
+    const std::string dataset = "/cases/" + name;
+    if (!file.Exists(dataset)) throw std::runtime_error(path + ": " + dataset + ": missing");
+    t.units[name] = file.Attribute(dataset, "units");
     std::size_t rows = 0;
-    if (ds.getTypeClass() == H5T_STRING) {
-      const H5::DataSpace space = ds.getSpace();
-      const H5::StrType type = TextType();
-      std::vector<char*> buffer(static_cast<std::size_t>(space.getSimpleExtentNpoints()), nullptr);
-      std::vector<std::string> values;
-      if (!buffer.empty()) {
-        ds.read(buffer.data(), type);
-        for (char* s : buffer) values.emplace_back(s == nullptr ? "" : s);
-        H5::DataSet::vlenReclaim(buffer.data(), type, space);
-      }
-      rows = values.size();
-      t.texts[name] = std::move(values);
+    if (file.KindOf(dataset) == io::Hdf5Reader::Kind::kText) {
+      t.texts[name] = file.Strings(dataset);
+      rows = t.texts[name].size();
     } else {
-      t.numbers[name] = read_numbers(ds, "/cases/" + name);
+      t.numbers[name] = file.Numbers(dataset);
       rows = t.numbers[name].size();
     }
     if (name == t.columns.front()) t.rows = rows;
-    if (rows != t.rows) throw std::runtime_error(path + ": /cases/" + name + ": wrong length");
+    if (rows != t.rows) throw std::runtime_error(path + ": " + dataset + ": wrong length");
   }
-  const H5::Group timing = file.openGroup("timing");
-  t.run_time = read_numbers(timing.openDataSet("run_time"), "/timing/run_time");
-  for (int k = 0; k < timing.getNumAttrs(); ++k) {
-    const H5::Attribute a = timing.openAttribute(static_cast<unsigned>(k));
-    std::string value;
-    a.read(a.getStrType(), value);
-    t.timing[a.getName()] = value;
-  }
+  t.run_time = file.Numbers("/timing/run_time");
+  t.timing = file.Attributes("/timing");
   return t;
 }
 
@@ -370,13 +315,6 @@ void WriteSweepCsv(const std::string& path,
   out.Commit();
 }
 
-SweepTable ReadSweepResults(const std::string& path) {
-  const QuietErrors quiet;
-  try {
-    return ReadContents(path);
-  } catch (const H5::Exception& e) {
-    Throw(path, e);
-  }
-}
+SweepTable ReadSweepResults(const std::string& path) { return ReadContents(path); }
 
 }  // namespace deploysim::sweep

@@ -1,18 +1,16 @@
 #include "deploysim/sweep/runner.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
-#include <condition_variable>
-#include <exception>
 #include <filesystem>
-#include <mutex>
 #include <optional>
 #include <stdexcept>
-#include <thread>
 #include <vector>
 
 #include "deploysim/sweep/journal.h"
 #include "deploysim/sweep/outcome.h"
+#include "deploysim/sweep/parallel.h"
 #include "deploysim/sweep/progress.h"
 
 namespace deploysim::sweep {
@@ -44,9 +42,8 @@ std::vector<std::string> ExistingJournals(const std::string& output) {
 }
 
 int DefaultThreads(const MpiSession* mpi) {
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   const int local = mpi != nullptr ? std::max(1, mpi->local_size()) : 1;
-  return std::max(1, static_cast<int>(hw) / local);
+  return std::max(1, HardwareThreads() / local);
 }
 
 }  // namespace
@@ -105,62 +102,16 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
   }
   {
     JournalWriter journal(summary.journal, fingerprint, n);
-    std::atomic<std::size_t> next{0};
     std::atomic<std::size_t> finished{0};
-    std::atomic<bool> stop{false};
-    std::exception_ptr error;
-    std::mutex mutex;  // guards `error`; the main thread waits on `wake` with it
-    std::condition_variable wake;
-    auto cancelled = [&options] { return options.cancel != nullptr && options.cancel->load(); };
-
-    auto worker = [&] {
-      // An exception cannot cross a thread boundary by itself: hand the first one to the
-      // main thread, which rethrows it after the other workers have stopped.
-      try {
-        while (!stop.load() && !cancelled()) {
-          const std::size_t k = next.fetch_add(1);
-          if (k >= todo.size()) break;
-          const std::size_t i = todo[k];
-          const Case c = BuildCase(spec, i);
-          const CaseOutcome o = SimulateOutcome(c, spec.outcome);
-          journal.Append(i, o);
-          outcomes[i] = o;  // slot i is this worker's alone
-          finished.fetch_add(1);
-          if (options.on_case_done) options.on_case_done(i);
-        }
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(mutex);
-        if (!error) error = std::current_exception();
-        stop.store(true);
-      }
-    };
-
-    const auto parallel0 = std::chrono::steady_clock::now();
-    const std::size_t workers =
-        std::min(static_cast<std::size_t>(summary.threads), std::max<std::size_t>(todo.size(), 1));
-    std::atomic<std::size_t> running{workers};
-    std::vector<std::thread> pool;
-    pool.reserve(workers);
-    for (std::size_t t = 0; t < workers; ++t) {
-      pool.emplace_back([&] {
-        worker();
-        {
-          const std::lock_guard<std::mutex> lock(mutex);
-          running.fetch_sub(1);
-        }
-        wake.notify_all();
-      });
+    ParallelOptions parallel;
+    parallel.threads = summary.threads;
+    if (options.cancel != nullptr) {
+      parallel.cancelled = [&options] { return options.cancel->load(); };
     }
-    // The main thread: progress and periodic fsync while the workers run.
+    // The calling thread: progress and periodic fsync while the workers run.
     auto last_sync = std::chrono::steady_clock::now();
-    for (;;) {
-      {
-        std::unique_lock<std::mutex> lock(mutex);
-        if (wake.wait_for(lock, std::chrono::duration<double>(kPollInterval),
-                          [&] { return running.load() == 0; })) {
-          break;
-        }
-      }
+    parallel.monitor_interval = kPollInterval;
+    parallel.monitor = [&] {
       const auto now = std::chrono::steady_clock::now();
       if (std::chrono::duration<double>(now - last_sync).count() >= kSyncInterval) {
         journal.Sync();
@@ -171,12 +122,25 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
         progress->Update(summary.resumed +
                          finished.load() * static_cast<std::size_t>(summary.ranks));
       }
-    }
-    for (std::thread& t : pool) t.join();
+    };
+    const auto parallel0 = std::chrono::steady_clock::now();
+    // A worker's exception is rethrown after the others have stopped (ParallelFor); the
+    // journal keeps every case finished before it.
+    ParallelFor(
+        todo.size(),
+        [&](std::size_t k) {
+          const std::size_t i = todo[k];
+          const Case c = BuildCase(spec, i);
+          const CaseOutcome o = SimulateOutcome(c, spec.outcome);
+          journal.Append(i, o);
+          outcomes[i] = o;  // slot i is this worker's alone
+          finished.fetch_add(1);
+          if (options.on_case_done) options.on_case_done(i);
+        },
+        parallel);
     summary.parallel_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - parallel0).count();
     journal.Sync();
-    if (error) std::rethrow_exception(error);
     summary.computed = finished.load();
   }
 

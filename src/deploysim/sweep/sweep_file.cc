@@ -1,31 +1,28 @@
-// LoadSweep: sweep files (docs/sweeps.md) with the strict YAML helpers of io.
+// LoadSweep: sweep files (docs/sweeps.md) with io's strict YAML reader (io/yaml_fields.h,
+// which keeps yaml-cpp inside io).
 
 #include "deploysim/sweep/sweep_file.h"
 
 #include <algorithm>
-#include <atomic>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <limits>
-#include <mutex>
 #include <stdexcept>
-#include <thread>
 #include <vector>
 
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/io/yaml_fields.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/number_format.h"
+#include "deploysim/sweep/parallel.h"
 
 namespace deploysim::sweep {
 
 namespace {
 
-using io::internal::Fields;
-using io::internal::FormatNumber;
-using io::internal::YamlDocument;
+using io::yaml::Fields;
+using io::yaml::YamlDocument;
+using io::yaml::YamlNode;
+using math::FormatNumber;
 
 constexpr double kDegree = 0.017453292519943295;  // [rad]
 constexpr double kRpm = 0.10471975511965977;      // [rad/s] (2 pi / 60)
@@ -97,12 +94,11 @@ bool IsMoveStage(const schedule::Profile& p, std::size_t i) {
 }
 
 int ReadStage(const Fields& f, const schedule::Profile& base) {
-  const YAML::Node& node = f.Get("stage");
+  const YamlNode& node = f.Get("stage");
   // A plain (unquoted) run of digits is an index; anything else is a stage name.
-  const bool plain = node.IsScalar() && node.Tag() == "?";
-  if (plain && !node.Scalar().empty() &&
+  if (node.IsPlainScalar() && !node.Scalar().empty() &&
       node.Scalar().find_first_not_of("0123456789") == std::string::npos) {
-    const double x = io::internal::ReadNumber(f.doc(), node, f.Key("stage"));
+    const double x = io::yaml::ReadNumber(f.doc(), node, f.Key("stage"));
     if (x >= static_cast<double>(base.stages.size())) {
       f.Fail("stage", "a stage index must be in [0, " + std::to_string(base.stages.size()) +
                           ") (the stages of " + base.source + ", counted from 0)");
@@ -212,20 +208,20 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
 
 /// A number of the parameter's kind at `key` (file units), checked against its range.
 double ReadValue(const Fields& f,
-                 const YAML::Node& node,
+                 const YamlNode& node,
                  const std::string& key,
                  const ParameterInfo& p) {
-  const double v = io::internal::ReadNumber(f.doc(), node, key);
+  const double v = io::yaml::ReadNumber(f.doc(), node, key);
   if (!InRange(p, v)) f.doc().Fail(key, node, std::string(p.name) + " " + p.rule);
   return v * p.to_si;
 }
 
 /// A category name of a categorical parameter -> its code.
 double ReadCategory(const Fields& f,
-                    const YAML::Node& node,
+                    const YamlNode& node,
                     const std::string& key,
                     const ParameterInfo& p) {
-  const std::string name = io::internal::ReadText(f.doc(), node, key);
+  const std::string name = io::yaml::ReadText(f.doc(), node, key);
   const std::vector<std::string>& cats = CategoriesOf(p.parameter);
   for (std::size_t i = 0; i < cats.size(); ++i) {
     if (cats[i] == name) return static_cast<double>(i);
@@ -233,8 +229,8 @@ double ReadCategory(const Fields& f,
   f.doc().Fail(key, node, std::string("unknown ") + p.name + " (valid: " + JoinNames(cats) + ")");
 }
 
-double ReadCount(const Fields& f, const YAML::Node& node, const std::string& key, double min) {
-  const double n = io::internal::ReadNumber(f.doc(), node, key);
+double ReadCount(const Fields& f, const YamlNode& node, const std::string& key, double min) {
+  const double n = io::yaml::ReadNumber(f.doc(), node, key);
   if (n != std::floor(n) || n < min || n > kMaxAxisValues) {
     f.doc().Fail(
         key, node,
@@ -255,8 +251,8 @@ std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p) {
   }
   std::vector<double> values;
   if (f.Has("values")) {
-    const std::vector<YAML::Node> nodes =
-        io::internal::SequenceElements(f.doc(), f.Get("values"), f.Key("values"), "values");
+    const std::vector<YamlNode> nodes =
+        io::yaml::SequenceElements(f.doc(), f.Get("values"), f.Key("values"), "values");
     if (nodes.empty()) f.Fail("values", "at least one value is required");
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       const std::string key = f.Key("values") + "[" + std::to_string(i) + "]";
@@ -271,8 +267,8 @@ std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p) {
   const bool log = f.Has("logspace");
   const std::string key = log ? "logspace" : "linspace";
   if (categorical) f.Fail(key, std::string(p.name) + " takes `values` (names), not " + key);
-  const std::vector<YAML::Node> nodes =
-      io::internal::SequenceElements(f.doc(), f.Get(key), f.Key(key), key);
+  const std::vector<YamlNode> nodes =
+      io::yaml::SequenceElements(f.doc(), f.Get(key), f.Key(key), key);
   if (nodes.size() != 3) f.Fail(key, "must be [first, last, count]");
   const double a = ReadValue(f, nodes[0], f.Key(key) + "[0]", p);
   const double b = ReadValue(f, nodes[1], f.Key(key) + "[1]", p);
@@ -302,8 +298,8 @@ Distribution ReadDistribution(const Fields& f, const ParameterInfo& p) {
   Distribution d;
   if (f.Has("choice")) {
     d.kind = Distribution::Kind::kChoice;
-    const std::vector<YAML::Node> nodes =
-        io::internal::SequenceElements(f.doc(), f.Get("choice"), f.Key("choice"), "choice");
+    const std::vector<YamlNode> nodes =
+        io::yaml::SequenceElements(f.doc(), f.Get("choice"), f.Key("choice"), "choice");
     if (nodes.empty()) f.Fail("choice", "at least one choice is required");
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       const std::string key = f.Key("choice") + "[" + std::to_string(i) + "]";
@@ -318,8 +314,8 @@ Distribution ReadDistribution(const Fields& f, const ParameterInfo& p) {
   }
   if (f.Has("uniform")) {
     d.kind = Distribution::Kind::kUniform;
-    const std::vector<YAML::Node> nodes =
-        io::internal::SequenceElements(f.doc(), f.Get("uniform"), f.Key("uniform"), "uniform");
+    const std::vector<YamlNode> nodes =
+        io::yaml::SequenceElements(f.doc(), f.Get("uniform"), f.Key("uniform"), "uniform");
     if (nodes.size() != 2) f.Fail("uniform", "must be [low, high]");
     d.a = ReadValue(f, nodes[0], f.Key("uniform") + "[0]", p);
     d.b = ReadValue(f, nodes[1], f.Key("uniform") + "[1]", p);
@@ -357,22 +353,6 @@ Distribution ReadDistribution(const Fields& f, const ParameterInfo& p) {
     n.Fail("mean", "the truncation bounds [min, max] lie more than 3 sigma from the mean");
   }
   return d;
-}
-
-std::string ResolvePath(const Fields& top, const std::string& key) {
-  const std::string relative = top.Text(key);
-  if (relative.empty()) top.Fail(key, "must name a file");
-  const std::filesystem::path resolved =
-      (std::filesystem::path(top.doc().path()).parent_path() / relative).lexically_normal();
-  std::error_code ec;
-  const bool is_dir = std::filesystem::is_directory(resolved, ec);
-  std::ifstream probe(resolved);
-  if (is_dir || !probe) {
-    throw std::runtime_error(top.doc().path() + ": " + key + " = " + relative + ": cannot read " +
-                             resolved.string() + ": " +
-                             (is_dir ? std::string("is a directory") : std::strerror(errno)));
-  }
-  return resolved.string();
 }
 
 void ReadIntegrator(const Fields& top, schedule::Profile& base) {
@@ -413,43 +393,16 @@ void ReadIntegrator(const Fields& top, schedule::Profile& base) {
 
 void ValidateCases(const SweepSpec& spec) {
   // Every case once, on all hardware threads (building a case costs ~5% of running it);
-  // the error reported is that of the lowest failing case, as a serial loop would.
-  const std::size_t n = spec.case_count();
-  constexpr std::size_t kChunk = 64;
-  std::atomic<std::size_t> next{0};
-  std::atomic<std::size_t> first_bad{n};
-  std::exception_ptr error;
-  std::mutex mutex;
-  auto work = [&] {
-    for (;;) {
-      const std::size_t begin = next.fetch_add(kChunk);
-      if (begin >= n || begin >= first_bad.load()) return;
-      for (std::size_t i = begin; i < std::min(n, begin + kChunk); ++i) {
-        // An exception cannot leave a worker thread: keep the lowest case's for the caller.
-        try {
-          (void)BuildCase(spec, i);
-        } catch (...) {
-          const std::lock_guard<std::mutex> lock(mutex);
-          if (i < first_bad.load()) {
-            first_bad.store(i);
-            error = std::current_exception();
-          }
-          return;
-        }
-      }
-    }
-  };
-  const std::size_t threads = std::min<std::size_t>(
-      std::max(1u, std::thread::hardware_concurrency()), (n + kChunk - 1) / kChunk);
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  // the error reported is that of the lowest failing case, as a serial loop would
+  // (ParallelFor's rule).
+  ParallelOptions parallel;
+  parallel.chunk = 64;
+  ParallelFor(
+      spec.case_count(), [&spec](std::size_t i) { (void)BuildCase(spec, i); }, parallel);
 }
 
 SweepSpec LoadSweep(const std::string& path) {
-  const YamlDocument doc(path, io::internal::ReadTextFile(path));
+  const YamlDocument doc(path, io::yaml::ReadTextFile(path));
   const Fields top(doc, doc.root(), "",
                    {"name", "description", "base", "integrator", "grid", "monte_carlo", "outcome"});
   SweepSpec spec;
@@ -458,8 +411,8 @@ SweepSpec LoadSweep(const std::string& path) {
   spec.name = top.Text("name");
   if (spec.name.empty()) top.Fail("name", "must not be empty");
   spec.description = top.OptionalText("description").value_or("");
-  spec.base = io::LoadProfile(ResolvePath(top, "base"));
-  spec.model_text = io::internal::ReadTextFile(spec.base.model.source);
+  spec.base = io::LoadProfile(top.FilePath("base"));
+  spec.model_text = io::yaml::ReadTextFile(spec.base.model.source);
   ReadIntegrator(top, spec.base);
   if (!top.Has("grid") && !top.Has("monte_carlo")) {
     doc.Fail("grid", "required key is missing: a sweep needs a grid, monte_carlo, or both");
@@ -484,8 +437,8 @@ SweepSpec LoadSweep(const std::string& path) {
 
   double cases = 1.0;
   if (top.Has("grid")) {
-    const std::vector<YAML::Node> axes =
-        io::internal::SequenceElements(doc, top.Get("grid"), "grid", "grid");
+    const std::vector<YamlNode> axes =
+        io::yaml::SequenceElements(doc, top.Get("grid"), "grid", "grid");
     if (axes.empty()) top.Fail("grid", "at least one axis is required (or leave grid out)");
     for (std::size_t k = 0; k < axes.size(); ++k) {
       const Fields f(doc, axes[k], "grid[" + std::to_string(k) + "]",
@@ -506,8 +459,8 @@ SweepSpec LoadSweep(const std::string& path) {
       m.Fail("seed", "must be an integer in [0, 2^53]");
     }
     mc.seed = static_cast<std::uint64_t>(seed);
-    const std::vector<YAML::Node> params =
-        io::internal::SequenceElements(doc, m.Get("parameters"), m.Key("parameters"), "parameters");
+    const std::vector<YamlNode> params =
+        io::yaml::SequenceElements(doc, m.Get("parameters"), m.Key("parameters"), "parameters");
     if (params.empty()) m.Fail("parameters", "at least one parameter is required");
     for (std::size_t k = 0; k < params.size(); ++k) {
       const Fields f(doc, params[k], m.Key("parameters") + "[" + std::to_string(k) + "]",

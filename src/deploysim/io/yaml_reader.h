@@ -1,0 +1,52 @@
+#pragma once
+
+/// Model and deployment-profile files (YAML) -> validated structs, strictly
+/// (docs/file_formats.md, DESIGN.md 5): unknown keys, missing required keys, wrong types,
+/// non-finite numbers and non-physical values are errors. Every error is thrown as ONE
+/// line naming the file, the key path, the value as written and the rule:
+///
+///     deployment_profiles/x.yaml: stages[2].until = 40: stage end times must increase (previous
+///     stage ends at 60)
+///
+/// std::invalid_argument for bad content, std::runtime_error for files that cannot be
+/// read. Degrees in files (`..._deg`) become radians here; nothing downstream sees them.
+///
+/// Library deploysim::io_yaml: it depends on model and schedule only (not on the
+/// integrators, analysis or HDF5), so a program that only reads models and profiles links
+/// none of those. A profile read here has not been checked against the integrator
+/// registry; io::LoadProfile (yaml_loader.h, deploysim::io) adds those run-setting rules.
+
+#include <optional>
+#include <string>
+
+#include "deploysim/model/model.h"
+#include "deploysim/schedule/profile.h"
+
+namespace deploysim::io {
+
+/// Reads a model file (`kind: tensors` or `kind: hinged`). Model::source = path,
+/// Model::text = the file's text.
+/// Hinged models have their hinge axes normalized (model::ValidatedHingedBody).
+model::Model LoadModel(const std::string& path);
+
+/// Reads a deployment profile and the model it names (`model:`, relative to the
+/// profile's directory). Profile::source = path, Profile::text = the file's text.
+/// The attitude quaternion is normalized; stages get contiguous [t_begin, t_end] and
+/// their `from` configuration (the previous stage's `to`). The result has passed
+/// schedule::ValidateProfile; the integrator settings are read but not checked against
+/// the integrators (use io::LoadProfile for a profile that is to be run).
+schedule::Profile ReadProfile(const std::string& path);
+
+/// "tensor" | "geometry" -> Mode, "quasi-rigid" | "exact" -> Coupling (the names of
+/// schedule::ToString). Throw std::invalid_argument "<name>: unknown mode (valid: ...)".
+schedule::Mode ParseMode(const std::string& name);
+schedule::Coupling ParseCoupling(const std::string& name);
+
+/// The same look-ups without throwing (nullopt for an unknown name), and the valid names
+/// as "a, b" for messages.
+std::optional<schedule::Mode> FindMode(const std::string& name);
+std::optional<schedule::Coupling> FindCoupling(const std::string& name);
+std::string ModeNames();
+std::string CouplingNames();
+
+}  // namespace deploysim::io
