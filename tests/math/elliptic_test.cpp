@@ -18,10 +18,9 @@ namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 /// Argument uncertainty of the half-period reduction, relative to |u|: K and the reduction
-/// are in long double (platform epsilon), so an exact double u is reduced with error
-/// <= a few long-double ulps of |u|.
-constexpr double kReductionEps =
-    8.0 * static_cast<double>(std::numeric_limits<long double>::epsilon());
+/// are in double-double (math::kDoubleDoubleEps = 2^-104 on every platform), so an exact
+/// double u is reduced with error <= a few double-double ulps of |u|.
+constexpr double kReductionEps = 8.0 * kDoubleDoubleEps;
 /// Relative error allowed in sn, cn, dn on top of the argument uncertainty (measured:
 /// 0.77 eps, i.e. correctly rounded or nearly so, thanks to the long-double core).
 constexpr double kJacobiRelTol = 2.0 * kEps;

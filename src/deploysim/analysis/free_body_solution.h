@@ -23,12 +23,13 @@
 ///   D = I2 (separatrix): h1 = s1 A1 sech u, h2 = s1 s3 A2 tanh u, h3 = s3 A3 sech u with
 ///       two independent signs s1 = sign h1, s3 = sign h3 (lambda as for minor);
 /// A1^2 = I1 P3/(I3-I1), A3^2 = I3 P1/(I3-I1), A2^2 = I2 P1/(I2-I1) (minor) or
-/// I2 P3/(I3-I2) (major); M^2 = A1^2 + A3^2. 1 - k^2 is never formed as 1 - k^2: P1 and
-/// P3 (sums of non-negative terms) are formed in long double and P2 with error-free
-/// products and sums (~128 bits), so 1 - k^2 has long-double accuracy however deep the
-/// cancellation in P2 (|P2| below 1e-30 of its terms counts as the separatrix). A full J_B
-/// is diagonalised to long double first (the double eigen-decomposition's O(eps) error
-/// would otherwise be amplified like 1/(1 - k^2)). The phase u0 comes from the Carlson form
+/// I2 P3/(I3-I2) (major); M^2 = A1^2 + A3^2. 1 - k^2 is never formed as 1 - k^2: P1, P2
+/// and P3 are formed in double-double (math::DoubleDouble, ~106 bits), so 1 - k^2 is
+/// accurate to ~1e-31 of P2's terms however deep the cancellation in P2 (|P2| below 1e-30
+/// of its terms counts as the separatrix). A full J_B is diagonalised to double-double
+/// first (math::AccuratePrincipalDecomposition: the double eigen-decomposition's O(eps)
+/// error would otherwise be amplified like 1/(1 - k^2)), and H_B0 is projected on the
+/// axes in double-double. The phase u0 comes from the Carlson form
 /// of F (math::InverseJacobi), quadrant by the signs.
 /// Two equal moments (within kEqualMomentsRelTol) are the axisymmetric limit of the same
 /// formulas with k = 0 (sn = sin, cn = cos, dn = 1): continuous with the general case.

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "deploysim/dynamics/rigid_body.h"
+#include "deploysim/math/double_double.h"
 #include "deploysim/math/quaternion.h"
 #include "deploysim/math/so3.h"
 
@@ -14,11 +15,14 @@ namespace deploysim::integrators {
 namespace {
 constexpr int kMaxStages = 16;
 
-// Quaternion arithmetic in long double (x87 extended precision, 64-bit mantissa), used
-// only for the attitude update, to compute its rounding error: written out here because
-// Eigen's quaternions are not meant for long double and the update is a few products.
+// Quaternion arithmetic in double-double (math::DoubleDouble, ~106 bits on every
+// platform), used only for the attitude update, to compute its rounding error: written out
+// here because Eigen's quaternions are not meant for it and the update is a few products.
+// ("L" for the lifted precision.)
+using math::DoubleDouble;
+
 struct QuatL {
-  long double w, x, y, z;
+  DoubleDouble w, x, y, z;
 };
 
 QuatL ToL(const math::Quat& q) { return {q.w(), q.x(), q.y(), q.z()}; }
@@ -29,32 +33,34 @@ QuatL Mul(const QuatL& a, const QuatL& b) {
       a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
 
-// Exp of a rotation vector (lx, ly, lz) [rad].
-QuatL ExpL(long double x, long double y, long double z) {
-  const long double a = std::sqrt(x * x + y * y + z * z);
-  if (a < 1e-9L) {
-    const long double a2 = a * a;
-    const long double s = 0.5L * (1.0L - a2 / 24.0L);
-    return {1.0L - a2 / 8.0L, s * x, s * y, s * z};
+// Exp of a rotation vector (x, y, z) [rad].
+QuatL ExpL(const DoubleDouble& x, const DoubleDouble& y, const DoubleDouble& z) {
+  const DoubleDouble a2 = Square(x) + Square(y) + Square(z);
+  if (a2 < 1e-18) {  // |a| < 1e-9: the series' next terms are below 1e-37
+    const DoubleDouble s = 0.5 - a2 / 48.0;
+    return {1.0 - a2 / 8.0, s * x, s * y, s * z};
   }
-  const long double s = std::sin(0.5L * a) / a;
-  return {std::cos(0.5L * a), s * x, s * y, s * z};
+  const DoubleDouble a = Sqrt(a2);
+  DoubleDouble sin_half, cos_half;
+  math::SinCos(a * 0.5, &sin_half, &cos_half);
+  const DoubleDouble s = sin_half / a;
+  return {cos_half, s * x, s * y, s * z};
 }
 
 // q1 (the rounded double quaternion, unit) and the carry delta with q1 Exp(delta) = exact
-// to extended precision.
+// to double-double precision.
 void RoundWithCarry(const QuatL& exact, math::Quat& q1, math::Vec3& delta) {
-  const long double n =
-      std::sqrt(exact.w * exact.w + exact.x * exact.x + exact.y * exact.y + exact.z * exact.z);
+  const DoubleDouble n =
+      Sqrt(Square(exact.w) + Square(exact.x) + Square(exact.y) + Square(exact.z));
   const QuatL e{exact.w / n, exact.x / n, exact.y / n, exact.z / n};
   q1 = math::Quat(static_cast<double>(e.w), static_cast<double>(e.x), static_cast<double>(e.y),
                   static_cast<double>(e.z))
            .normalized();
   // q1^-1 e = (1, delta/2) to first order (delta ~ 1e-16 rad).
   const QuatL d = Mul(QuatL{q1.w(), -q1.x(), -q1.y(), -q1.z()}, e);
-  const long double sign = d.w < 0 ? -2.0L : 2.0L;
-  delta = math::Vec3(static_cast<double>(sign * d.x), static_cast<double>(sign * d.y),
-                     static_cast<double>(sign * d.z));
+  const double sign = d.w < 0.0 ? -2.0 : 2.0;
+  delta = math::Vec3(sign * static_cast<double>(d.x), sign * static_cast<double>(d.y),
+                     sign * static_cast<double>(d.z));
 }
 }  // namespace
 
@@ -111,10 +117,10 @@ StepAttempt RkmkStepper::Step(const Problem& problem,
   // double becomes the next carry, so rounding does not accumulate over the steps: near
   // the separatrix every 1e-16 rad would move the flips (DESIGN.md 6).
   const math::Vec3 a = (sigma * h) * h_N;
-  const QuatL q1_exact = Mul(Mul(ExpL(a.x(), a.y(), a.z()), ToL(y.q_NB)),
-                             ExpL(static_cast<long double>(u1.x()) + y.attitude_carry.x(),
-                                  static_cast<long double>(u1.y()) + y.attitude_carry.y(),
-                                  static_cast<long double>(u1.z()) + y.attitude_carry.z()));
+  const QuatL q1_exact = Mul(
+      Mul(ExpL(a.x(), a.y(), a.z()), ToL(y.q_NB)),
+      ExpL(math::TwoSum(u1.x(), y.attitude_carry.x()), math::TwoSum(u1.y(), y.attitude_carry.y()),
+           math::TwoSum(u1.z(), y.attitude_carry.z())));
   math::Quat q1;
   math::Vec3 carry1;
   RoundWithCarry(q1_exact, q1, carry1);
