@@ -14,8 +14,13 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kHalfPi = 1.5707963267948966192;
 /// AGM stopping rule of Bulirsch's sncndn: |a - b| <= kAgmTol a leaves an error of order
-/// kAgmTol^2 / 16 ~ 6e-34 in the mean, below double-double rounding.
-constexpr double kAgmTol = 1e-16;
+/// kAgmTol^2 / 16 ~ 6e-22 in the mean used by the Landen core, whose relative sensitivity
+/// to it is ~ x <= K/2: ~1e-20, far below double rounding of the results (near the
+/// zeros, where relative accuracy needs more, the series branch takes over).
+constexpr double kAgmTol = 1e-10;
+/// K, which sets the reduction u = 2K j + r for all |u|, takes the AGM further, to
+/// |a - b| <= kAgmTolK a (error ~6e-34, below double-double rounding).
+constexpr double kAgmTolK = 1e-16;
 /// Below this argument sn, cn, dn come from their Taylor series (error O(x^4) < 1e-36);
 /// avoids cot(x) overflow in the Landen recursion for tiny x.
 constexpr double kSeriesBelow = 1e-9;
@@ -111,14 +116,15 @@ JacobiElliptic::JacobiElliptic(double mc) : mc_(mc) {
     K_dd_ = kInf;
     return;
   }
-  // Bulirsch's AGM table: a_0 = 1, b_0 = sqrt(mc), b_{i+1} = sqrt(a_i b_i); the mean of the
-  // last pair is AGM(1, sqrt(mc)) to kAgmTol^2 / 16, and K = pi / (2 AGM).
+  // Bulirsch's AGM table: a_0 = 1, b_0 = sqrt(mc), b_{i+1} = sqrt(a_i b_i), until
+  // |a - b| <= kAgmTol a; the mean of the last pair is AGM(1, sqrt(mc)) to kAgmTol^2 / 16.
   DoubleDouble a = 1.0;
   DoubleDouble emc = mc;
   DoubleDouble c = 1.0;
   for (int i = 0; i < kMaxLevels; ++i) {
     levels_ = i + 1;
     a_[i] = a;
+    inv_a_[i] = 1.0 / a;
     emc = Sqrt(emc);
     b_[i] = emc;
     c = (a + emc) * 0.5;
@@ -127,7 +133,15 @@ JacobiElliptic::JacobiElliptic(double mc) : mc_(mc) {
     a = c;
   }
   agm_ = c;
-  K_dd_ = kPiDD / (agm_ * 2.0);
+  // K = pi / (2 AGM), the AGM taken on to double-double accuracy.
+  DoubleDouble b = Sqrt(emc * a);
+  a = c;
+  for (int i = 0; i < 8 && Abs(a - b) > a * kAgmTolK; ++i) {
+    const DoubleDouble next = (a + b) * 0.5;
+    b = Sqrt(a * b);
+    a = next;
+  }
+  K_dd_ = kPiDD / (a + b);
 }
 
 JacobiElliptic::Extended JacobiElliptic::Landen(const DoubleDouble& x) const {
@@ -143,11 +157,10 @@ JacobiElliptic::Extended JacobiElliptic::Landen(const DoubleDouble& x) const {
   DoubleDouble c = agm_ * a;
   DoubleDouble dn = 1.0;
   for (int i = levels_ - 1; i >= 0; --i) {
-    const DoubleDouble& b = a_[i];
     a *= c;
     c *= dn;
-    dn = (b_[i] + a) / (b + a);
-    a = c / b;
+    dn = (b_[i] + a) / (a_[i] + a);
+    a = c * inv_a_[i];
   }
   const DoubleDouble sn = 1.0 / Sqrt(Square(c) + 1.0);
   return {sn, c * sn, dn};

@@ -109,8 +109,9 @@ class JacobiElliptic {
   DoubleDouble K_dd_;
   int levels_ = 0;
   DoubleDouble agm_ = 1.0;
-  std::array<DoubleDouble, kMaxLevels> a_{};  ///< AGM means a_i, a_0 = 1.
-  std::array<DoubleDouble, kMaxLevels> b_{};  ///< AGM geometric means b_i, b_0 = sqrt(mc).
+  std::array<DoubleDouble, kMaxLevels> a_{};      ///< AGM means a_i, a_0 = 1.
+  std::array<DoubleDouble, kMaxLevels> inv_a_{};  ///< 1 / a_i.
+  std::array<DoubleDouble, kMaxLevels> b_{};      ///< AGM geometric means b_i, b_0 = sqrt(mc).
 };
 
 /// sn, cn, dn of u for complementary parameter mc (JacobiElliptic(mc)(u)).
