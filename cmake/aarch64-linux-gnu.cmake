@@ -8,6 +8,10 @@ set(CMAKE_SYSTEM_PROCESSOR aarch64)
 set(CMAKE_C_COMPILER aarch64-linux-gnu-gcc)
 set(CMAKE_CXX_COMPILER aarch64-linux-gnu-g++)
 set(CMAKE_LIBRARY_ARCHITECTURE aarch64-linux-gnu)
+# GCC notes (not warnings) that std::pair<double, double> is passed as in C++14 since
+# GCC 10.1 on this ABI: informational, and deploysim passes no such type across libraries
+# built by different compilers.
+set(CMAKE_CXX_FLAGS_INIT "-Wno-psabi")
 
 # Target libraries come from the multiarch directories of the host root (not a separate
 # sysroot), so the package search is not confined to a root path; programs are the host's.

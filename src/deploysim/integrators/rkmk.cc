@@ -25,13 +25,17 @@ struct QuatL {
   DoubleDouble w, x, y, z;
 };
 
-QuatL ToL(const math::Quat& q) { return {q.w(), q.x(), q.y(), q.z()}; }
-
-QuatL Mul(const QuatL& a, const QuatL& b) {
-  return {
-      a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-      a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+// Hamilton product a b; B is QuatL or a double quaternion (then the products are the
+// cheaper double-double times double).
+template <class B>
+QuatL MulT(const QuatL& a, const B& bw, const B& bx, const B& by, const B& bz) {
+  return {a.w * bw - a.x * bx - a.y * by - a.z * bz, a.w * bx + a.x * bw + a.y * bz - a.z * by,
+          a.w * by - a.x * bz + a.y * bw + a.z * bx, a.w * bz + a.x * by - a.y * bx + a.z * bw};
 }
+
+QuatL Mul(const QuatL& a, const QuatL& b) { return MulT(a, b.w, b.x, b.y, b.z); }
+
+QuatL Mul(const QuatL& a, const math::Quat& b) { return MulT(a, b.w(), b.x(), b.y(), b.z()); }
 
 // Exp of a rotation vector (x, y, z) [rad].
 QuatL ExpL(const DoubleDouble& x, const DoubleDouble& y, const DoubleDouble& z) {
@@ -50,17 +54,23 @@ QuatL ExpL(const DoubleDouble& x, const DoubleDouble& y, const DoubleDouble& z) 
 // q1 (the rounded double quaternion, unit) and the carry delta with q1 Exp(delta) = exact
 // to double-double precision.
 void RoundWithCarry(const QuatL& exact, math::Quat& q1, math::Vec3& delta) {
-  const DoubleDouble n =
-      Sqrt(Square(exact.w) + Square(exact.x) + Square(exact.y) + Square(exact.z));
-  const QuatL e{exact.w / n, exact.x / n, exact.y / n, exact.z / n};
+  const DoubleDouble inv_n =
+      1.0 / Sqrt(Square(exact.w) + Square(exact.x) + Square(exact.y) + Square(exact.z));
+  const QuatL e{exact.w * inv_n, exact.x * inv_n, exact.y * inv_n, exact.z * inv_n};
   q1 = math::Quat(static_cast<double>(e.w), static_cast<double>(e.x), static_cast<double>(e.y),
                   static_cast<double>(e.z))
            .normalized();
-  // q1^-1 e = (1, delta/2) to first order (delta ~ 1e-16 rad).
-  const QuatL d = Mul(QuatL{q1.w(), -q1.x(), -q1.y(), -q1.z()}, e);
-  const double sign = d.w < 0.0 ? -2.0 : 2.0;
-  delta = math::Vec3(sign * static_cast<double>(d.x), sign * static_cast<double>(d.y),
-                     sign * static_cast<double>(d.z));
+  // q1^-1 e = (1, delta/2) to first order (delta ~ 1e-16 rad); q1 is double, so the
+  // products are double-double times double. Only the vector part is needed, and only its
+  // sign-corrected value: d.w ~ +-1.
+  const double w = q1.w(), x = -q1.x(), y = -q1.y(), z = -q1.z();
+  const DoubleDouble dw = e.w * w - e.x * x - e.y * y - e.z * z;
+  const DoubleDouble dx = e.x * w + e.w * x + e.z * y - e.y * z;
+  const DoubleDouble dy = e.y * w - e.z * x + e.w * y + e.x * z;
+  const DoubleDouble dz = e.z * w + e.y * x - e.x * y + e.w * z;
+  const double sign = dw < 0.0 ? -2.0 : 2.0;
+  delta = math::Vec3(sign * static_cast<double>(dx), sign * static_cast<double>(dy),
+                     sign * static_cast<double>(dz));
 }
 }  // namespace
 
@@ -117,10 +127,10 @@ StepAttempt RkmkStepper::Step(const Problem& problem,
   // double becomes the next carry, so rounding does not accumulate over the steps: near
   // the separatrix every 1e-16 rad would move the flips (DESIGN.md 6).
   const math::Vec3 a = (sigma * h) * h_N;
-  const QuatL q1_exact = Mul(
-      Mul(ExpL(a.x(), a.y(), a.z()), ToL(y.q_NB)),
-      ExpL(math::TwoSum(u1.x(), y.attitude_carry.x()), math::TwoSum(u1.y(), y.attitude_carry.y()),
-           math::TwoSum(u1.z(), y.attitude_carry.z())));
+  const QuatL q1_exact =
+      Mul(Mul(ExpL(a.x(), a.y(), a.z()), y.q_NB), ExpL(math::TwoSum(u1.x(), y.attitude_carry.x()),
+                                                       math::TwoSum(u1.y(), y.attitude_carry.y()),
+                                                       math::TwoSum(u1.z(), y.attitude_carry.z())));
   math::Quat q1;
   math::Vec3 carry1;
   RoundWithCarry(q1_exact, q1, carry1);
