@@ -65,7 +65,7 @@ double InverseJacobi(double sn, double cn, double dn, double mc);
 /// K/2 (sech-like decay), which would cost ~10 ulp in double. Measured against 40-digit mpmath
 /// values (tests/math/elliptic_test.cpp), mc from 1 to 1e-16 and 0, |u| up to 300 K: 0.8 eps
 /// relative where the argument's own rounding does not dominate, i.e. the value of a correctly
-/// rounded evaluation at an argument within ~1e-30 |u| of u. Cost ~0.3 us per evaluation on x86-64.
+/// rounded evaluation at an argument within ~1e-30 |u| of u. Cost ~0.4 us per evaluation on x86-64.
 class JacobiElliptic {
  public:
   /// mc in [0, 1]; throws std::invalid_argument otherwise.
