@@ -1,6 +1,7 @@
 #include "deploysim/analysis/free_body_solution.h"
 
 #include <algorithm>
+#include <array>
 #include <boost/math/special_functions/ellint_rj.hpp>
 #include <cmath>
 #include <limits>
@@ -16,10 +17,10 @@ namespace {
 using math::Quat;
 using math::SnCnDn;
 using math::Vec3;
-using Ld = long double;
+using DD = math::DoubleDouble;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-/// Boost.Math evaluates double special functions in long double by default (10x slower
+/// Boost.Math evaluates double special functions in extended precision by default (10x slower
 /// here); R_J in double is accurate to a few ulp, all the periodic part of psi needs.
 using FastPolicy = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
 constexpr double kPi = 3.14159265358979323846;
@@ -37,112 +38,20 @@ Vec3 Pattern(const Vec3& coef, int dn_axis, int cn_axis, const SnCnDn& f) {
   return h;
 }
 
-using Vec3L = Eigen::Matrix<Ld, 3, 1>;
-using Mat3L = Eigen::Matrix<Ld, 3, 3>;
+/// Below this fraction of its terms P2 is not resolved by the double-double evaluation
+/// (error <= ~20 u^2 = 2.5e-31 of its terms) and is taken as 0 (the separatrix);
+/// 1 - k^2 < ~1e-30 would give K > 35 anyway. Exact separatrix data (e.g. I2 the harmonic
+/// mean of I1, I3 and |h1| = |h3|) then land on it.
+constexpr double kSeparatrixRelTol = 1e-30;
 
-/// Principal decomposition of J polished to long double: the double eigenvectors of
-/// math::InertiaTensor::Principal are re-orthonormalised and V^T J V is diagonalised by
-/// cyclic Jacobi rotations in long double. Near the separatrix the motion is sensitive to
-/// the moments like 1/(1 - k^2), so the double decomposition's O(eps) perturbation of a
-/// full tensor would cost ~eps/(1 - k^2); a diagonal J_B is exact either way.
-void RefinePrincipal(const math::Mat3& J,
-                     const math::PrincipalAxes& p,
-                     Vec3L* moments,
-                     Mat3L* axes) {
-  Mat3L V = p.axes.cast<Ld>();
-  V.col(0).normalize();
-  V.col(1) -= V.col(0).dot(V.col(1)) * V.col(0);
-  V.col(1).normalize();
-  V.col(2) = V.col(0).cross(V.col(1));
-  Mat3L A = V.transpose() * J.cast<Ld>() * V;
-  for (int sweep = 0; sweep < 8; ++sweep) {
-    const Ld off = std::abs(A(0, 1)) + std::abs(A(0, 2)) + std::abs(A(1, 2));
-    if (off <= 1e-22L * A.diagonal().cwiseAbs().sum()) break;
-    for (int pi = 0; pi < 2; ++pi) {
-      for (int qi = pi + 1; qi < 3; ++qi) {
-        if (A(pi, qi) == 0) continue;
-        const Ld theta = (A(qi, qi) - A(pi, pi)) / (2 * A(pi, qi));
-        const Ld t = (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
-        const Ld c = 1 / std::sqrt(t * t + 1);
-        Mat3L G = Mat3L::Identity();
-        G(pi, pi) = c;
-        G(qi, qi) = c;
-        G(pi, qi) = t * c;
-        G(qi, pi) = -t * c;
-        A = (G.transpose() * A * G).eval();
-        V = (V * G).eval();
-      }
-    }
-  }
-  // Ascending order, right-handed.
-  int idx[3] = {0, 1, 2};
-  std::sort(idx, idx + 3, [&A](int a, int b) { return A(a, a) < A(b, b); });
-  for (int i = 0; i < 3; ++i) {
-    (*moments)[i] = A(idx[i], idx[i]);
-    axes->col(i) = V.col(idx[i]);
-  }
-  if (axes->determinant() < 0) axes->col(2) = -axes->col(2);
-}
-
-/// P2 = h1^2 (I2-I1)/I1 - h3^2 (I3-I2)/I3 with error-free transformations (a pair of
-/// long doubles, ~128 bits): near the separatrix P2 can be a tiny difference of its two
-/// terms, and 1 - k^2 is proportional to it. Exact inputs (a diagonal J_B) then give
-/// 1 - k^2 to long-double accuracy however deep the cancellation.
-class Wide {
- public:
-  explicit Wide(Ld hi, Ld lo = 0) : hi_(hi), lo_(lo) {}
-  Ld value() const { return hi_ + lo_; }
-  static Wide Sum(Ld a, Ld b) {  // Knuth's TwoSum
-    const Ld s = a + b;
-    const Ld bb = s - a;
-    return Wide(s, (a - (s - bb)) + (b - bb));
-  }
-  static Wide Product(Ld a, Ld b) {  // Dekker's TwoProduct
-    Ld ah, al, bh, bl;
-    Split(a, &ah, &al);
-    Split(b, &bh, &bl);
-    const Ld p = a * b;
-    return Wide(p, ((ah * bh - p) + ah * bl + al * bh) + al * bl);
-  }
-  Wide operator-(const Wide& o) const {
-    const Wide s = Sum(hi_, -o.hi_);
-    return Normalized(s.hi_, s.lo_ + (lo_ - o.lo_));
-  }
-  Wide operator*(const Wide& o) const {
-    const Wide p = Product(hi_, o.hi_);
-    return Normalized(p.hi_, p.lo_ + (hi_ * o.lo_ + lo_ * o.hi_));
-  }
-  Wide operator/(Ld b) const {
-    const Ld q1 = hi_ / b;
-    const Wide r = *this - Product(q1, b);
-    return Normalized(q1, r.value() / b);
-  }
-
- private:
-  static void Split(Ld a, Ld* hi, Ld* lo) {
-    static const Ld kSplitter = std::ldexp(1.0L, (std::numeric_limits<Ld>::digits + 1) / 2) + 1.0L;
-    const Ld t = kSplitter * a;
-    *hi = t - (t - a);
-    *lo = a - *hi;
-  }
-  static Wide Normalized(Ld hi, Ld lo) {
-    const Ld s = hi + lo;
-    return Wide(s, lo - (s - hi));
-  }
-  Ld hi_;
-  Ld lo_;
-};
-
-/// Below this fraction of its terms P2 is not resolved by the ~128-bit evaluation and is
-/// taken as 0 (the separatrix); 1 - k^2 < ~1e-30 would give K > 35 anyway. Exact
-/// separatrix data (e.g. I2 the harmonic mean of I1, I3 and |h1| = |h3|) then land on it.
-constexpr Ld kSeparatrixRelTol = 1e-30L;
-
-Ld SeparatrixDistance(Ld I1, Ld I2, Ld I3, Ld h1, Ld h3) {
-  const Wide a = Wide::Product(h1, h1) * Wide::Sum(I2, -I1) / I1;
-  const Wide b = Wide::Product(h3, h3) * Wide::Sum(I3, -I2) / I3;
-  const Ld d = (a - b).value();
-  return std::abs(d) <= kSeparatrixRelTol * (a.value() + b.value()) ? 0 : d;
+/// P2 = h1^2 (I2-I1)/I1 - h3^2 (I3-I2)/I3 in double-double: near the separatrix P2 can be
+/// a tiny difference of its two terms, and 1 - k^2 is proportional to it. Exact inputs (a
+/// diagonal J_B) then give 1 - k^2 to ~1e-31 of the terms however deep the cancellation.
+DD SeparatrixDistance(const DD& I1, const DD& I2, const DD& I3, const DD& h1, const DD& h3) {
+  const DD a = Square(h1) * (I2 - I1) / I1;
+  const DD b = Square(h3) * (I3 - I2) / I3;
+  const DD d = a - b;
+  return Abs(d) <= (a + b) * kSeparatrixRelTol ? DD(0.0) : d;
 }
 
 /// Rotation R_{P'P} taking the reference principal axis to the third axis of P':
@@ -176,21 +85,21 @@ const char* ToString(Regime regime) {
   return "unknown";
 }
 
-/// Principal moments and momentum components and the quadratic invariants, in long
-/// double (see the class comment for P1, P2, P3).
+/// Principal moments and momentum components and the quadratic invariants, in
+/// double-double (see the class comment for P1, P2, P3).
 struct FreeBodySolution::Invariants {
-  Ld I1, I2, I3;     ///< Principal moments, ascending, equal ones merged.
-  Ld h1, h2, h3;     ///< Principal components of H_B0.
-  Ld g21, g32, g31;  ///< I2 - I1, I3 - I2, I3 - I1.
-  Ld M2, T2;         ///< |H|^2, 2T.
-  Ld P1, P2, P3;     ///< M^2 - 2T I1, 2T I2 - M^2 (error-free), 2T I3 - M^2.
+  DD I1, I2, I3;     ///< Principal moments, ascending, equal ones merged.
+  DD h1, h2, h3;     ///< Principal components of H_B0.
+  DD g21, g32, g31;  ///< I2 - I1, I3 - I2, I3 - I1.
+  DD M2, T2;         ///< |H|^2, 2T.
+  DD P1, P2, P3;     ///< M^2 - 2T I1, 2T I2 - M^2, 2T I3 - M^2.
 };
 
 FreeBodySolution::FreeBodySolution(const math::InertiaTensor& J_B,
                                    const Vec3& H_B0,
                                    const Quat& q_NB0,
                                    double t0)
-    : principal_(J_B.Principal()), q_NB0_(q_NB0), t0_(t0) {
+    : q_NB0_(q_NB0), t0_(t0) {
   if (!H_B0.allFinite() || !std::isfinite(t0) || !q_NB0.coeffs().allFinite() ||
       std::abs(q_NB0.norm() - 1.0) > kUnitQuatTol) {
     std::ostringstream os;
@@ -201,44 +110,49 @@ FreeBodySolution::FreeBodySolution(const math::InertiaTensor& J_B,
     throw std::invalid_argument(os.str());
   }
   q_NB0_.normalize();
-  Vec3L I;
-  Mat3L V;
-  RefinePrincipal(J_B.matrix(), principal_, &I, &V);
-  const Ld tol = kEqualMomentsRelTol * I[2];
+  const math::PrincipalAxesDD pd = math::AccuratePrincipalDecomposition(J_B.matrix());
+  std::array<DD, 3> I = pd.moments;
+  const DD tol = I[2] * kEqualMomentsRelTol;
   const bool eq01 = I[1] - I[0] <= tol;
   const bool eq12 = I[2] - I[1] <= tol;
   if (eq01 && eq12) {
-    I.setConstant(I.mean());
+    I[0] = I[1] = I[2] = (I[0] + I[1] + I[2]) / 3.0;
   } else if (eq01) {
-    I[0] = I[1] = (I[0] + I[1]) / 2;
+    I[0] = I[1] = (I[0] + I[1]) * 0.5;
   } else if (eq12) {
-    I[1] = I[2] = (I[1] + I[2]) / 2;
+    I[1] = I[2] = (I[1] + I[2]) * 0.5;
   }
-  const Vec3L h = V.transpose() * H_B0.cast<Ld>();
-  principal_.moments = I.cast<double>();
-  principal_.axes = V.cast<double>();
-  h0_ = h.cast<double>();
+  std::array<DD, 3> h;  // V^T H_B0
+  for (int j = 0; j < 3; ++j) {
+    h[j] = pd.V[0][j] * H_B0[0] + pd.V[1][j] * H_B0[1] + pd.V[2][j] * H_B0[2];
+  }
+  principal_ = pd.Rounded();
+  for (int i = 0; i < 3; ++i) {
+    principal_.moments[i] = static_cast<double>(I[i]);
+    h0_[i] = static_cast<double>(h[i]);
+  }
   w0_B_ = principal_.axes * h0_.cwiseQuotient(principal_.moments);
 
   Invariants v;
   v.I1 = I[0], v.I2 = I[1], v.I3 = I[2];
   v.h1 = h[0], v.h2 = h[1], v.h3 = h[2];
   v.g21 = v.I2 - v.I1, v.g32 = v.I3 - v.I2, v.g31 = v.I3 - v.I1;
-  v.M2 = v.h1 * v.h1 + v.h2 * v.h2 + v.h3 * v.h3;
-  v.T2 = v.h1 * v.h1 / v.I1 + v.h2 * v.h2 / v.I2 + v.h3 * v.h3 / v.I3;
-  v.P1 = v.h2 * v.h2 * v.g21 / v.I2 + v.h3 * v.h3 * v.g31 / v.I3;
-  v.P3 = v.h1 * v.h1 * v.g31 / v.I1 + v.h2 * v.h2 * v.g32 / v.I2;
+  const DD h1s = Square(v.h1), h2s = Square(v.h2), h3s = Square(v.h3);
+  v.M2 = h1s + h2s + h3s;
+  v.T2 = h1s / v.I1 + h2s / v.I2 + h3s / v.I3;
+  v.P1 = h2s * v.g21 / v.I2 + h3s * v.g31 / v.I3;
+  v.P3 = h1s * v.g31 / v.I1 + h2s * v.g32 / v.I2;
   v.P2 = SeparatrixDistance(v.I1, v.I2, v.I3, v.h1, v.h3);
-  M_ = static_cast<double>(std::sqrt(v.M2));
-  energy_ = static_cast<double>(v.T2 / 2);
-  D_ = v.M2 > 0 ? static_cast<double>(v.M2 / v.T2) : 0.0;
+  M_ = static_cast<double>(Sqrt(v.M2));
+  energy_ = static_cast<double>(v.T2 * 0.5);
+  D_ = v.M2 > 0.0 ? static_cast<double>(v.M2 / v.T2) : 0.0;
 
-  const bool triaxial = v.g21 != 0 && v.g32 != 0;
+  const bool triaxial = v.g21 != 0.0 && v.g32 != 0.0;
   if (v.M2 == 0) {
     regime_ = Regime::kAtRest;
   } else if (v.g31 == 0) {
     regime_ = Regime::kSpherical;
-  } else if (triaxial && v.P2 == 0 && (v.h1 == 0 || v.h3 == 0)) {
+  } else if (triaxial && v.P2 == 0.0 && (v.h1 == 0.0 || v.h3 == 0.0)) {
     regime_ = Regime::kIntermediateAxisSpin;
   } else if (triaxial && v.P2 == 0) {
     SetUpSeparatrix(v);
@@ -259,14 +173,14 @@ void FreeBodySolution::SetUpSeparatrix(const Invariants& v) {
   constant_ = false;
   mc_ = 0.0;
   jacobi_ = math::JacobiElliptic(0.0);
-  const double A1 = static_cast<double>(std::sqrt(v.I1 * v.P3 / v.g31));
-  const double A3 = static_cast<double>(std::sqrt(v.I3 * v.P1 / v.g31));
-  const double A2 = static_cast<double>(std::sqrt(v.I2 * v.P1 / v.g21));
+  const double A1 = static_cast<double>(Sqrt(v.I1 * v.P3 / v.g31));
+  const double A3 = static_cast<double>(Sqrt(v.I3 * v.P1 / v.g31));
+  const double A2 = static_cast<double>(Sqrt(v.I2 * v.P1 / v.g21));
   const double s1 = Sign(h0_[0]), s3 = Sign(h0_[2]);
   coef_ = Vec3(s1 * A1, s1 * s3 * A2, s3 * A3);
   dn_axis_ = 0;
   cn_axis_ = 2;
-  lambda_ = static_cast<double>(std::sqrt(v.g21 * v.P3 / (v.I1 * v.I2 * v.I3)));
+  lambda_ = static_cast<double>(Sqrt(v.g21 * v.P3 / (v.I1 * v.I2 * v.I3)));
   period_ = kInf;
   // sinh u0 = tanh u0 / sech u0, with sech u0 from both decaying components.
   const double sech0 = (std::abs(h0_[0]) + std::abs(h0_[2])) / (A1 + A3);
@@ -276,28 +190,28 @@ void FreeBodySolution::SetUpSeparatrix(const Invariants& v) {
 void FreeBodySolution::SetUpPeriodic(const Invariants& v) {
   // Circulation about axis 0 (minor) or 2 (major); an axisymmetric body is the k = 0 limit
   // of the branch whose circulation axis is its symmetry axis.
-  const bool minor = v.g32 == 0 || (v.g21 != 0 && v.P2 > 0);
-  const bool axisymmetric = v.g21 == 0 || v.g32 == 0;
+  const bool minor = v.g32 == 0.0 || (v.g21 != 0.0 && v.P2 > 0.0);
+  const bool axisymmetric = v.g21 == 0.0 || v.g32 == 0.0;
   regime_ =
       axisymmetric ? Regime::kAxisymmetric : (minor ? Regime::kMinorAxis : Regime::kMajorAxis);
   dn_axis_ = minor ? 0 : 2;
   cn_axis_ = minor ? 2 : 0;
-  const Ld lambda2 = (minor ? v.g21 * v.P3 : v.g32 * v.P1) / (v.I1 * v.I2 * v.I3);
+  const DD lambda2 = (minor ? v.g21 * v.P3 : v.g32 * v.P1) / (v.I1 * v.I2 * v.I3);
   if (!(lambda2 > 0)) return;  // axisymmetric with H in the plane of equal moments: constant
   constant_ = false;
-  Ld mc = 1;  // 1 - k^2 = (I3-I1) P2 / ((I2-I1) P3) or (I3-I1)(-P2) / ((I3-I2) P1)
+  DD mc = 1.0;  // 1 - k^2 = (I3-I1) P2 / ((I2-I1) P3) or (I3-I1)(-P2) / ((I3-I2) P1)
   if (!axisymmetric) mc = minor ? v.g31 * v.P2 / (v.g21 * v.P3) : v.g31 * -v.P2 / (v.g32 * v.P1);
   mc_ = std::clamp(static_cast<double>(mc), 0.0, 1.0);
   jacobi_ = math::JacobiElliptic(mc_);
-  const double A1 = static_cast<double>(std::sqrt(v.I1 * v.P3 / v.g31));
-  const double A3 = static_cast<double>(std::sqrt(v.I3 * v.P1 / v.g31));
+  const double A1 = static_cast<double>(Sqrt(v.I1 * v.P3 / v.g31));
+  const double A3 = static_cast<double>(Sqrt(v.I3 * v.P1 / v.g31));
   const double A2 =
-      static_cast<double>(minor ? std::sqrt(v.I2 * v.P1 / v.g21) : std::sqrt(v.I2 * v.P3 / v.g32));
+      static_cast<double>(minor ? Sqrt(v.I2 * v.P1 / v.g21) : Sqrt(v.I2 * v.P3 / v.g32));
   const double s = Sign(h0_[dn_axis_]);
   coef_[0] = minor ? s * A1 : A1;
   coef_[1] = s * A2;
   coef_[2] = minor ? A3 : s * A3;
-  lambda_ = static_cast<double>(std::sqrt(lambda2));
+  lambda_ = static_cast<double>(Sqrt(lambda2));
   period_ = 4.0 * jacobi_.K() / lambda_;
   if (A2 > 0.0) {  // else a pure spin about the dn axis, u0 = 0
     u0_ = math::InverseJacobi(h0_[1] / coef_[1], h0_[cn_axis_] / std::abs(coef_[cn_axis_]),

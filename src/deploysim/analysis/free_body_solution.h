@@ -23,12 +23,13 @@
 ///   D = I2 (separatrix): h1 = s1 A1 sech u, h2 = s1 s3 A2 tanh u, h3 = s3 A3 sech u with
 ///       two independent signs s1 = sign h1, s3 = sign h3 (lambda as for minor);
 /// A1^2 = I1 P3/(I3-I1), A3^2 = I3 P1/(I3-I1), A2^2 = I2 P1/(I2-I1) (minor) or
-/// I2 P3/(I3-I2) (major); M^2 = A1^2 + A3^2. 1 - k^2 is never formed as 1 - k^2: P1 and
-/// P3 (sums of non-negative terms) are formed in long double and P2 with error-free
-/// products and sums (~128 bits), so 1 - k^2 has long-double accuracy however deep the
-/// cancellation in P2 (|P2| below 1e-30 of its terms counts as the separatrix). A full J_B
-/// is diagonalised to long double first (the double eigen-decomposition's O(eps) error
-/// would otherwise be amplified like 1/(1 - k^2)). The phase u0 comes from the Carlson form
+/// I2 P3/(I3-I2) (major); M^2 = A1^2 + A3^2. 1 - k^2 is never formed as 1 - k^2: P1, P2
+/// and P3 are formed in double-double (math::DoubleDouble, ~106 bits), so 1 - k^2 is
+/// accurate to ~1e-31 of P2's terms however deep the cancellation in P2 (|P2| below 1e-30
+/// of its terms counts as the separatrix). A full J_B is diagonalised to double-double
+/// first (math::AccuratePrincipalDecomposition: the double eigen-decomposition's O(eps)
+/// error would otherwise be amplified like 1/(1 - k^2)), and H_B0 is projected on the
+/// axes in double-double. The phase u0 comes from the Carlson form
 /// of F (math::InverseJacobi), quadrant by the signs.
 /// Two equal moments (within kEqualMomentsRelTol) are the axisymmetric limit of the same
 /// formulas with k = 0 (sn = sin, cn = cos, dn = 1): continuous with the general case.
@@ -37,8 +38,11 @@
 ///
 /// Accuracy (tests/analysis/free_body_solution_test.cpp): against 38-digit integrations,
 /// near and on the separatrix (1 - k^2 = 4e-15 ... 0) and generic, |dH|/M <= 5e-15 and
-/// attitude <= 4e-14 rad; invariants |H_B|, T, h_N to ~1e-15. Cost on x86-64 at -O3:
-/// H_B(t) ~0.25 us, q_NB(t) ~0.45 us, construction ~4 us.
+/// attitude <= 6e-14 rad (3.2e-14 on x86-64, 5.9e-14 on aarch64); invariants |H_B|, T,
+/// h_N to ~1e-15. A full J_B near the separatrix (1 - k^2 = 1e-9) agrees with the same
+/// body in its principal frame to within the effect of a 1-ulp change of the principal
+/// input. Cost on x86-64 at -O3: H_B(t) ~0.55 us, q_NB(t) ~0.85 us, construction ~5 us
+/// (~6 us for a full J_B).
 ///
 /// Attitude: R_NB(t) = R_NF Rz(psi(t)) A(h(t)) R_BP^T, where A maps P so that h/M becomes the
 /// third axis and the x axis points along the part of the reference axis e_r orthogonal

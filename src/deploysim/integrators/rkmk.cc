@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "deploysim/dynamics/rigid_body.h"
+#include "deploysim/math/double_double.h"
 #include "deploysim/math/quaternion.h"
 #include "deploysim/math/so3.h"
 
@@ -14,47 +15,62 @@ namespace deploysim::integrators {
 namespace {
 constexpr int kMaxStages = 16;
 
-// Quaternion arithmetic in long double (x87 extended precision, 64-bit mantissa), used
-// only for the attitude update, to compute its rounding error: written out here because
-// Eigen's quaternions are not meant for long double and the update is a few products.
+// Quaternion arithmetic in double-double (math::DoubleDouble, ~106 bits on every
+// platform), used only for the attitude update, to compute its rounding error: written out
+// here because Eigen's quaternions are not meant for it and the update is a few products.
+// ("L" for the lifted precision.)
+using math::DoubleDouble;
+
 struct QuatL {
-  long double w, x, y, z;
+  DoubleDouble w, x, y, z;
 };
 
-QuatL ToL(const math::Quat& q) { return {q.w(), q.x(), q.y(), q.z()}; }
-
-QuatL Mul(const QuatL& a, const QuatL& b) {
-  return {
-      a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-      a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+// Hamilton product a b; B is QuatL or a double quaternion (then the products are the
+// cheaper double-double times double).
+template <class B>
+QuatL MulT(const QuatL& a, const B& bw, const B& bx, const B& by, const B& bz) {
+  return {a.w * bw - a.x * bx - a.y * by - a.z * bz, a.w * bx + a.x * bw + a.y * bz - a.z * by,
+          a.w * by - a.x * bz + a.y * bw + a.z * bx, a.w * bz + a.x * by - a.y * bx + a.z * bw};
 }
 
-// Exp of a rotation vector (lx, ly, lz) [rad].
-QuatL ExpL(long double x, long double y, long double z) {
-  const long double a = std::sqrt(x * x + y * y + z * z);
-  if (a < 1e-9L) {
-    const long double a2 = a * a;
-    const long double s = 0.5L * (1.0L - a2 / 24.0L);
-    return {1.0L - a2 / 8.0L, s * x, s * y, s * z};
+QuatL Mul(const QuatL& a, const QuatL& b) { return MulT(a, b.w, b.x, b.y, b.z); }
+
+QuatL Mul(const QuatL& a, const math::Quat& b) { return MulT(a, b.w(), b.x(), b.y(), b.z()); }
+
+// Exp of a rotation vector (x, y, z) [rad].
+QuatL ExpL(const DoubleDouble& x, const DoubleDouble& y, const DoubleDouble& z) {
+  const DoubleDouble a2 = Square(x) + Square(y) + Square(z);
+  if (a2 < 1e-18) {  // |a| < 1e-9: the series' next terms are below 1e-37
+    const DoubleDouble s = 0.5 - a2 / 48.0;
+    return {1.0 - a2 / 8.0, s * x, s * y, s * z};
   }
-  const long double s = std::sin(0.5L * a) / a;
-  return {std::cos(0.5L * a), s * x, s * y, s * z};
+  const DoubleDouble a = Sqrt(a2);
+  DoubleDouble sin_half, cos_half;
+  math::SinCos(a * 0.5, &sin_half, &cos_half);
+  const DoubleDouble s = sin_half / a;
+  return {cos_half, s * x, s * y, s * z};
 }
 
 // q1 (the rounded double quaternion, unit) and the carry delta with q1 Exp(delta) = exact
-// to extended precision.
+// to double-double precision.
 void RoundWithCarry(const QuatL& exact, math::Quat& q1, math::Vec3& delta) {
-  const long double n =
-      std::sqrt(exact.w * exact.w + exact.x * exact.x + exact.y * exact.y + exact.z * exact.z);
-  const QuatL e{exact.w / n, exact.x / n, exact.y / n, exact.z / n};
+  const DoubleDouble inv_n =
+      1.0 / Sqrt(Square(exact.w) + Square(exact.x) + Square(exact.y) + Square(exact.z));
+  const QuatL e{exact.w * inv_n, exact.x * inv_n, exact.y * inv_n, exact.z * inv_n};
   q1 = math::Quat(static_cast<double>(e.w), static_cast<double>(e.x), static_cast<double>(e.y),
                   static_cast<double>(e.z))
            .normalized();
-  // q1^-1 e = (1, delta/2) to first order (delta ~ 1e-16 rad).
-  const QuatL d = Mul(QuatL{q1.w(), -q1.x(), -q1.y(), -q1.z()}, e);
-  const long double sign = d.w < 0 ? -2.0L : 2.0L;
-  delta = math::Vec3(static_cast<double>(sign * d.x), static_cast<double>(sign * d.y),
-                     static_cast<double>(sign * d.z));
+  // q1^-1 e = (1, delta/2) to first order (delta ~ 1e-16 rad); q1 is double, so the
+  // products are double-double times double. Only the vector part is needed, and only its
+  // sign-corrected value: d.w ~ +-1.
+  const double w = q1.w(), x = -q1.x(), y = -q1.y(), z = -q1.z();
+  const DoubleDouble dw = e.w * w - e.x * x - e.y * y - e.z * z;
+  const DoubleDouble dx = e.x * w + e.w * x + e.z * y - e.y * z;
+  const DoubleDouble dy = e.y * w - e.z * x + e.w * y + e.x * z;
+  const DoubleDouble dz = e.z * w + e.y * x - e.x * y + e.w * z;
+  const double sign = dw < 0.0 ? -2.0 : 2.0;
+  delta = math::Vec3(sign * static_cast<double>(dx), sign * static_cast<double>(dy),
+                     sign * static_cast<double>(dz));
 }
 }  // namespace
 }  // namespace deploysim::integrators
@@ -108,10 +124,9 @@ math::Vec3 MomentumOf(const Anchor& a) {
 // The state at t whose relative attitude is Exp(spin) dq0 Exp(carry0 + u), composed in
 // extended precision (the next carry is its rounding).
 Anchor Compose(const Anchor& a0, const math::Vec3& spin, const math::Vec3& u) {
-  const QuatL exact = Mul(Mul(ExpL(spin.x(), spin.y(), spin.z()), ToL(a0.dq)),
-                          ExpL(static_cast<long double>(u.x()) + a0.carry.x(),
-                               static_cast<long double>(u.y()) + a0.carry.y(),
-                               static_cast<long double>(u.z()) + a0.carry.z()));
+  const QuatL exact = Mul(Mul(ExpL(spin.x(), spin.y(), spin.z()), a0.dq),
+                          ExpL(math::TwoSum(u.x(), a0.carry.x()), math::TwoSum(u.y(), a0.carry.y()),
+                               math::TwoSum(u.z(), a0.carry.z())));
   Anchor a1 = a0;
   RoundWithCarry(exact, a1.dq, a1.carry);
   return a1;

@@ -14,11 +14,16 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kHalfPi = 1.5707963267948966192;
 /// AGM stopping rule of Bulirsch's sncndn: |a - b| <= kAgmTol a leaves an error of order
-/// kAgmTol^2 / 16 in the mean, below long-double rounding.
-constexpr long double kAgmTol = 1e-10L;
+/// kAgmTol^2 / 16 ~ 6e-22 in the mean used by the Landen core, whose relative sensitivity
+/// to it is ~ x <= K/2: ~1e-20, far below double rounding of the results (near the
+/// zeros, where relative accuracy needs more, the series branch takes over).
+constexpr double kAgmTol = 1e-10;
+/// K, which sets the reduction u = 2K j + r for all |u|, takes the AGM further, to
+/// |a - b| <= kAgmTolK a (error ~6e-34, below double-double rounding).
+constexpr double kAgmTolK = 1e-16;
 /// Below this argument sn, cn, dn come from their Taylor series (error O(x^4) < 1e-36);
 /// avoids cot(x) overflow in the Landen recursion for tiny x.
-constexpr long double kSeriesBelow = 1e-9L;
+constexpr double kSeriesBelow = 1e-9;
 
 void CheckMc(double mc, const char* where) {
   if (!(mc >= 0.0 && mc <= 1.0)) {
@@ -46,21 +51,6 @@ void CheckN(double n, const char* where) {
     os << where << ": characteristic n = " << n << " must be < 1 (no principal values)";
     throw std::invalid_argument(os.str());
   }
-}
-
-/// K in long double from the arithmetic-geometric mean: K = pi / (2 AGM(1, sqrt(mc))).
-long double KLongDouble(double mc) {
-  if (mc == 0.0) return std::numeric_limits<long double>::infinity();
-  long double a = 1.0L;
-  long double b = std::sqrt(static_cast<long double>(mc));
-  for (int i = 0; i < 64 && std::abs(a - b) > 4 * std::numeric_limits<long double>::epsilon() * a;
-       ++i) {
-    const long double an = 0.5L * (a + b);
-    b = std::sqrt(a * b);
-    a = an;
-  }
-  const long double pi = 3.14159265358979323846264338327950288L;
-  return pi / (a + b);
 }
 
 }  // namespace
@@ -119,66 +109,80 @@ double InverseJacobi(double sn, double cn, double dn, double mc) {
 
 JacobiElliptic::JacobiElliptic(double mc) : mc_(mc) {
   CheckMc(mc, "JacobiElliptic");
-  m_ = 1.0L - static_cast<long double>(mc);
-  sqrt_mc_ = std::sqrt(static_cast<long double>(mc));
+  m_ = 1.0 - DoubleDouble(mc);  // exact
+  sqrt_mc_ = Sqrt(DoubleDouble(mc));
   K_ = EllipticK(mc);
-  K_ld_ = KLongDouble(mc);
-  if (mc == 0.0) return;
-  // Bulirsch's AGM table: a_0 = 1, b_0 = sqrt(mc), b_{i+1} = sqrt(a_i b_i).
-  long double a = 1.0L;
-  long double emc = mc;
-  long double c = 1.0L;
+  if (mc == 0.0) {
+    K_dd_ = kInf;
+    return;
+  }
+  // Bulirsch's AGM table: a_0 = 1, b_0 = sqrt(mc), b_{i+1} = sqrt(a_i b_i), until
+  // |a - b| <= kAgmTol a; the mean of the last pair is AGM(1, sqrt(mc)) to kAgmTol^2 / 16.
+  DoubleDouble a = 1.0;
+  DoubleDouble emc = mc;
+  DoubleDouble c = 1.0;
   for (int i = 0; i < kMaxLevels; ++i) {
     levels_ = i + 1;
     a_[i] = a;
-    emc = std::sqrt(emc);
+    inv_a_[i] = 1.0 / a;
+    emc = Sqrt(emc);
     b_[i] = emc;
-    c = 0.5 * (a + emc);
-    if (std::abs(a - emc) <= kAgmTol * a) break;
+    c = (a + emc) * 0.5;
+    if (Abs(a - emc) <= a * kAgmTol) break;
     emc *= a;
     a = c;
   }
   agm_ = c;
+  // K = pi / (2 AGM), the AGM taken on to double-double accuracy.
+  DoubleDouble b = Sqrt(emc * a);
+  a = c;
+  for (int i = 0; i < 8 && Abs(a - b) > a * kAgmTolK; ++i) {
+    const DoubleDouble next = (a + b) * 0.5;
+    b = Sqrt(a * b);
+    a = next;
+  }
+  K_dd_ = kPiDD / (a + b);
 }
 
-JacobiElliptic::Extended JacobiElliptic::Landen(long double x) const {
+JacobiElliptic::Extended JacobiElliptic::Landen(const DoubleDouble& x) const {
   if (x < kSeriesBelow) {
-    const long double x2 = x * x;
-    return {x * (1.0L - (1.0L + m_) * x2 / 6.0L), 1.0L - 0.5L * x2, 1.0L - 0.5L * m_ * x2};
+    const DoubleDouble x2 = Square(x);
+    return {x * (1.0 - (1.0 + m_) * x2 / 6.0), 1.0 - x2 * 0.5, 1.0 - m_ * x2 * 0.5};
   }
   // Bulirsch (1965), sncndn: descend with cot(agm x), ascend through the AGM table.
-  const long double v = x * agm_;  // in (0, pi/4]
-  long double a = 1 / std::tan(v);
-  long double c = agm_ * a;
-  long double dn = 1.0L;
+  const DoubleDouble v = x * agm_;  // in (0, pi/4]
+  DoubleDouble sin_v, cos_v;
+  SinCos(v, &sin_v, &cos_v);
+  DoubleDouble a = cos_v / sin_v;
+  DoubleDouble c = agm_ * a;
+  DoubleDouble dn = 1.0;
   for (int i = levels_ - 1; i >= 0; --i) {
-    const long double b = a_[i];
     a *= c;
     c *= dn;
-    dn = (b_[i] + a) / (b + a);
-    a = c / b;
+    dn = (b_[i] + a) / (a_[i] + a);
+    a = c * inv_a_[i];
   }
-  const long double sn = 1.0L / std::sqrt(c * c + 1.0L);
+  const DoubleDouble sn = 1.0 / Sqrt(Square(c) + 1.0);
   return {sn, c * sn, dn};
 }
 
-SnCnDn JacobiElliptic::OfReduced(long double r) const {
-  const double sign = r < 0 ? -1.0 : 1.0;
-  const long double x = std::abs(r);
+SnCnDn JacobiElliptic::OfReduced(const DoubleDouble& r) const {
+  const double sign = r.hi() < 0 ? -1.0 : 1.0;
+  const DoubleDouble x = Abs(r);
   if (mc_ == 0.0) {
-    const double xd = static_cast<double>(x);
+    const double xd = x.hi();
     const double sech = 1.0 / std::cosh(xd);
     return {sign * std::tanh(xd), sech, sech};
   }
-  if (x <= 0.5L * K_ld_) {
+  if (x <= K_dd_ * 0.5) {
     const Extended f = Landen(x);
     return {sign * static_cast<double>(f.sn), static_cast<double>(f.cn), static_cast<double>(f.dn)};
   }
   // x = K - y: sn(x) = cd(y), cn(x) = sqrt(mc) sd(y), dn(x) = sqrt(mc) nd(y). y < 0 only by
   // rounding (x a hair above K), where the odd sn(y) gives cn its correct sign.
-  const long double y = K_ld_ - x;
-  const Extended g = Landen(std::abs(y));
-  const long double sn_y = y < 0 ? -g.sn : g.sn;
+  const DoubleDouble y = K_dd_ - x;
+  const Extended g = Landen(Abs(y));
+  const DoubleDouble sn_y = y.hi() < 0 ? -g.sn : g.sn;
   return {sign * static_cast<double>(g.cn / g.dn), static_cast<double>(sqrt_mc_ * sn_y / g.dn),
           static_cast<double>(sqrt_mc_ / g.dn)};
 }
@@ -188,15 +192,16 @@ JacobiElliptic::Reduced JacobiElliptic::Evaluate(double u) const {
   if (mc_ == 0.0 || std::abs(u) <= K_) {
     out.j = 0.0;
     out.r = u;
-    out.at_r = OfReduced(static_cast<long double>(u));
+    out.at_r = OfReduced(u);
     out.at_u = out.at_r;
     return out;
   }
-  const long double two_k = 2.0L * K_ld_;
-  const long double j = std::nearbyint(static_cast<long double>(u) / two_k);
-  const long double r = static_cast<long double>(u) - j * two_k;
-  out.j = static_cast<double>(j);
-  out.r = static_cast<double>(r);
+  // u = 2K j + r: any integer j near u / 2K will do; r is formed in double-double.
+  const DoubleDouble two_k = K_dd_ * 2.0;
+  const double j = std::nearbyint(u / two_k.hi());
+  const DoubleDouble r = u - two_k * j;
+  out.j = j;
+  out.r = r.hi();
   out.at_r = OfReduced(r);
   const bool odd = std::fmod(std::abs(out.j), 2.0) == 1.0;
   out.at_u = odd ? SnCnDn{-out.at_r.sn, -out.at_r.cn, out.at_r.dn} : out.at_r;

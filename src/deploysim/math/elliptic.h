@@ -14,6 +14,8 @@
 
 #include <array>
 
+#include "deploysim/math/double_double.h"
+
 namespace deploysim::math {
 
 /// The three Jacobi elliptic functions at one argument.
@@ -51,20 +53,19 @@ double InverseJacobi(double sn, double cn, double dn, double mc);
 /// sn, cn, dn for one fixed mc, with the parameter-dependent work done once.
 ///
 /// Algorithm: the argument is reduced by the half period, u = 2K j + r with |r| <= K, in
-/// long double with K from the arithmetic-geometric mean in long double (on x86-64 that
-/// keeps the reduction ~2000x more accurate than double; elsewhere long double may equal
-/// double). Then sn(u) = (-1)^j sn(r), cn(u) = (-1)^j cn(r), dn(u) = dn(r); r is folded to
-/// [0, K/2] by symmetry (x -> K - x: sn = cn/dn, cn = sqrt(mc) sn/dn, dn = sqrt(mc)/dn,
-/// which keeps cn's relative accuracy near its zero), and there Bulirsch's descending
-/// Landen transformation (R. Bulirsch, Numer. Math. 7 (1965) 78-90, routine sncndn; as in
-/// Numerical Recipes 6.11) evaluates sn, cn, dn from the AGM sequence of (1, sqrt(mc)).
-/// Every step is a product or quotient of positive numbers. The Landen core runs in long
-/// double: near the separatrix the result's relative sensitivity to the compressed
-/// argument agm * x is about x ~ K/2 (sech-like decay), which would cost ~10 ulp in double.
-/// Measured against 40-digit mpmath values (tests/math/elliptic_test.cpp), mc from 1 to
-/// 1e-16 and 0, |u| up to 300 K: 0.8 eps relative where the argument's own rounding does
-/// not dominate, i.e. the value of a correctly rounded evaluation at an argument within
-/// ~1e-18 |u| of u. Cost ~0.2 us per evaluation on x86-64.
+/// double-double (math::DoubleDouble) with K = pi / (2 AGM(1, sqrt(mc))) from the
+/// arithmetic-geometric mean in double-double, so the reduction adds ~1e-31 |u| to the
+/// argument's own rounding on every platform. Then sn(u) = (-1)^j sn(r), cn(u) = (-1)^j cn(r),
+/// dn(u) = dn(r); r is folded to [0, K/2] by symmetry (x -> K - x: sn = cn/dn, cn = sqrt(mc) sn/dn,
+/// dn = sqrt(mc)/dn, which keeps cn's relative accuracy near its zero), and there Bulirsch's
+/// descending Landen transformation (R. Bulirsch, Numer. Math. 7 (1965) 78-90, routine sncndn; as
+/// in Numerical Recipes 6.11) evaluates sn, cn, dn from the AGM sequence of (1, sqrt(mc)). Every
+/// step is a product or quotient of positive numbers. The Landen core runs in double-double: near
+/// the separatrix the result's relative sensitivity to the compressed argument agm * x is about x ~
+/// K/2 (sech-like decay), which would cost ~10 ulp in double. Measured against 40-digit mpmath
+/// values (tests/math/elliptic_test.cpp), mc from 1 to 1e-16 and 0, |u| up to 300 K: 0.8 eps
+/// relative where the argument's own rounding does not dominate, i.e. the value of a correctly
+/// rounded evaluation at an argument within ~1e-30 |u| of u. Cost ~0.4 us per evaluation on x86-64.
 class JacobiElliptic {
  public:
   /// mc in [0, 1]; throws std::invalid_argument otherwise.
@@ -72,7 +73,7 @@ class JacobiElliptic {
 
   double mc() const { return mc_; }
   /// m = 1 - mc.
-  double m() const { return static_cast<double>(m_); }
+  double m() const { return m_.hi(); }
   /// Quarter period K(m) (double); +inf for mc = 0.
   double K() const { return K_; }
 
@@ -92,24 +93,25 @@ class JacobiElliptic {
  private:
   static constexpr int kMaxLevels = 32;
   struct Extended {
-    long double sn;
-    long double cn;
-    long double dn;
+    DoubleDouble sn;
+    DoubleDouble cn;
+    DoubleDouble dn;
   };
-  /// Bulirsch's sncndn for 0 <= x <= K/2, in long double.
-  Extended Landen(long double x) const;
+  /// Bulirsch's sncndn for 0 <= x <= K/2, in double-double.
+  Extended Landen(const DoubleDouble& x) const;
   /// sn, cn, dn for |r| <= K.
-  SnCnDn OfReduced(long double r) const;
+  SnCnDn OfReduced(const DoubleDouble& r) const;
 
   double mc_;
-  long double m_;
-  long double sqrt_mc_;
+  DoubleDouble m_;
+  DoubleDouble sqrt_mc_;
   double K_;
-  long double K_ld_;
+  DoubleDouble K_dd_;
   int levels_ = 0;
-  long double agm_ = 1.0L;
-  std::array<long double, kMaxLevels> a_{};  ///< AGM means a_i, a_0 = 1.
-  std::array<long double, kMaxLevels> b_{};  ///< AGM geometric means b_i, b_0 = sqrt(mc).
+  DoubleDouble agm_ = 1.0;
+  std::array<DoubleDouble, kMaxLevels> a_{};      ///< AGM means a_i, a_0 = 1.
+  std::array<DoubleDouble, kMaxLevels> inv_a_{};  ///< 1 / a_i.
+  std::array<DoubleDouble, kMaxLevels> b_{};      ///< AGM geometric means b_i, b_0 = sqrt(mc).
 };
 
 /// sn, cn, dn of u for complementary parameter mc (JacobiElliptic(mc)(u)).

@@ -5,8 +5,10 @@
 /// inequalities. Units: kg m^2. Invalid input throws std::invalid_argument whose
 /// message names the violated rule and the offending values.
 
+#include <array>
 #include <string>
 
+#include "deploysim/math/double_double.h"
 #include "deploysim/math/types.h"
 
 namespace deploysim::math {
@@ -15,6 +17,14 @@ namespace deploysim::math {
 struct PrincipalAxes {
   Vec3 moments;  ///< [kg m^2] ascending: moments[0] <= moments[1] <= moments[2].
   Mat3 axes;     ///< Columns are unit principal axes in the tensor's frame; det = +1.
+};
+
+/// Principal decomposition in double-double: J = V diag(moments) V^T to ~1e-31 of |J|.
+struct PrincipalAxesDD {
+  std::array<DoubleDouble, 3> moments;           ///< [kg m^2] ascending.
+  std::array<std::array<DoubleDouble, 3>, 3> V;  ///< V[i][j]: component i of unit axis j; det +1.
+  /// The moments and axes rounded to double.
+  PrincipalAxes Rounded() const;
 };
 
 /// A physically valid rotational inertia about a point, in some frame.
@@ -50,5 +60,16 @@ class InertiaTensor {
 /// orthonormal eigenvector columns. Exact (no rotation) for diagonal input, so a tensor
 /// given by its principal moments keeps its body axes.
 PrincipalAxes PrincipalDecomposition(const Mat3& J);
+
+/// The principal decomposition of the symmetric J (double entries, taken as exact) to
+/// double-double accuracy: the double decomposition's axes, re-orthonormalised in
+/// double-double, then cyclic Jacobi rotations (Golub & Van Loan, Matrix Computations,
+/// 4th ed., 8.5.2) on V^T J V in double-double until the off-diagonal part is below
+/// kOffDiagonalRelTol of the trace. The double decomposition's O(eps) error is thus
+/// removed: V is orthonormal and J V - V diag(moments) vanishes to ~1e-31 |J|. Needed
+/// where the motion amplifies the moments' and axes' errors, like 1/(1 - k^2) near the
+/// separatrix (analysis::FreeBodySolution). Diagonal input is exact (a permutation), as
+/// for PrincipalDecomposition. Cost ~1.5 us on top of it.
+PrincipalAxesDD AccuratePrincipalDecomposition(const Mat3& J);
 
 }  // namespace deploysim::math
