@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.h"
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/analysis/mission.h"
-#include "bench_util.h"
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/simbody_satellite.h"
 #include "deploysim/dynamics/inertia_source.h"

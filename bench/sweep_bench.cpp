@@ -32,8 +32,8 @@
 #include <thread>
 #include <vector>
 
-#include "deploysim/analysis/mission.h"
 #include "bench_util.h"
+#include "deploysim/analysis/mission.h"
 #include "deploysim/sweep/mpi_session.h"
 #include "deploysim/sweep/outcome.h"
 #include "deploysim/sweep/runner.h"
