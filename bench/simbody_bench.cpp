@@ -187,15 +187,18 @@ int main(int argc, char** argv) {
         accuracies.size());
     const double worst = PrintRows(md, simbody, ours, true);
     md.Printf(
-        "\n- Each run, on both sides: 0 to 40 s (11 flips), output every 1 s (41 samples: "
-        "Simbody steps exactly to each, deploysim samples its dense output); flip location "
+        "\n- Each run, on both sides: 0 to 40 s (%zu flips in the reference), output every 1 s "
+        "(%zu samples: Simbody steps exactly to each, deploysim samples its dense output); flip "
+        "location "
         "is excluded on both sides (Simbody has no dense output, and the cross-check's "
         "restart-based location of Simbody's flips would time our root finding, not "
-        "Simbody).\n");
+        "Simbody).\n",
+        ref.SignChanges(1).size(), grid.size());
     md.Printf("- %s\n", rule.c_str());
     md.Printf(
-        "- Error: max over the 41 samples of |H_B - H_ref| / |H|, against the independent "
-        "double-double Taylor reference of table 1 (bench/free_body_reference.h).\n");
+        "- Error: max over the %zu samples of |H_B - H_ref| / |H|, against the independent "
+        "double-double Taylor reference of table 1 (bench/free_body_reference.h).\n",
+        grid.size());
     if (args.quick) md.Printf("- Quick run: Simbody at accuracy 1e-14 left out.\n");
     md.Printf("- Target >= 10,000x at matched accuracy: %s (smallest speed-up %.0fx).\n",
               worst >= 1e4 ? "**met**" : "**missed**", worst);
@@ -261,19 +264,20 @@ int main(int argc, char** argv) {
         "Simbody's hinged model (hub `Free`, wings `Pin` with prescribed motion) against "
         "deploysim with exact coupling; the first 300 s of "
         "`deployment_profiles/smallsat_three_stage.yaml` (two deployment moves, then the spin "
-        "about the intermediate axis, 2 flips). Each Simbody run matched with the fastest "
+        "about the intermediate axis). Each Simbody run matched with the fastest "
         "deploysim run at least as accurate.\n\n");
     const double worst = PrintRows(md, simbody, ours, false);
     md.Printf(
-        "\n- Each run, on both sides: 0 to 300 s, output every 1 s (301 samples); flip "
-        "location excluded on both sides (as in table 2).\n");
+        "\n- Each run, on both sides: 0 to 300 s, output every 1 s (%zu samples); flip "
+        "location excluded on both sides (as in table 2).\n",
+        grid.size());
     md.Printf("- %s\n", rule.c_str());
     md.Printf(
-        "- Error: max over the 301 samples of |H_B - H_ref| / |H|; the reference is deploysim's "
+        "- Error: max over the %zu samples of |H_B - H_ref| / |H|; the reference is deploysim's "
         "`exact` at rtol 1e-13 (the reduced model is exact for prescribed hinge motion and "
         "agrees with Simbody to Simbody's accuracy, tests/crosscheck); its own error, bounded "
         "by its difference from `rkf78` at rtol 1e-13: %.1e.\n",
-        ref_error);
+        grid.size(), ref_error);
     md.Printf("- Target >= 1,000x at matched accuracy: %s (smallest speed-up %.0fx).\n",
               worst >= 1e3 ? "**met**" : "**missed**", worst);
   }
