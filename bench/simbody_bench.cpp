@@ -1,34 +1,37 @@
-// deploysim against Simbody 3.7 at matched accuracy (issue 5, benchmark rows 2 and 3):
+// deploysim against Simbody 3.7 at matched accuracy (issue 5, benchmark rows 2 and 3;
+// issue 8):
 //   A. the wing nut as a free rigid body over 40 s: Simbody's MobilizedBody::Free with
 //      Runge-Kutta-Merson against deploysim's integrators and closed form;
-//   B. the small satellite's deployment (models/smallsat.yaml), first 300 s: Simbody's
-//      hinged model with prescribed hinge motion against deploysim with exact coupling.
-// Errors are measured against the closed form (A) or a tight deploysim reference (B, the
-// reduced model is exact for prescribed hinge motion: it agrees with Simbody to Simbody's
-// accuracy, tests/crosscheck). Each Simbody run is matched with the fastest deploysim
-// configuration that is at least as accurate; the table prints the wall-time ratio.
+//   B. the small satellite's deployment (deployment_profiles/smallsat_three_stage.yaml),
+//      first 300 s: Simbody's hinged model with prescribed hinge motion against deploysim
+//      with exact coupling.
+// Errors: A against the independent double-double Taylor reference
+// (free_body_reference.h); B against a tight deploysim reference, whose own error is
+// bounded by the difference of two method families (the reduced model is exact for
+// prescribed hinge motion: it agrees with Simbody to Simbody's accuracy, tests/crosscheck).
+// Each Simbody run is matched with the fastest deploysim run that is at least as accurate.
+// Both sides are timed alike: N cold runs each (everything built from the loaded profile
+// inside the timed region), the median.
 //
-// Usage: simbody_bench [--quick]      (--quick: skips Simbody at accuracy 1e-14)
+// Usage: simbody_bench [--quick] [--markdown FILE]
+//        (--quick: 1 run per side instead of 3, and no Simbody run at accuracy 1e-14)
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <cstring>
-#include <fstream>
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/exact_flow.h"
-#include "deploysim/analysis/free_body_solution.h"
-#include "deploysim/analysis/mission.h"
 #include "bench_util.h"
+#include "deploysim/analysis/exact_flow.h"
+#include "deploysim/analysis/mission.h"
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/simbody_satellite.h"
 #include "deploysim/dynamics/inertia_source.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/io/yaml_loader.h"
-#include "deploysim/math/quaternion.h"
+#include "deploysim/math/inertia.h"
 #include "deploysim/schedule/deployment_schedule.h"
+#include "free_body_reference.h"
 
 namespace {
 
@@ -36,129 +39,119 @@ using namespace deploysim;
 
 struct Measured {
   std::string label;
-  double error = 0.0;    // relative H_B error (max over the grid)
-  double seconds = 0.0;  // wall time
+  bool closed_form = false;
+  double error = 0.0;    // max relative H_B error over the grid
+  double seconds = 0.0;  // median wall time
 };
 
-template <class F>
-double BestTime(F&& f, double min_total) {
-  double best = 1e300, total = 0;
-  for (int reps = 0; (total < min_total || reps < 3) && reps < 1000; ++reps) {
-    const auto t0 = std::chrono::steady_clock::now();
-    f();
-    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    best = std::min(best, dt);
-    total += dt;
-  }
-  return best;
-}
-
-// One Simbody run (prescribed hinges or a free body) at `accuracy`; its wall time in `sec`.
-crosscheck::SimbodyRun TimedSimbody(const schedule::Profile& p,
-                                    const std::vector<double>& grid,
-                                    const math::Vec3& spin,
-                                    double accuracy,
-                                    double& sec) {
+// A Simbody run (prescribed hinges or a free body) at `accuracy`, without flip location.
+crosscheck::SimbodyRun RunSimbody(const schedule::Profile& p,
+                                  const std::vector<double>& grid,
+                                  double accuracy) {
   crosscheck::SimbodyOptions o;
   o.accuracy = accuracy;
   o.locate_flips = false;
-  const auto t0 = std::chrono::steady_clock::now();
-  crosscheck::SimbodyRun run = crosscheck::RunSimbodyPrescribed(p, grid, spin, o);
-  sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return run;
+  const math::Vec3 H0 = crosscheck::InitialMomentum(p);
+  const schedule::DeploymentSchedule sched(p);
+  const math::Vec3 spin = analysis::InitialSpinAxis(sched.Evaluate(p.t_begin()).J_B, H0);
+  return crosscheck::RunSimbodyPrescribed(p, grid, spin, o);
 }
 
-// A deploysim run with `method` at `rtol` (atol = rtol/100); best wall time in `sec`.
-integrators::IntegrationResult TimedDeploysim(const std::string& method,
-                                              double rtol,
-                                              const dynamics::InertiaSource& source,
-                                              const integrators::State& s0,
-                                              double t_end,
-                                              const std::vector<double>& grid,
-                                              double& sec) {
-  integrators::IntegratorSettings st;
-  st.tolerances = {rtol, rtol * 1e-2};
-  const auto stepper = analysis::MakeStepper(method);
-  integrators::IntegrationResult r;
-  sec = BestTime([&] { r = integrators::Integrate(*stepper, st, source, s0, t_end, grid); }, 0.2);
-  return r;
-}
-
-// Fastest deploysim row at least as accurate as `target` (nullptr if none); with
-// `numerical_only`, rows of the closed-form flow are left out.
+// Fastest deploysim run at least as accurate as `target` (nullptr if none); with
+// `numerical_only`, runs of the closed-form flow on a rigid body are left out.
 const Measured* Match(const std::vector<Measured>& ours, double target, bool numerical_only) {
   const Measured* best = nullptr;
   for (const Measured& m : ours) {
-    if (numerical_only && m.label.rfind("exact (closed form", 0) == 0) continue;
+    if (numerical_only && m.closed_form) continue;
     if (m.error <= target && (best == nullptr || m.seconds < best->seconds)) best = &m;
   }
   return best;
 }
 
-void PrintRows(const char* title,
-               const std::vector<Measured>& simbody,
-               const std::vector<Measured>& ours) {
-  std::printf("\n%s\n\n", title);
-  std::printf(
+/// The table; returns the smallest speed-up over the Simbody rows (0 if one had no match).
+double PrintRows(bench::Markdown& md,
+                 const std::vector<Measured>& simbody,
+                 const std::vector<Measured>& ours,
+                 bool has_closed_form) {
+  md.Printf(
       "| Simbody run | Simbody error | Simbody [s] | matched deploysim run | deploysim error | "
       "deploysim [ms] | speed-up |\n");
-  std::printf("|---|---|---|---|---|---|---|\n");
+  md.Printf("|---|---|---|---|---|---|---|\n");
+  double worst = 1e300;
   for (const Measured& s : simbody) {
     for (bool numerical_only : {false, true}) {
+      if (numerical_only && !has_closed_form) continue;
       const Measured* m = Match(ours, s.error, numerical_only);
       if (m == nullptr) {
-        std::printf("| %s | %.2e | %.3g | (none as accurate) | - | - | - |\n", s.label.c_str(),
-                    s.error, s.seconds);
+        md.Printf("| %s | %.2e | %.3g | (none as accurate) | - | - | - |\n", s.label.c_str(),
+                  s.error, s.seconds);
+        if (!numerical_only) worst = 0.0;
         continue;
       }
       if (numerical_only && m == Match(ours, s.error, false)) continue;  // same row
-      std::printf("| %s | %.2e | %.3g | %s | %.2e | %.4g | %.0f |\n", s.label.c_str(), s.error,
-                  s.seconds, m->label.c_str(), m->error, m->seconds * 1e3, s.seconds / m->seconds);
+      md.Printf("| %s | %.2e | %.3g | %s | %.2e | %.4g | %.0f |\n", s.label.c_str(), s.error,
+                s.seconds, m->label.c_str(), m->error, m->seconds * 1e3, s.seconds / m->seconds);
+      if (!numerical_only) worst = std::min(worst, s.seconds / m->seconds);
     }
   }
-  std::printf("\ndeploysim configurations measured:\n");
+  md.Printf("\nAll deploysim runs measured (the candidates for the matching):\n\n");
+  md.Printf("| deploysim run | error | wall time [ms] |\n|---|---|---|\n");
   for (const Measured& m : ours) {
-    std::printf("  %-28s error %.2e  %.4g ms\n", m.label.c_str(), m.error, m.seconds * 1e3);
+    md.Printf("| %s | %.2e | %.4g |\n", m.label.c_str(), m.error, m.seconds * 1e3);
   }
+  return worst;
+}
+
+std::string Label(const std::string& method, double rtol) {
+  char label[64];
+  std::snprintf(label, sizeof label, "%s rtol %g", method.c_str(), rtol);
+  return label;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const bench::Args args = bench::ParseArgs(argc, argv);
+  if (!args.rest.empty()) {
+    std::fprintf(stderr, "usage: simbody_bench [--quick] [--markdown FILE]\n");
+    return 2;
+  }
+  const int reps = args.quick ? 1 : 3;
   const std::string src = DEPLOYSIM_SOURCE_DIR;
-  std::printf("deploysim vs Simbody 3.7 (Runge-Kutta-Merson) at matched accuracy\n");
-  std::printf("machine: %s; every time is wall clock, deploysim: best of repetitions\n",
-              deploysim::bench::CpuModel().c_str());
+  bench::Markdown md;
+  const std::string rule = bench::TimingRule(
+      reps,
+      "builds its model from the loaded profile inside the timed region (Simbody: the "
+      "multibody system, its integrator and the initial-state fit; deploysim: the inertia "
+      "source or deployment schedule and the stepper, closed form included)");
 
   // ---- A. wing nut, free rigid body, 40 s ----
   {
     const schedule::Profile p = io::LoadProfile(src + "/deployment_profiles/wing_nut.yaml");
-    const math::InertiaTensor J = math::InertiaTensor::FromMatrix(p.model.configurations[0].J_B);
+    const math::Mat3 J_B = p.model.configurations[0].J_B;
+    if (!J_B.isDiagonal(0.0))
+      throw std::runtime_error("wing_nut.yaml: the reference needs a diagonal inertia");
     const math::Vec3 H0 = *p.initial.H_B;
+    const math::Quat q0 = p.initial.q_NB;
     const double M = H0.norm();
-    const analysis::FreeBodySolution exact(J, H0, math::Quat::Identity(), 0.0);
     const std::vector<double> grid = integrators::UniformGrid(0.0, 40.0, 1.0);
+    const bench::FreeBodyReference ref(J_B.diagonal(), H0, q0, 0.0, 40.0);
     auto error_of = [&](const std::vector<double>& t, const std::vector<math::Vec3>& H) {
       double e = 0;
-      for (std::size_t i = 0; i < t.size(); ++i)
-        e = std::max(e, (H[i] - exact.H_B(t[i])).norm() / M);
+      for (std::size_t i = 0; i < t.size(); ++i) e = std::max(e, (H[i] - ref.H_B(t[i])).norm() / M);
       return e;
     };
     std::vector<Measured> simbody;
     std::vector<double> accuracies = {1e-10, 1e-12};
-    if (!quick) accuracies.push_back(1e-14);
-    const math::Vec3 spin = analysis::InitialSpinAxis(J.matrix(), H0);
+    if (!args.quick) accuracies.push_back(1e-14);
     for (double a : accuracies) {
-      double sec = 0.0;
-      const crosscheck::SimbodyRun run = TimedSimbody(p, grid, spin, a, sec);
+      crosscheck::SimbodyRun run;
+      const double sec = bench::TimeCold(reps, [&] { run = RunSimbody(p, grid, a); }).median();
       char label[64];
       std::snprintf(label, sizeof label, "Free body, accuracy %g", a);
-      simbody.push_back({label, error_of(run.trajectory.time, run.trajectory.H_B), sec});
+      simbody.push_back({label, false, error_of(run.trajectory.time, run.trajectory.H_B), sec});
     }
     std::vector<Measured> ours;
-    const dynamics::ConstantInertia source(J);
-    const integrators::State s0{0.0, H0, math::Quat::Identity()};
     for (const auto& [method, rtol] :
          std::vector<std::pair<std::string, double>>{{"rkf78", 1e-6},
                                                      {"rkf78", 1e-8},
@@ -167,54 +160,89 @@ int main(int argc, char** argv) {
                                                      {"rkmk-rkf78", 1e-8},
                                                      {"rkmk-rkf78", 1e-10},
                                                      {"exact", 1e-12}}) {
-      double sec = 0.0;
-      const integrators::IntegrationResult r =
-          TimedDeploysim(method, rtol, source, s0, 40.0, grid, sec);
+      integrators::IntegrationResult r;
+      const double sec =
+          bench::TimeCold(reps, [&, m = method, tol = rtol] {
+            const auto J = math::InertiaTensor::FromMatrix(J_B);
+            const dynamics::ConstantInertia source(J);
+            const auto stepper = analysis::MakeStepper(m);
+            integrators::IntegratorSettings st;
+            st.tolerances = {tol, tol * 1e-2};
+            r = integrators::Integrate(*stepper, st, source, {0.0, H0, q0}, 40.0, grid);
+          }).median();
       std::vector<double> t;
       std::vector<math::Vec3> H;
       for (const auto& y : r.samples) {
         t.push_back(y.t);
         H.push_back(y.H_B);
       }
-      char label[64];
-      std::snprintf(label, sizeof label, "%s rtol %g", method.c_str(), rtol);
-      // The closed form is the reference itself here: its own error against a
-      // long-double integration is 3.3e-12 (wing_nut_bench), which is what is shown.
-      constexpr double kClosedFormError = 3.3e-12;
-      ours.push_back({method == "exact" ? std::string("exact (closed form)") : label,
-                      method == "exact" ? kClosedFormError : error_of(t, H), sec});
+      ours.push_back({method == "exact" ? std::string("exact (closed form)") : Label(method, rtol),
+                      method == "exact", error_of(t, H), sec});
     }
-    PrintRows(
-        "A. Wing nut, free rigid body, 40 s (11 flips), output every 1 s; error: max |H_B - closed "
-        "form| / |H|",
-        simbody, ours);
+    md.Printf("### 2. Free rigid body against Simbody (wing nut, 40 s)\n\n");
+    md.Printf(
+        "Simbody 3.7's `MobilizedBody::Free` with Runge-Kutta-Merson at %zu accuracies, each "
+        "matched with the fastest deploysim run at least as accurate (closed form, and the "
+        "fastest purely numerical one); `build/release/bench/simbody_bench`.\n\n",
+        accuracies.size());
+    const double worst = PrintRows(md, simbody, ours, true);
+    md.Printf(
+        "\n- Each run, on both sides: 0 to 40 s (%zu flips in the reference), output every 1 s "
+        "(%zu samples: Simbody steps exactly to each, deploysim samples its dense output); flip "
+        "location "
+        "is excluded on both sides (Simbody has no dense output, and the cross-check's "
+        "restart-based location of Simbody's flips would time our root finding, not "
+        "Simbody).\n",
+        ref.SignChanges(1).size(), grid.size());
+    md.Printf("- %s\n", rule.c_str());
+    md.Printf(
+        "- Error: max over the %zu samples of |H_B - H_ref| / |H|, against the independent "
+        "double-double Taylor reference of table 1 (bench/free_body_reference.h).\n",
+        grid.size());
+    if (args.quick) md.Printf("- Quick run: Simbody at accuracy 1e-14 left out.\n");
+    md.Printf("- Target >= 10,000x at matched accuracy: %s (smallest speed-up %.0fx).\n",
+              worst >= 1e4 ? "**met**" : "**missed**", worst);
   }
 
   // ---- B. small satellite deployment, 300 s ----
   {
     schedule::Profile p = io::LoadProfile(src + "/deployment_profiles/smallsat_three_stage.yaml");
     p = crosscheck::TruncateProfile(p, 300.0);
-    const schedule::DeploymentSchedule sched(p);
     const math::Vec3 H0 = crosscheck::InitialMomentum(p);
     const integrators::State s0{0.0, H0, p.initial.q_NB};
     const double M = H0.norm();
-    const std::vector<double> grid = {0.0, 300.0};
-    const math::Vec3 spin = analysis::InitialSpinAxis(sched.Evaluate(0.0).J_B, H0);
-    // Reference: deploysim exact flow + rkmk-rkf78 at rtol 1e-13.
-    integrators::IntegratorSettings ref_st;
-    ref_st.tolerances = {1e-13, 1e-15};
-    const auto ref_stepper = analysis::MakeStepper("exact");
-    const integrators::IntegrationResult ref =
-        integrators::Integrate(*ref_stepper, ref_st, sched, s0, 300.0, grid);
-    const math::Vec3 H_ref = ref.samples.back().H_B;
+    const std::vector<double> grid = integrators::UniformGrid(0.0, 300.0, 1.0);
+    auto deploysim_run = [&](const std::string& method, double rtol) {
+      const schedule::DeploymentSchedule sched(p);
+      const auto stepper = analysis::MakeStepper(method);
+      integrators::IntegratorSettings st;
+      st.tolerances = {rtol, rtol * 1e-2};
+      return integrators::Integrate(*stepper, st, sched, s0, 300.0, grid);
+    };
+    // Reference: the exact flow (closed form on the holds, rkmk-rkf78 on the moves) at
+    // rtol 1e-13; its error is bounded by its difference from rkf78 (vector-space
+    // Fehlberg 7(8) throughout) at the same tolerance.
+    const integrators::IntegrationResult ref = deploysim_run("exact", 1e-13);
+    const integrators::IntegrationResult ref2 = deploysim_run("rkf78", 1e-13);
+    auto error_of = [&](const std::vector<math::Vec3>& H) {
+      double e = 0;
+      for (std::size_t i = 0; i < grid.size(); ++i)
+        e = std::max(e, (H[i] - ref.samples[i].H_B).norm() / M);
+      return e;
+    };
+    auto samples_H = [](const integrators::IntegrationResult& r) {
+      std::vector<math::Vec3> H;
+      for (const auto& y : r.samples) H.push_back(y.H_B);
+      return H;
+    };
+    const double ref_error = error_of(samples_H(ref2));
     std::vector<Measured> simbody;
-    std::vector<double> accuracies = {1e-8, 1e-10, 1e-12};
-    for (double a : accuracies) {
-      double sec = 0.0;
-      const crosscheck::SimbodyRun run = TimedSimbody(p, grid, spin, a, sec);
+    for (double a : {1e-8, 1e-10, 1e-12}) {
+      crosscheck::SimbodyRun run;
+      const double sec = bench::TimeCold(reps, [&] { run = RunSimbody(p, grid, a); }).median();
       char label[64];
       std::snprintf(label, sizeof label, "hinged, accuracy %g", a);
-      simbody.push_back({label, (run.trajectory.H_B.back() - H_ref).norm() / M, sec});
+      simbody.push_back({label, false, error_of(run.trajectory.H_B), sec});
     }
     std::vector<Measured> ours;
     for (const auto& [method, rtol] :
@@ -225,18 +253,35 @@ int main(int argc, char** argv) {
                                                      {"rkmk-rkf78", 1e-8},
                                                      {"rkmk-rkf78", 1e-10},
                                                      {"rkf78", 1e-10}}) {
-      double sec = 0.0;
-      const integrators::IntegrationResult r =
-          TimedDeploysim(method, rtol, sched, s0, 300.0, grid, sec);
-      char label[64];
-      std::snprintf(label, sizeof label, "%s rtol %g", method.c_str(), rtol);
-      ours.push_back({label, std::max((r.samples.back().H_B - H_ref).norm() / M, 1e-16), sec});
+      integrators::IntegrationResult r;
+      const double sec = bench::TimeCold(reps, [&, m = method, tol = rtol] {
+                           r = deploysim_run(m, tol);
+                         }).median();
+      ours.push_back({Label(method, rtol), false, error_of(samples_H(r)), sec});
     }
-    PrintRows(
-        "B. Small satellite, wings deployed in two stages, 300 s (2 flips), exact coupling; error: "
-        "|H_B(300 s) - reference| / |H|",
-        simbody, ours);
+    md.Printf("\n### 3. Satellite deployment against Simbody (small satellite, 300 s)\n\n");
+    md.Printf(
+        "Simbody's hinged model (hub `Free`, wings `Pin` with prescribed motion) against "
+        "deploysim with exact coupling; the first 300 s of "
+        "`deployment_profiles/smallsat_three_stage.yaml` (two deployment moves, then the spin "
+        "about the intermediate axis). Each Simbody run matched with the fastest "
+        "deploysim run at least as accurate.\n\n");
+    const double worst = PrintRows(md, simbody, ours, false);
+    md.Printf(
+        "\n- Each run, on both sides: 0 to 300 s, output every 1 s (%zu samples); flip "
+        "location excluded on both sides (as in table 2).\n",
+        grid.size());
+    md.Printf("- %s\n", rule.c_str());
+    md.Printf(
+        "- Error: max over the %zu samples of |H_B - H_ref| / |H|; the reference is deploysim's "
+        "`exact` at rtol 1e-13 (the reduced model is exact for prescribed hinge motion and "
+        "agrees with Simbody to Simbody's accuracy, tests/crosscheck); its own error, bounded "
+        "by its difference from `rkf78` at rtol 1e-13: %.1e.\n",
+        grid.size(), ref_error);
+    md.Printf("- Target >= 1,000x at matched accuracy: %s (smallest speed-up %.0fx).\n",
+              worst >= 1e3 ? "**met**" : "**missed**", worst);
   }
-  std::printf("\ntargets: A >= 10,000x, B >= 1,000x at matched accuracy\n");
+  md.Printf("\n%s\n", bench::MachineLine().c_str());
+  md.Emit(args.markdown);
   return 0;
 }

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <iomanip>
 #include <iostream>
 #include <string>
 
@@ -17,12 +18,19 @@
 namespace deploysim::crosscheck {
 namespace {
 
-// Issue 4 acceptance 2 (same numbers as acceptance 1).
+// Prints a measured figure (ctest --output-on-failure / -V shows it); the bounds below
+// are a few times these values.
+void Measured(const char* name, double v) {
+  std::cout << "measured " << name << " = " << std::setprecision(3) << v << std::endl;
+}
+
+// Issue 4 acceptance 2 (same numbers as acceptance 1: 1e-8, 1e-7 rad, 1e-6 s); the bounds
+// are a few times what is measured, so that a regression shows.
 constexpr double kSimbodyAccuracy = 1e-12;
-constexpr double kHBTolerance = 1e-8;        // relative
-constexpr double kAttitudeTolerance = 1e-7;  // [rad]
-constexpr double kFlipTolerance = 1e-6;      // [s]
-constexpr double kSimbodyDriftTolerance = 1e-10;
+constexpr double kHBTolerance = 6e-10;            // relative; measured 2.1e-10
+constexpr double kAttitudeTolerance = 7e-10;      // [rad]; measured 2.4e-10
+constexpr double kFlipTolerance = 1e-8;           // [s]; measured 3.5e-9
+constexpr double kSimbodyDriftTolerance = 6e-12;  // measured 2.0e-12
 
 schedule::Profile Asymmetric() {
   return io::LoadProfile(std::string(DEPLOYSIM_SOURCE_DIR) +
@@ -54,11 +62,15 @@ TEST(AsymmetricCrosscheckTest, ExactCouplingAgreesWithSimbody) {
   o.accuracy = kSimbodyAccuracy;
   const CrosscheckResult r = RunCrosscheck(p, o);
   std::cout << FormatCrosscheckTable(r);
+  Measured("r.difference.max_H_B_relative", r.difference.max_H_B_relative);
   EXPECT_LE(r.difference.max_H_B_relative, kHBTolerance);
+  Measured("r.difference.max_attitude", r.difference.max_attitude);
   EXPECT_LE(r.difference.max_attitude, kAttitudeTolerance);
   ASSERT_GE(r.simbody.flip_times.size(), 2u);
   ASSERT_EQ(r.reduced.flip_times.size(), r.simbody.flip_times.size());
+  Measured("r.max_flip_difference", r.max_flip_difference);
   EXPECT_LE(r.max_flip_difference, kFlipTolerance);
+  Measured("r.simbody.max_momentum_drift", r.simbody.max_momentum_drift);
   EXPECT_LE(r.simbody.max_momentum_drift, kSimbodyDriftTolerance);
   EXPECT_EQ(r.simbody.stats.restarts, 4);  // at every stage boundary but the end
   RecordProperty("max_H_B_relative", std::to_string(r.difference.max_H_B_relative));

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/model/mass_properties.h"
@@ -13,7 +14,9 @@
 namespace deploysim::crosscheck {
 namespace {
 
-constexpr double kExact = 1e-12;  // interpolation of a quintic: exact to rounding
+// Interpolation of a quintic: exact to rounding (measured 4.4e-16 in the angle, 2.2e-15 in
+// the rate).
+constexpr double kExact = 1e-14;
 
 model::HingedBody Smallsat() {
   const model::Model m = io::LoadModel(std::string(DEPLOYSIM_SOURCE_DIR) + "/models/smallsat.yaml");
@@ -52,13 +55,17 @@ HingeHistory QuinticHistory(const std::vector<double>& times) {
 
 TEST(HingeHistoryTest, ReproducesQuinticsExactly) {
   const HingeHistorySource src(Smallsat(), QuinticHistory({0.0, 0.7, 1.0, 2.5, 4.0}));
+  double max_angle = 0.0, max_rate = 0.0;
   for (double t = 0.0; t <= 4.0; t += 0.05) {
     const HingeState s = src.Interpolate(t);
     for (int k = 0; k < 2; ++k) {
       EXPECT_NEAR(s.angle[k], Quintic(k, t, 0), kExact) << "t = " << t;
       EXPECT_NEAR(s.rate[k], Quintic(k, t, 1), kExact) << "t = " << t;
+      max_angle = std::max(max_angle, std::abs(s.angle[k] - Quintic(k, t, 0)));
+      max_rate = std::max(max_rate, std::abs(s.rate[k] - Quintic(k, t, 1)));
     }
   }
+  std::cout << "measured max angle error " << max_angle << ", rate error " << max_rate << "\n";
 }
 
 TEST(HingeHistoryTest, ConvergesAtSixthOrderOnANonPolynomial) {
@@ -83,8 +90,9 @@ TEST(HingeHistoryTest, ConvergesAtSixthOrderOnANonPolynomial) {
   };
   const double e1 = error(4);
   const double e2 = error(8);
+  std::cout << "measured e1 = " << e1 << ", e2 = " << e2 << ", ratio " << e1 / e2 << "\n";
   EXPECT_GT(e1 / e2, 40.0);  // 2^6 = 64
-  EXPECT_LT(e2, 1e-7);
+  EXPECT_LT(e2, 2e-8);       // measured 5.3e-9 (ratio 63)
 }
 
 TEST(HingeHistoryTest, EvaluateIsTheGeometryAtTheInterpolatedState) {
@@ -94,13 +102,17 @@ TEST(HingeHistoryTest, EvaluateIsTheGeometryAtTheInterpolatedState) {
   const HingeState s = src.Interpolate(t);
   const model::MassProperties mp = model::ComputeMassProperties(body, s.angle, s.rate);
   const dynamics::InertiaSample e = src.Evaluate(t);
+  std::cout << "measured J " << (e.J_B - mp.J_B).norm() / mp.J_B.norm() << ", h_rel "
+            << (e.h_rel_B - mp.h_rel_B).norm() / mp.J_B.norm() << ", J_inv "
+            << (e.J_inv_B * e.J_B - math::Mat3::Identity()).norm() << "\n";
   EXPECT_LE((e.J_B - mp.J_B).norm(), 1e-15 * mp.J_B.norm());
   EXPECT_LE((e.h_rel_B - mp.h_rel_B).norm(), 1e-15 * mp.J_B.norm());
-  EXPECT_LE((e.J_inv_B * e.J_B - math::Mat3::Identity()).norm(), 1e-14);
+  EXPECT_LE((e.J_inv_B * e.J_B - math::Mat3::Identity()).norm(), 5e-16);  // measured 1.1e-16
   // Jdot is the derivative of J (central difference).
   const double dt = 1e-5;
   const math::Mat3 dJ = (src.Evaluate(t + dt).J_B - src.Evaluate(t - dt).J_B) / (2 * dt);
-  EXPECT_LE((dJ - e.Jdot_B).norm(), 1e-8 * mp.J_B.norm());
+  std::cout << "measured Jdot " << (dJ - e.Jdot_B).norm() / mp.J_B.norm() << "\n";
+  EXPECT_LE((dJ - e.Jdot_B).norm(), 2e-11 * mp.J_B.norm());  // measured 6.4e-12 (rounding / dt)
 }
 
 TEST(HingeHistoryTest, KnotsAreBreakpointsAndEndsHold) {

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <string>
 
@@ -22,16 +23,25 @@
 namespace deploysim::crosscheck {
 namespace {
 
+// Prints a measured figure (ctest --output-on-failure / -V shows it); the bounds below
+// are a few times these values.
+void Measured(const char* name, double v) {
+  std::cout << "measured " << name << " = " << std::setprecision(3) << v << std::endl;
+}
+
 namespace fs = std::filesystem;
 
-// Issue 4 acceptance 1.
-constexpr double kSimbodyAccuracy = 1e-13;        // "1e-12 or tighter" (1e-12 gives 6.3e-9 in H_B)
-constexpr double kHBTolerance = 1e-8;             // relative
-constexpr double kAttitudeTolerance = 1e-7;       // [rad]
-constexpr double kFlipTolerance = 1e-6;           // [s]
-constexpr double kSimbodyDriftTolerance = 1e-10;  // Simbody's own |dh_N|/|h_N|
-// The initial states are built to agree to rounding.
-constexpr double kInitialTolerance = 1e-13;
+// Issue 4 acceptance 1 asks for 1e-8 in H_B, 1e-7 rad, 1e-6 s at Simbody accuracy 1e-12 or
+// tighter; the bounds are a few times what is measured (the difference is Simbody's
+// integration error), so that a regression shows.
+constexpr double kSimbodyAccuracy = 1e-13;        // (1e-12 gives 6.3e-9 in H_B)
+constexpr double kHBTolerance = 1.5e-9;           // relative; measured 4.8e-10
+constexpr double kAttitudeTolerance = 2e-9;       // [rad]; measured 5.6e-10
+constexpr double kFlipTolerance = 2e-8;           // [s]; measured 6.8e-9
+constexpr double kSimbodyDriftTolerance = 4e-12;  // Simbody's own |dh_N|/|h_N|; measured 1.2e-12
+// The initial states are built to agree to rounding: measured 3.0e-18 in H_B, 0 in the
+// attitude, 1.0e-17 of |w| in w.
+constexpr double kInitialTolerance = 2e-17;
 
 std::string Source(const std::string& relative) {
   return std::string(DEPLOYSIM_SOURCE_DIR) + "/" + relative;
@@ -48,12 +58,16 @@ TEST(SmallsatCrosscheckTest, ExactCouplingAgreesWithSimbodyOverTheWholeProfile) 
   o.accuracy = kSimbodyAccuracy;
   const CrosscheckResult r = RunCrosscheck(p, o);
   std::cout << FormatCrosscheckTable(r);
+  Measured("r.difference.max_H_B_relative", r.difference.max_H_B_relative);
   EXPECT_LE(r.difference.max_H_B_relative, kHBTolerance);
+  Measured("r.difference.max_attitude", r.difference.max_attitude);
   EXPECT_LE(r.difference.max_attitude, kAttitudeTolerance);
   // The tumbling after deployment flips; both models see the same flips.
   ASSERT_GE(r.simbody.flip_times.size(), 3u);
   ASSERT_EQ(r.reduced.flip_times.size(), r.simbody.flip_times.size());
+  Measured("r.max_flip_difference", r.max_flip_difference);
   EXPECT_LE(r.max_flip_difference, kFlipTolerance);
+  Measured("r.simbody.max_momentum_drift", r.simbody.max_momentum_drift);
   EXPECT_LE(r.simbody.max_momentum_drift, kSimbodyDriftTolerance);
   RecordProperty("max_H_B_relative", std::to_string(r.difference.max_H_B_relative));
   RecordProperty("max_attitude_rad", std::to_string(r.difference.max_attitude));
@@ -69,18 +83,29 @@ TEST(SmallsatCrosscheckTest, InitialStatesAgree) {
   o.t_end = 60.0;
   o.output_dt = 1.0;
   const CrosscheckResult r = RunCrosscheck(Smallsat(), o);
+  Measured("r.difference.H_B_relative.front()", r.difference.H_B_relative.front());
   EXPECT_LE(r.difference.H_B_relative.front(), kInitialTolerance);
+  Measured("r.difference.attitude.front()", r.difference.attitude.front());
   EXPECT_LE(r.difference.attitude.front(), kInitialTolerance);
+  Measured("r.difference.w.front()", r.difference.w.front());
   EXPECT_LE(r.difference.w.front(), kInitialTolerance * r.difference.w_scale);
+  Measured("initial H_B, Simbody vs InitialMomentum",
+           (r.simbody.trajectory.H_B.front() - InitialMomentum(r.profile)).norm() /
+               r.simbody.trajectory.H_B.front().norm());
   EXPECT_LE((r.simbody.trajectory.H_B.front() - InitialMomentum(r.profile)).norm(),
             kInitialTolerance * r.simbody.trajectory.H_B.front().norm());
-  // 60 s of stable stowed spin: tight agreement, no flips.
+  // 60 s of stable stowed spin: tight agreement (measured 6.4e-11: Simbody's error), no
+  // flips.
+  Measured("r.difference.max_H_B_relative", r.difference.max_H_B_relative);
   EXPECT_LE(r.difference.max_H_B_relative, 1e-10);
   EXPECT_TRUE(r.simbody.flip_times.empty());
-  // One hold: the closed form applies; both models agree with it.
+  // One hold: the closed form applies; both models agree with it (measured: Simbody
+  // 6.4e-11, the reduced model's exact flow 3.0e-18).
   ASSERT_TRUE(r.has_analytic);
+  Measured("r.simbody_max_analytic_error", r.simbody_max_analytic_error);
   EXPECT_LE(r.simbody_max_analytic_error, 1e-10);
-  EXPECT_LE(r.reduced_max_analytic_error, 1e-10);
+  Measured("r.reduced_max_analytic_error", r.reduced_max_analytic_error);
+  EXPECT_LE(r.reduced_max_analytic_error, 2e-17);
 }
 
 // A linear law's rate jumps at its ends: h_rel jumps, so w jumps while H_B is continuous.
@@ -97,12 +122,15 @@ TEST(SmallsatCrosscheckTest, LinearLawRateJumpsAgree) {
   CrosscheckOptions o;
   o.accuracy = 1e-12;
   const CrosscheckResult r = RunCrosscheck(p, o);
-  EXPECT_LE(r.difference.max_H_B_relative, 1e-10);
-  EXPECT_LE(r.difference.max_w, 1e-10);
+  Measured("r.difference.max_H_B_relative", r.difference.max_H_B_relative);
+  EXPECT_LE(r.difference.max_H_B_relative, 4e-11);  // measured 1.3e-11
+  Measured("r.difference.max_w", r.difference.max_w);
+  EXPECT_LE(r.difference.max_w, 1e-11);  // [rad/s]; measured 3.5e-12
   // The jump at t = 10 s is really there (the test can fail): |dw_y| ~ 7e-3 rad/s.
   const auto& w = r.simbody.trajectory.w_NB_B;
   const std::size_t i10 = 100;  // dt = 0.1
   ASSERT_NEAR(r.simbody.trajectory.time[i10], 10.0, 1e-12);
+  Measured("|dw_y| at 10 s", std::abs(w[i10].y() - w[i10 - 1].y()));
   EXPECT_GT(std::abs(w[i10].y() - w[i10 - 1].y()), 5e-3);
   EXPECT_EQ(r.simbody.stats.restarts, 3);
 }

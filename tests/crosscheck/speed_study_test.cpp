@@ -32,8 +32,11 @@ constexpr double kFastUpTo = 30.0;
 constexpr double kGeometricPhaseSpread = 0.05;
 // The quasi-rigid attitude offset is a real, large error (0.28 rad here).
 constexpr double kMinGeometricPhase = 0.1;  // [rad]
-// The exact coupling, the control, stays at Simbody's accuracy.
-constexpr double kExactControlTolerance = 1e-7;  // [rad]
+// The exact coupling, the control, stays at Simbody's accuracy: a few times the measured
+// 9.6e-10 .. 2.0e-9 rad for D <= 100 s, 1.5e-8 and 3.2e-8 rad for D = 300 and 1000 s
+// (Simbody's error grows with the time spent tumbling in the deployment).
+constexpr double kExactControlTolerance = 5e-9;      // [rad] D <= 100 s
+constexpr double kExactControlToleranceSlow = 1e-7;  // [rad] D > 100 s
 
 // One test (ctest runs every test in its own process: a shared fixture would repeat the
 // ~10 s study per test).
@@ -48,7 +51,9 @@ TEST(SpeedStudyTest, QuasiRigidErrorsAgainstSimbody) {
   EXPECT_DOUBLE_EQ(r.rows.front().duration, 1.0);
   EXPECT_DOUBLE_EQ(r.rows.back().duration, 1000.0);
   for (const SpeedStudyRow& row : r.rows) {
-    EXPECT_LE(row.exact_max_attitude_error, kExactControlTolerance) << "D = " << row.duration;
+    EXPECT_LE(row.exact_max_attitude_error,
+              row.duration <= 100.0 ? kExactControlTolerance : kExactControlToleranceSlow)
+        << "D = " << row.duration;
   }
 
   // The angular-velocity error during the deployment scales with the hinge rate ~ 1/D:

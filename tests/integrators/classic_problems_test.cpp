@@ -104,7 +104,7 @@ TEST(ClassicProblemsTest, KroghMappingSolvesEulerEquations) {
     // Boost's (sn, cn, dn) solves rigidode: central differences of its values.
     constexpr double kDiffStep = 1e-5;
     // Truncation kDiffStep^2 / 6 |y'''| <= 2e-11, plus rounding ~1e-16 / kDiffStep.
-    constexpr double kDiffTolerance = 1e-9;
+    constexpr double kDiffTolerance = 3e-10;  // measured 6.3e-11
     const math::Vec3 fd = (SnCnDn(t + kDiffStep) - SnCnDn(t - kDiffStep)) / (2.0 * kDiffStep);
     EXPECT_LT((fd - y_dot).cwiseAbs().maxCoeff(), kDiffTolerance) << "t = " << t;
     // The mapped momentum solves Euler's equations, H' = H x J^-1 H.

@@ -69,7 +69,7 @@ TEST(So3Test, DexpInvInvertsRightJacobianNumerically) {
     const Mat3 Rp = ExpSO3(u + s * du);
     const Mat3 Rm = ExpSO3(u - s * du);
     const Vec3 w = Vee(ExpSO3(u).transpose() * (Rp - Rm) / (2 * s));
-    EXPECT_LT((DexpInv(u, w) - du).norm(), 1e-8);
+    EXPECT_LT((DexpInv(u, w) - du).norm(), 1.5e-9);  // measured 3.8e-10 (finite difference)
   }
 }
 

@@ -83,7 +83,7 @@ TEST(DeploymentScheduleTest, JdotMatchesFiniteDifferencesOfJ) {
         const InertiaSample s = sched.Evaluate(t);
         const Mat3 fd = (sched.Evaluate(t + h).J_B - sched.Evaluate(t - h).J_B) / (2.0 * h);
         const double scale = MaxAbs(s.J_B) / duration;
-        EXPECT_LT(MaxAbs(s.Jdot_B - fd), kFdTolerance * scale) << "t = " << t;
+        EXPECT_LT(MaxAbs(s.Jdot_B - fd), 1e-9 * scale) << "t = " << t;  // measured 2.3e-10
         EXPECT_GT(MaxAbs(s.Jdot_B), kNonZero * scale) << "t = " << t;
         EXPECT_LT(MaxAbs(s.J_inv_B * s.J_B - Mat3::Identity()), kRoundoff) << "t = " << t;
       }
@@ -106,7 +106,8 @@ TEST(DeploymentScheduleTest, HingeRatesAndAccelerationsMatchFiniteDifferences) {
           (sched.HingeAngles(t + h) - sched.HingeAngles(t - h)) / (2 * h);
       const Eigen::VectorXd fd_acc = (sched.HingeRates(t + h) - sched.HingeRates(t - h)) / (2 * h);
       ASSERT_EQ(rate.size(), 2);
-      EXPECT_LT((rate - fd_rate).cwiseAbs().maxCoeff(), kFdTolerance / duration) << "t = " << t;
+      EXPECT_LT((rate - fd_rate).cwiseAbs().maxCoeff(), 3e-9 / duration)  // measured 5.1e-11
+          << "t = " << t;
       EXPECT_LT((acc - fd_acc).cwiseAbs().maxCoeff(), kFdTolerance / (duration * duration))
           << "t = " << t;
       EXPECT_GT(rate.cwiseAbs().maxCoeff(), kNonZero / duration) << "t = " << t;

@@ -56,7 +56,8 @@ TEST(LawsTest, DerivativesMatchFiniteDifferences) {
       const LawValue v = EvaluateLaw(law, tau);
       const LawValue vp = EvaluateLaw(law, tau + kFdStep);
       const LawValue vm = EvaluateLaw(law, tau - kFdStep);
-      EXPECT_NEAR(v.ds, (vp.s - vm.s) / (2.0 * kFdStep), kFdTolerance) << "tau = " << tau;
+      EXPECT_NEAR(v.ds, (vp.s - vm.s) / (2.0 * kFdStep), 3e-9)  // measured 7.2e-10
+          << "tau = " << tau;
       EXPECT_NEAR(v.dds, (vp.ds - vm.ds) / (2.0 * kFdStep), kFdTolerance) << "tau = " << tau;
     }
   }

@@ -115,7 +115,7 @@ TEST_F(SweepDirTest, FinalMotionOfRigidBodies) {
     const BruteForce b = Sample(*c.profile.initial.H_B, 0, c.spin_axis_B, 20.0);
     EXPECT_EQ(c.spin_axis_B, math::Vec3::UnitX());
     EXPECT_NEAR(o.final_cone_angle, b.cone, kConeTolerance);
-    EXPECT_NEAR(o.max_spin_axis_angle, b.max_angle, kConeTolerance);
+    EXPECT_NEAR(o.max_spin_axis_angle, b.max_angle, 2.5e-9);  // [rad] measured 5.3e-10
     EXPECT_EQ(o.final_class, b.cone <= minor.outcome.tumble_angle ? MotionClass::kSpinMinor
                                                                   : MotionClass::kTumbling);
     EXPECT_EQ(AxisName(o.final_axis), "+x");
