@@ -250,6 +250,28 @@ TEST(DoubleDoubleTest, SinCosAgainstBinary128) {
   }
   std::printf("[ measured ] SinCos max error %.3g (%.2f u^2)\n", worst, worst / kU2);
 }
+TEST(DoubleDoubleTest, SincCosOfSquareAgainstBinary128) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double t_max = std::pow(std::atan(1.0), 2);  // (pi/4)^2, rounded down
+  double worst = 0.0;
+  for (int i = 0; i < 20000; ++i) {
+    const double f = i % 2 == 0 ? unit(rng) : std::pow(10.0, -30.0 * unit(rng));
+    const DoubleDouble t = TwoSum(f * t_max, std::ldexp(unit(rng) - 0.5, -60) * f * t_max);
+    DoubleDouble sinc, c;
+    SincCosOfSquare(t, &sinc, &c);
+    // Reference from the binary128 series of sin r and cos r at r = sqrt(t).
+    Quad r = std::sqrt(static_cast<double>(t));  // Newton on r^2 = t in binary128
+    for (int k = 0; k < 3; ++k) r = (r + ToQuad(t) / r) / 2;
+    Quad qs, qc;
+    SinCosQuad(r, &qs, &qc);
+    const double err = std::max(AbsRel(sinc, qs / r), AbsRel(c, qc));
+    ASSERT_LE(err, kSinCosBound) << "t = " << t.hi();
+    worst = std::max(worst, err);
+  }
+  std::printf("[ measured ] SincCosOfSquare max relative error %.3g (%.2f u^2)\n", worst,
+              worst / kU2);
+}
 #endif  // __SIZEOF_FLOAT128__
 
 // ---------------------------------------------------------------------------------------
@@ -353,6 +375,21 @@ TEST(DoubleDoubleTest, SinCosIdentitiesAndKnownValues) {
   EXPECT_LE(Rel(s, t - Square(t) * t / 6.0), 2 * kU2);
   SinCos(DoubleDouble(std::nan("")), &s, &c);
   EXPECT_TRUE(std::isnan(s.hi()) && std::isnan(c.hi()));
+  // SincCosOfSquare: t sinc^2 + cos^2 = sin^2 + cos^2 = 1 (exact identity in reals).
+  std::uniform_real_distribution<double> r(0.0, 0.78);
+  double worst_sinc = 0.0;
+  for (int i = 0; i < 20000; ++i) {
+    const DoubleDouble t2 = Square(DoubleDouble(r(rng)));
+    DoubleDouble sinc, cs;
+    SincCosOfSquare(t2, &sinc, &cs);
+    const double e = std::abs(static_cast<double>(t2 * Square(sinc) + Square(cs) - 1.0));
+    ASSERT_LE(e, kSinCosBound * 4) << t2.hi();
+    worst_sinc = std::max(worst_sinc, e);
+  }
+  SincCosOfSquare(DoubleDouble(0.0), &s, &c);
+  EXPECT_EQ(s, DoubleDouble(1.0));
+  EXPECT_EQ(c, DoubleDouble(1.0));
+  std::printf("[ measured ] SincCosOfSquare: t sinc^2 + cos^2 - 1 max %.3g\n", worst_sinc);
 }
 
 }  // namespace

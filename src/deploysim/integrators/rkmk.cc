@@ -37,17 +37,22 @@ QuatL Mul(const QuatL& a, const QuatL& b) { return MulT(a, b.w, b.x, b.y, b.z); 
 
 QuatL Mul(const QuatL& a, const math::Quat& b) { return MulT(a, b.w(), b.x(), b.y(), b.z()); }
 
-// Exp of a rotation vector (x, y, z) [rad].
+// Exp of a rotation vector (x, y, z) [rad]: (cos(a/2), sin(a/2)/a (x, y, z)), a = |(x, y, z)|,
+// from the series in a^2 / 4 (no square root, no division) up to a = pi/2.
 QuatL ExpL(const DoubleDouble& x, const DoubleDouble& y, const DoubleDouble& z) {
+  constexpr double kSeriesMaxA2 = 2.4674011002723395;  // (pi/2)^2
   const DoubleDouble a2 = Square(x) + Square(y) + Square(z);
-  if (a2 < 1e-18) {  // |a| < 1e-9: the series' next terms are below 1e-37
-    const DoubleDouble s = 0.5 - a2 / 48.0;
-    return {1.0 - a2 / 8.0, s * x, s * y, s * z};
+  DoubleDouble s, cos_half;
+  if (a2 <= kSeriesMaxA2) {
+    DoubleDouble sinc;
+    math::SincCosOfSquare(a2 * 0.25, &sinc, &cos_half);
+    s = sinc * 0.5;
+  } else {
+    const DoubleDouble a = Sqrt(a2);
+    DoubleDouble sin_half;
+    math::SinCos(a * 0.5, &sin_half, &cos_half);
+    s = sin_half / a;
   }
-  const DoubleDouble a = Sqrt(a2);
-  DoubleDouble sin_half, cos_half;
-  math::SinCos(a * 0.5, &sin_half, &cos_half);
-  const DoubleDouble s = sin_half / a;
   return {cos_half, s * x, s * y, s * z};
 }
 

@@ -16,12 +16,12 @@ constexpr double kPio2Lo = -0x1.f1976b7ed8fbcp-110;
 constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;
 constexpr double kPio4 = 0x1.921fb54442d18p-1;
 
-/// Number of Taylor terms available: (pi/4)^(2k) / (2k+1)! < 2^-110 for k >= 14.
+/// Number of Taylor terms available: (pi/4)^(2k) / (2k)! < 2^-110 for k >= 15.
 constexpr int kMaxTerms = 15;
-/// A term below this fraction of |r| is dropped (below double-double rounding).
+/// A term below this fraction of the result is dropped (below double-double rounding).
 constexpr double kTruncation = 0x1p-110;
-/// Terms below this fraction of |r| are summed in double: their double rounding error is
-/// below 2^-56 * 2^-53 of the result.
+/// Terms below this fraction of the result are summed in double: their double rounding
+/// error is below 2^-56 * 2^-53 of the result.
 constexpr double kDoubleTail = 0x1p-56;
 
 /// c_k = (-1)^k / (2k+1)!, k = 0..kMaxTerms (sin r = sum c_k r^(2k+1)).
@@ -37,30 +37,45 @@ const std::array<DoubleDouble, kMaxTerms + 1>& SinCoefficients() {
   return c;
 }
 
-/// sin(r) for |r| <= ~pi/4: r + r^3 P(r^2), P by Horner; the small high-order terms in
-/// double, the leading ones in double-double.
-DoubleDouble SinReduced(const DoubleDouble& r) {
-  const std::array<DoubleDouble, kMaxTerms + 1>& c = SinCoefficients();
-  const double r2d = r.hi() * r.hi();
-  int n = 0;  // terms c_1 .. c_n are kept
-  int m = 0;  // of which c_1 .. c_m in double-double
-  double t = r2d;
-  while (n < kMaxTerms && t * std::abs(c[n + 1].hi()) >= kTruncation) {
-    ++n;
-    if (t * std::abs(c[n].hi()) >= kDoubleTail) m = n;
-    t *= r2d;
-  }
-  if (n == 0) return r;
-  double q = 0.0;
-  for (int k = n; k > m; --k) q = c[k].hi() + r2d * q;
-  if (m == 0) return r + r * (r2d * q);
-  const DoubleDouble r2 = Square(r);
-  DoubleDouble p = q;
-  for (int k = m; k >= 1; --k) p = c[k] + r2 * p;
-  return r + (r * r2) * p;
+/// d_k = (-1)^k / (2k)!, k = 0..kMaxTerms (cos r = sum d_k r^(2k)).
+const std::array<DoubleDouble, kMaxTerms + 1>& CosCoefficients() {
+  static const std::array<DoubleDouble, kMaxTerms + 1> d = [] {
+    const std::array<DoubleDouble, kMaxTerms + 1>& c = SinCoefficients();
+    std::array<DoubleDouble, kMaxTerms + 1> t{};
+    t[0] = 1.0;
+    for (int k = 1; k <= kMaxTerms; ++k) t[k] = c[k - 1] / -static_cast<double>(2 * k);
+    return t;
+  }();
+  return d;
 }
 
 }  // namespace
+
+void SincCosOfSquare(const DoubleDouble& t, DoubleDouble* sinc, DoubleDouble* cos) {
+  const std::array<DoubleDouble, kMaxTerms + 1>& s = SinCoefficients();
+  const std::array<DoubleDouble, kMaxTerms + 1>& c = CosCoefficients();
+  const double td = t.hi();
+  int n = 0;  // terms 1 .. n kept (cosine terms are the larger: 1/(2k)! > 1/(2k+1)!)
+  int m = 0;  // of which 1 .. m in double-double
+  double p = td;
+  while (n < kMaxTerms && p * std::abs(c[n + 1].hi()) >= kTruncation) {
+    ++n;
+    if (p * std::abs(c[n].hi()) >= kDoubleTail) m = n;
+    p *= td;
+  }
+  double qs = 0.0, qc = 0.0;
+  for (int k = n; k > m; --k) {
+    qs = s[k].hi() + td * qs;
+    qc = c[k].hi() + td * qc;
+  }
+  DoubleDouble ps = qs, pc = qc;
+  for (int k = m; k >= 1; --k) {
+    ps = s[k] + t * ps;
+    pc = c[k] + t * pc;
+  }
+  *sinc = 1.0 + t * ps;
+  *cos = 1.0 + t * pc;
+}
 
 void SinCos(const DoubleDouble& x, DoubleDouble* sin_x, DoubleDouble* cos_x) {
   if (!std::isfinite(x.hi())) {
@@ -76,8 +91,9 @@ void SinCos(const DoubleDouble& x, DoubleDouble* sin_x, DoubleDouble* cos_x) {
     quadrant = static_cast<int>(std::fmod(k, 4.0));
     if (quadrant < 0) quadrant += 4;
   }
-  const DoubleDouble s = SinReduced(r);
-  const DoubleDouble c = Sqrt(1.0 - Square(s));  // cos r >= cos(pi/4 + tiny) > 0.7
+  DoubleDouble sinc, c;
+  SincCosOfSquare(Square(r), &sinc, &c);
+  const DoubleDouble s = r * sinc;
   switch (quadrant) {
     case 0:
       *sin_x = s, *cos_x = c;

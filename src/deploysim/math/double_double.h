@@ -229,11 +229,17 @@ inline DoubleDouble Sqrt(const DoubleDouble& x) {
 inline DoubleDouble Abs(const DoubleDouble& x) { return x.hi() < 0.0 ? -x : x; }
 
 /// sin(x) and cos(x). Reduction by multiples of pi/2 with a three-part pi/2 (Cody and
-/// Waite), then the Taylor series of sin on |r| <= pi/4 with as many terms as |r| needs
-/// (Horner in r^2, the small terms in double; none for tiny r), and cos = sqrt(1 - sin^2)
-/// there (cos >= 0.7: no cancellation). Error ~ 1e-31 relative to max(|sin|, |cos|) for |x| <=
-/// 2^20; the reduction's absolute error grows like |x| 2^-160 beyond. Non-finite x gives NaN.
+/// Waite), then the Taylor series of sin and cos on |r| <= pi/4 (SincCosOfSquare of r^2)
+/// with as many terms as |r| needs (Horner in r^2, the small terms in double). Error ~ 1e-31
+/// relative to max(|sin|, |cos|) for |x| <= 2^20; the reduction's absolute error grows like |x|
+/// 2^-160 beyond. Non-finite x gives NaN.
 void SinCos(const DoubleDouble& x, DoubleDouble* sin_x, DoubleDouble* cos_x);
+
+/// For 0 <= t <= (pi/4)^2: sinc = sin(sqrt t) / sqrt t and cos = cos(sqrt t), from their
+/// Taylor series in t (Horner, two independent chains), with neither square root nor
+/// division: what a rotation exponential needs, (cos(a/2), sin(a/2)/a v) with t = |v|^2/4.
+/// Error ~1e-31 relative.
+void SincCosOfSquare(const DoubleDouble& t, DoubleDouble* sinc, DoubleDouble* cos);
 
 inline bool operator==(const DoubleDouble& x, const DoubleDouble& y) {
   return x.hi() == y.hi() && x.lo() == y.lo();
