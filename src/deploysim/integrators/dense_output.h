@@ -13,10 +13,22 @@
 #include <Eigen/Core>
 #include <array>
 
+#include "deploysim/integrators/butcher_tableau.h"
+
 namespace deploysim::integrators {
 
 template <int N>
 using VecN = Eigen::Matrix<double, N, 1>;
+
+/// The continuous extension a Runge-Kutta tableau gets (the same rule for the
+/// vector-space and the Lie-group methods): Dormand-Prince's own for DOPRI5, cubic Hermite
+/// for methods of order <= 4, Hermite on nodes (partial steps) above.
+enum class DenseKind { kDopri, kHermiteCubic, kHermiteNodes };
+inline DenseKind ChooseDenseKind(const ButcherTableau& tableau) {
+  return &tableau == &DormandPrince54() ? DenseKind::kDopri
+         : tableau.order <= 4           ? DenseKind::kHermiteCubic
+                                        : DenseKind::kHermiteNodes;
+}
 
 constexpr int kMaxRkStages = 16;
 

@@ -45,9 +45,7 @@ ExplicitRkStepper::ExplicitRkStepper(const ButcherTableau& tableau,
   info_.error_order = tableau.b_hat.empty() ? 0 : tableau.embedded_order;
   info_.adaptive = !tableau.b_hat.empty();
   info_.lie_group = false;
-  dense_ = &tableau == &DormandPrince54() ? DenseKind::kDopri
-           : tableau.order <= 4           ? DenseKind::kHermiteCubic
-                                          : DenseKind::kHermiteNodes;
+  dense_ = ChooseDenseKind(tableau);
 }
 
 std::unique_ptr<StepperWorkspace> ExplicitRkStepper::NewWorkspace() const {

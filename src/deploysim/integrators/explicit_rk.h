@@ -24,6 +24,7 @@
 ///     3e-11.
 
 #include "deploysim/integrators/butcher_tableau.h"
+#include "deploysim/integrators/dense_output.h"
 #include "deploysim/integrators/stepper.h"
 
 namespace deploysim::integrators {
@@ -48,7 +49,6 @@ class ExplicitRkStepper final : public Stepper {
               const Tolerances& tol,
               StepperWorkspace& ws) const override;
 
-  enum class DenseKind { kDopri, kHermiteCubic, kHermiteNodes };
   /// Nodes (ends included, equispaced) of the Hermite interpolant of the high-order methods.
   static constexpr int kHighOrderHermiteNodes = 5;
 

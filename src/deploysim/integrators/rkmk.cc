@@ -174,9 +174,7 @@ RkmkStepper::RkmkStepper(const ButcherTableau& tableau, std::string name, std::s
   info_.error_order = tableau.b_hat.empty() ? 0 : tableau.embedded_order;
   info_.adaptive = !tableau.b_hat.empty();
   info_.lie_group = true;
-  dense_ = &tableau == &DormandPrince54() ? DenseKind::kDopri
-           : tableau.order <= 4           ? DenseKind::kHermiteCubic
-                                          : DenseKind::kHermiteNodes;
+  dense_ = ChooseDenseKind(tableau);
 }
 
 std::unique_ptr<StepperWorkspace> RkmkStepper::NewWorkspace() const {

@@ -22,6 +22,7 @@
 /// from partial steps) for rkmk-rkf78 (see explicit_rk.h for the measured errors).
 
 #include "deploysim/integrators/butcher_tableau.h"
+#include "deploysim/integrators/dense_output.h"
 #include "deploysim/integrators/stepper.h"
 
 namespace deploysim::integrators {
@@ -45,7 +46,6 @@ class RkmkStepper final : public Stepper {
               const Tolerances& tol,
               StepperWorkspace& ws) const override;
 
-  enum class DenseKind { kDopri, kHermiteCubic, kHermiteNodes };
   /// Nodes (ends included, equispaced) of the Hermite interpolant of the high-order methods.
   static constexpr int kHighOrderHermiteNodes = 5;
 
