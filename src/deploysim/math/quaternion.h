@@ -16,9 +16,12 @@ Vec4 ToWxyz(const Quat& q);
 /// Quaternion from a scalar-first 4-vector (w, x, y, z). Not normalized.
 Quat FromWxyz(const Vec4& wxyz);
 
-/// The one rule for an attitude quaternion given as input: finite and of norm 1 within
-/// kUnitQuaternionTolerance. Returns q normalized; throws std::invalid_argument naming
-/// `what`, the value and the rule otherwise.
+/// The one rule for an attitude quaternion given to a library entry point (Integrate,
+/// RunMission, FreeBodySolution): finite and of norm 1 within kUnitQuaternionTolerance.
+/// Returns q normalized; throws std::invalid_argument naming `what`, the value and the
+/// rule otherwise. (Files are the user's rounded text: a profile's `attitude_wxyz` is any
+/// finite non-zero quaternion and is normalized on load, docs/file_formats.md; what
+/// reaches the library is then unit to rounding.)
 inline constexpr double kUnitQuaternionTolerance = 1e-12;
 Quat ValidateUnitQuaternion(const Quat& q, const std::string& what);
 
