@@ -37,7 +37,7 @@ using integrators::State;
 // smooth interpolant follows that, so the samples are compared with the closed form in
 // units of it, and with the independent reference, against which the interpolated
 // samples must be as accurate as the closed form's. Measured (x86-64, -O3): |dH|/|H| up to
-// 1.05 eps (1 + 2 K + lambda t), attitude up to 3.2 eps (1 + |w| t) rad; against the
+// 1.05 eps (1 + 2 K + lambda t), attitude up to 4.1 eps (1 + |w| t) rad; against the
 // reference at most 1.4 times the closed form's error. Bounds a few times above.
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kHRoundings = 3.0;         // |dH|/|H| in units of eps (1 + 2 K + lambda t)

@@ -116,15 +116,30 @@ bool ChebyshevFit::FitPiece(const std::function<void(double, double*)>& f,
   for (;;) {
     // DCT-I: c_k = (2/n) sum'' f_j cos(pi j k / n), c_0 and c_n halved.
     const std::size_t nn = static_cast<std::size_t>(n);
+    // With cos(pi (n-j) k / n) = (-1)^k cos(pi j k / n), the sum runs over j <= n/2 of
+    // e_j = f_j + f_{n-j} (even k) or o_j = f_j - f_{n-j} (odd k), e_{n/2} = f_{n/2},
+    // o_{n/2} = 0 (its cosine vanishes for odd k), weight 1/2 at j = 0.
+    const std::size_t half_n = nn / 2;
+    sums_.assign((half_n + 1) * d, 0.0);
+    diffs_.assign((half_n + 1) * d, 0.0);
+    for (std::size_t j = 0; j < half_n; ++j) {
+      const double* lo = &values_[j * d];
+      const double* hi = &values_[(nn - j) * d];
+      const double w = j == 0 ? 0.5 : 1.0;
+      for (std::size_t i = 0; i < d; ++i) {
+        sums_[j * d + i] = w * (lo[i] + hi[i]);
+        diffs_[j * d + i] = w * (lo[i] - hi[i]);
+      }
+    }
+    std::copy_n(&values_[half_n * d], d, &sums_[half_n * d]);
     coefs_tmp_.assign((nn + 1) * d, 0.0);
     const std::vector<double>& cos_tab = CosTable(n);
     for (std::size_t k = 0; k <= nn; ++k) {
       double* c = &coefs_tmp_[k * d];
+      const std::vector<double>& g = k % 2 == 0 ? sums_ : diffs_;
       std::size_t m = 0;  // j k mod 2n
-      for (std::size_t j = 0; j <= nn; ++j) {
-        const double w = (j == 0 || j == nn) ? 0.5 : 1.0;
-        const double cs = w * cos_tab[m];
-        Axpy(d, cs, &values_[j * d], c);
+      for (std::size_t j = 0; j <= half_n; ++j) {
+        Axpy(d, cos_tab[m], &g[j * d], c);
         m += k;
         if (m >= 2 * nn) m -= 2 * nn;
       }

@@ -71,7 +71,7 @@ class ChebyshevFit {
   std::vector<double> ceiling_;    ///< Largest accepted plateau: kTailUlps * noise_i.
   std::vector<Piece> pieces_;
   std::vector<double> coef_;
-  std::vector<double> values_, values2_, coefs_tmp_;
+  std::vector<double> values_, values2_, coefs_tmp_, sums_, diffs_;
   std::size_t evaluations_ = 0;
   std::size_t max_evaluations_ = 0;
   mutable std::size_t cursor_ = 0;
