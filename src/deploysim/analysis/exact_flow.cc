@@ -57,7 +57,19 @@ class ExactFlowWorkspace final : public integrators::StepperWorkspace {
   bool fit_tried = false;
   bool fit_ok = false;
   std::vector<double> fit_scale, fit_noise;
+  /// The rotation taken out of the fitted attitude: about spin_axis_N (unit, h_N) by
+  /// spin_rate (t - spin_mid).
+  math::Vec3 spin_axis_N = math::Vec3::UnitZ();
+  double spin_rate = 0.0;
+  double spin_mid = 0.0;
 };
+
+math::Quat SpinAbout(const ExactFlowWorkspace& ws, double t) {
+  const double half = 0.5 * ws.spin_rate * (t - ws.spin_mid);
+  const double s = std::sin(half);
+  return math::Quat(std::cos(half), s * ws.spin_axis_N.x(), s * ws.spin_axis_N.y(),
+                    s * ws.spin_axis_N.z());
+}
 
 // The closed form through y on the current rigid segment: the cached one if y lies on
 // it bit for bit, else one built from y.
@@ -169,9 +181,16 @@ integrators::State ExactFlowStepper::DenseSample(const integrators::Problem& pro
       const double noise_q = I1 > 0.0 ? eps * (2.0 + 2.0 * M / I1 * tau) : eps;
       ws.fit_scale.assign({M, M, M, 1.0, 1.0, 1.0, 1.0});
       ws.fit_noise.assign({noise_H, noise_H, noise_H, noise_q, noise_q, noise_q, noise_q});
-      auto f = [&sol](double s, double* out) {
+      // The attitude is fitted with a uniform rotation about h_N at about its mean rate
+      // taken out (SpinAbout, multiplied back after evaluation): the fitted components
+      // then vary more slowly (measured: ~10% smaller attitude differences).
+      const math::Vec3 h_N = ws.step_begin.q_NB * ws.step_begin.H_B;
+      ws.spin_axis_N = h_N / h_N.norm();
+      ws.spin_rate = 2.0 * sol.energy() / M;  // w . H / |H|: near the mean rate
+      ws.spin_mid = 0.5 * (ws.step_begin.t + ws.step_end.t);
+      auto f = [&sol, &ws](double s, double* out) {
         const math::Vec3 H = sol.H_B(s);
-        const math::Quat q = sol.q_NB(s).normalized();
+        const math::Quat q = SpinAbout(ws, s).conjugate() * sol.q_NB(s).normalized();
         out[0] = H.x();
         out[1] = H.y();
         out[2] = H.z();
@@ -190,7 +209,7 @@ integrators::State ExactFlowStepper::DenseSample(const integrators::Problem& pro
   integrators::State s;
   s.t = t;
   s.H_B = math::Vec3(v[0], v[1], v[2]);
-  s.q_NB = math::Quat(v[3], v[4], v[5], v[6]).normalized();
+  s.q_NB = (SpinAbout(ws, t) * math::Quat(v[3], v[4], v[5], v[6])).normalized();
   return s;
 }
 
