@@ -218,9 +218,13 @@ TEST(StepperContractTest, ExactNearTheSeparatrixWithARotatedAttitude) {
   // instead of the source's matrix), 0 against the identity-attitude run, attitude
   // 3.4e-16 rad; flips within 1.2e-13 s of the analytic times (before the fix: 8.7e-4
   // |H| and 3e-3 s).
-  EXPECT_LE(worst, 1e-15);
+  // Since issue 8 the output samples are a Chebyshev interpolant of the closed form
+  // (exact_flow.h), which agrees with it to the closed form's own rounding, growing with
+  // t (eps |lambda t| |H|, eps |gamma| rad): measured 1.9e-14 |H| and 6.1e-14 rad at
+  // t <= 400 s (tests/analysis/exact_dense_test.cpp checks it against a reference).
+  EXPECT_LE(worst, 1e-13);
   EXPECT_LE(worst_identity, 1e-15);
-  EXPECT_LE(worst_q, 2e-15);
+  EXPECT_LE(worst_q, 2e-13);
   ASSERT_EQ(rotated.events.size(), plain.events.size());
   const std::vector<double> flips = sol.FlipTimes(0.0, kEnd);
   EXPECT_GE(flips.size(), 3u);

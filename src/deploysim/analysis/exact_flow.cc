@@ -1,11 +1,13 @@
 #include "deploysim/analysis/exact_flow.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 
+#include "deploysim/analysis/chebyshev.h"
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/integrators/carry_store.h"
 #include "deploysim/integrators/factory.h"
@@ -49,7 +51,25 @@ class ExactFlowWorkspace final : public integrators::StepperWorkspace {
   integrators::CarryStore<long> returned;
   bool last_by_fallback = false;
   bool accepted_by_fallback = false;
+  /// Interpolant of the closed form over the last accepted rigid step for output samples
+  /// (tried once per step, on its first sample).
+  ChebyshevFit fit;
+  bool fit_tried = false;
+  bool fit_ok = false;
+  std::vector<double> fit_scale, fit_noise;
+  /// The rotation taken out of the fitted attitude: about spin_axis_N (unit, h_N) by
+  /// spin_rate (t - spin_mid).
+  math::Vec3 spin_axis_N = math::Vec3::UnitZ();
+  double spin_rate = 0.0;
+  double spin_mid = 0.0;
 };
+
+math::Quat SpinAbout(const ExactFlowWorkspace& ws, double t) {
+  const double half = 0.5 * ws.spin_rate * (t - ws.spin_mid);
+  const double s = std::sin(half);
+  return math::Quat(std::cos(half), s * ws.spin_axis_N.x(), s * ws.spin_axis_N.y(),
+                    s * ws.spin_axis_N.z());
+}
 
 // The closed form through y on the current rigid segment: the cached one if y lies on
 // it bit for bit, else one built from y.
@@ -112,6 +132,8 @@ void ExactFlowStepper::Accept(const integrators::Problem& problem,
   ws.step_begin = y0;
   ws.step_end = y1;
   ws.accepted_by_fallback = ws.last_by_fallback;
+  ws.fit_tried = false;
+  ws.fit_ok = false;
   if (ws.last_by_fallback) {
     fallback_->Accept(problem, y0, y1, *ws.fallback_ws);
   } else {
@@ -128,6 +150,67 @@ integrators::State ExactFlowStepper::Dense(const integrators::Problem& problem,
   if (t <= ws.step_begin.t) return ws.step_begin;
   if (t >= ws.step_end.t) return ws.step_end;
   return ClosedFormAt(SolutionFor(problem, ws.step_begin, ws), t);
+}
+
+integrators::State ExactFlowStepper::DenseSample(const integrators::Problem& problem,
+                                                 double t,
+                                                 std::size_t samples,
+                                                 const integrators::Tolerances& tol,
+                                                 integrators::StepperWorkspace& workspace) const {
+  auto& ws = static_cast<ExactFlowWorkspace&>(workspace);
+  if (ws.accepted_by_fallback)
+    return fallback_->DenseSample(problem, t, samples, tol, *ws.fallback_ws);
+  if (t <= ws.step_begin.t) return ws.step_begin;
+  if (t >= ws.step_end.t) return ws.step_end;
+  const FreeBodySolution& sol = SolutionFor(problem, ws.step_begin, ws);
+  if (!ws.fit_tried) {
+    ws.fit_tried = true;
+    ws.fit_ok = false;
+    const double M = sol.momentum_magnitude();
+    if (samples >= kMinFitSamples && M > 0.0 && std::isfinite(M)) {
+      // Rounding of the closed form's values: H_B depends on the elliptic argument
+      // u = lambda (t - t0) + u0, rounded to eps |u| (|u0| <= 2 K, K = lambda T / 4, and
+      // K < 40 for any 1 - k^2 >= 1e-30), with |dH/du| <= M; q_NB on the angle gamma about h_N,
+      // rounded to eps |gamma|, |gamma'| <= 2 M / I1 (free_body_solution.h).
+      constexpr double eps = std::numeric_limits<double>::epsilon();
+      const double tau = std::max(std::abs(ws.step_begin.t - ws.built_from.t),
+                                  std::abs(ws.step_end.t - ws.built_from.t));
+      const double I1 = sol.principal_axes().moments[0];
+      const double K = std::isfinite(sol.period()) ? 0.25 * sol.lambda() * sol.period() : 40.0;
+      const double noise_H = eps * M * (1.0 + 2.0 * K + sol.lambda() * tau);
+      const double noise_q = I1 > 0.0 ? eps * (2.0 + 2.0 * M / I1 * tau) : eps;
+      ws.fit_scale.assign({M, M, M, 1.0, 1.0, 1.0, 1.0});
+      ws.fit_noise.assign({noise_H, noise_H, noise_H, noise_q, noise_q, noise_q, noise_q});
+      // The attitude is fitted with a uniform rotation about h_N at about its mean rate
+      // taken out (SpinAbout, multiplied back after evaluation): the fitted components
+      // then vary more slowly (measured: ~10% smaller attitude differences).
+      const math::Vec3 h_N = ws.step_begin.q_NB * ws.step_begin.H_B;
+      ws.spin_axis_N = h_N / h_N.norm();
+      ws.spin_rate = 2.0 * sol.energy() / M;  // w . H / |H|: near the mean rate
+      ws.spin_mid = 0.5 * (ws.step_begin.t + ws.step_end.t);
+      auto f = [&sol, &ws](double s, double* out) {
+        const math::Vec3 H = sol.H_B(s);
+        const math::Quat q = SpinAbout(ws, s).conjugate() * sol.q_NB(s).normalized();
+        out[0] = H.x();
+        out[1] = H.y();
+        out[2] = H.z();
+        out[3] = q.w();
+        out[4] = q.x();
+        out[5] = q.y();
+        out[6] = q.z();
+      };
+      ws.fit_ok = ws.fit.Build(f, ws.step_begin.t, ws.step_end.t, ws.fit_scale, ws.fit_noise,
+                               3 * samples / 4);
+    }
+  }
+  if (!ws.fit_ok) return ClosedFormAt(sol, t);
+  double v[7];
+  ws.fit.Evaluate(t, v);
+  integrators::State s;
+  s.t = t;
+  s.H_B = math::Vec3(v[0], v[1], v[2]);
+  s.q_NB = (SpinAbout(ws, t) * math::Quat(v[3], v[4], v[5], v[6])).normalized();
+  return s;
 }
 
 bool ExactFlowStepper::DenseIsExact(const integrators::StepperWorkspace& workspace) const {

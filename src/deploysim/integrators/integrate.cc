@@ -300,8 +300,15 @@ IntegrationResult Integrate(const Stepper& stepper,
         result.events.insert(result.events.end(), found.begin(), found.end());
       }
 
-      while (next_out < output_times.size() && output_times[next_out] <= y1.t) {
-        result.samples.push_back(dense_at(y, y1, output_times[next_out]));
+      std::size_t step_out = next_out;
+      while (step_out < output_times.size() && output_times[step_out] <= y1.t) ++step_out;
+      const std::size_t samples_in_step = step_out - next_out;
+      while (next_out < step_out) {
+        const double t_out = output_times[next_out];
+        result.samples.push_back(
+            t_out <= y.t    ? y
+            : t_out >= y1.t ? y1
+                            : stepper.DenseSample(problem, t_out, samples_in_step, tol, ws));
         result.samples.back().t = output_times[next_out];
         ++next_out;
       }

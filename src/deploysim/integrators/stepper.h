@@ -5,6 +5,7 @@
 /// the driver in integrate.h handles step-size control, breakpoints, output sampling
 /// and event location for all of them alike.
 
+#include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
@@ -95,6 +96,19 @@ class Stepper {
                       double t,
                       const Tolerances& tol,
                       StepperWorkspace& ws) const = 0;
+
+  /// The continuous extension for an output sample at t in [y0.t, y1.t] of the last
+  /// accepted step; `samples` is the number of output samples the driver takes in this
+  /// step (a hint). A stepper may answer from an approximation of Dense accurate to
+  /// rounding where that is cheaper (`exact`: a Chebyshev interpolant of the closed
+  /// form); event location and event states always use Dense. Default: Dense.
+  virtual State DenseSample(const Problem& problem,
+                            double t,
+                            std::size_t /*samples*/,
+                            const Tolerances& tol,
+                            StepperWorkspace& ws) const {
+    return Dense(problem, t, tol, ws);
+  }
 
   /// True when Dense() on the last accepted step is the solution itself, not an
   /// interpolant (the closed form of `exact` on rigid segments): events located on it
