@@ -9,8 +9,8 @@
 // at as many times as the trajectory has samples): the floor of a mission run whose
 // dense output is the closed form itself.
 //
-// Usage: pipeline_bench [--quick] [--reps N] [--profile FILE] [--method NAME]
-//        (--method overrides the profile's integrator, e.g. rkmk-rkf78 or dopri5)
+// Usage: pipeline_bench [--quick] [--markdown FILE] [--profile FILE]
+//        (methods exact, rkmk-rkf78, rkf78, dopri5, each with the profile's tolerances)
 
 #if defined(DEPLOYSIM_HAVE_SWEEP)
 
@@ -21,6 +21,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "bench_util.h"
 #include "deploysim/analysis/free_body_solution.h"
@@ -34,37 +35,21 @@
 namespace {
 
 using namespace deploysim;
-using Clock = std::chrono::steady_clock;
 
-double Seconds(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
-}
-
-}  // namespace
-
-int main(int argc, char** argv) {
-  std::string path =
-      std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/smallsat_three_stage.yaml";
+struct Row {
   std::string method;
-  int reps = 5;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--quick") == 0) {
-      reps = 2;
-    } else if (std::strcmp(argv[i], "--reps") == 0 && i + 1 < argc) {
-      reps = std::max(1, std::atoi(argv[++i]));
-    } else if (std::strcmp(argv[i], "--profile") == 0 && i + 1 < argc) {
-      path = argv[++i];
-    } else if (std::strcmp(argv[i], "--method") == 0 && i + 1 < argc) {
-      method = argv[++i];
-    } else {
-      std::fprintf(stderr,
-                   "usage: pipeline_bench [--quick] [--reps N] [--profile FILE] [--method NAME]\n");
-      return 2;
-    }
-  }
-  schedule::Profile profile = io::LoadProfile(path);
-  if (!method.empty()) profile.integrator.method = method;
+  double mission = 0.0;  // median [s]
+  double outcome = 0.0;  // median [s]
+  long steps = 0;
+  std::size_t samples = 0;
+  std::size_t flips = 0;
+  long long outcome_flips = 0;
+  double closed_form = -1.0;  // [s] the closed form alone at every sample (exact only)
+};
 
+Row Measure(const schedule::Profile& base, const std::string& method, int reps) {
+  schedule::Profile profile = base;
+  profile.integrator.method = method;
   // The outcome path takes the initial momentum (as the sweep's cases carry it).
   schedule::Profile outcome_profile = profile;
   {
@@ -75,69 +60,115 @@ int main(int argc, char** argv) {
       outcome_profile.initial.w_NB_B.reset();
     }
   }
-
-  double best_mission = 1e300;
-  double best_outcome = 1e300;
+  Row row;
+  row.method = method;
   analysis::MissionResult mission;
   sweep::CaseOutcome outcome;
+  // Interleaved, so that both sides see the same machine load.
+  bench::Timing tm, to;
   for (int r = 0; r < reps; ++r) {
-    const Clock::time_point a = Clock::now();
-    mission = analysis::RunMission(profile);
-    const Clock::time_point b = Clock::now();
-    best_mission = std::min(best_mission, Seconds(a, b));
-
-    const Clock::time_point c = Clock::now();
-    sweep::Case cs;
-    cs.profile = outcome_profile;
-    cs.schedule = std::make_shared<const schedule::DeploymentSchedule>(cs.profile);
-    cs.spin_axis_B = sweep::BaseSpinAxis(cs.profile);
-    outcome = sweep::SimulateOutcome(cs, sweep::OutcomeSettings{});
-    const Clock::time_point d = Clock::now();
-    best_outcome = std::min(best_outcome, Seconds(c, d));
+    tm.seconds.push_back(
+        bench::TimeCold(1, [&] { mission = analysis::RunMission(profile); }).seconds.front());
+    to.seconds.push_back(bench::TimeCold(1, [&] {
+                           sweep::Case cs;
+                           cs.profile = outcome_profile;
+                           cs.schedule =
+                               std::make_shared<const schedule::DeploymentSchedule>(cs.profile);
+                           cs.spin_axis_B = sweep::BaseSpinAxis(cs.profile);
+                           outcome = sweep::SimulateOutcome(cs, sweep::OutcomeSettings{});
+                         }).seconds.front());
   }
-
-  std::printf("pipeline_bench: %s, method %s, %.0f s, output dt %g s (%zu samples)\n",
-              profile.name.c_str(), profile.integrator.method.c_str(),
-              profile.t_end() - profile.t_begin(), profile.output.dt, mission.trajectory.size());
-  std::printf("machine: %s; best of %d cold runs each (setup included)\n",
-              bench::CpuModel().c_str(), reps);
-  std::printf("| path | wall [ms] | steps | flips |\n|---|---:|---:|---:|\n");
-  std::printf("| RunMission (trajectory, events, stage reports) | %.2f | %ld | %zu |\n",
-              1e3 * best_mission, mission.stats.steps, mission.flip_times.size());
-  std::printf("| SimulateOutcome (outcome only) | %.2f | %lld | %lld |\n", 1e3 * best_outcome,
-              static_cast<long long>(outcome.steps), static_cast<long long>(outcome.flip_count));
-  std::printf("ratio RunMission / SimulateOutcome: %.2f\n", best_mission / best_outcome);
-
-  // For context: the closed form alone at every output time (H_B(t) and q_NB(t), what
-  // the `exact` method's dense output costs per sample), on the last rigid stage.
-  if (profile.integrator.method == "exact") {
+  row.mission = tm.median();
+  row.outcome = to.median();
+  row.steps = mission.stats.steps;
+  row.samples = mission.trajectory.size();
+  row.flips = mission.flip_times.size();
+  row.outcome_flips = static_cast<long long>(outcome.flip_count);
+  if (method == "exact") {
+    // The closed form alone at as many times as the trajectory has samples, on the last
+    // rigid stage: what evaluating the exact solution at every sample costs.
     const schedule::DeploymentSchedule sched(profile);
     const schedule::Stage& last = profile.stages.back();
     const dynamics::InertiaSample js = sched.Evaluate(last.t_end);
-    const std::size_t n = mission.trajectory.size();
     const math::Vec3 H = mission.trajectory.H_B.back();
     const math::Quat q = mission.trajectory.q_NB.back();
-    const analysis::FreeBodySolution sol(math::InertiaTensor::FromMatrix(js.J_B), H, q, last.t_end);
-    double best = 1e300;
+    const std::size_t n = row.samples;
     double sink = 0.0;
-    for (int r = 0; r < reps; ++r) {
-      const Clock::time_point a = Clock::now();
+    const bench::Timing tc = bench::TimeCold(reps, [&] {
+      const analysis::FreeBodySolution sol(math::InertiaTensor::FromMatrix(js.J_B), H, q,
+                                           last.t_end);
       for (std::size_t i = 0; i < n; ++i) {
         const double t = last.t_begin + (last.t_end - last.t_begin) * static_cast<double>(i) /
                                             static_cast<double>(n);
-        sink += sol.H_B(t).x() + sol.q_NB(t).w();
+        math::Vec3 Hs;
+        math::Quat qs;
+        sol.StateAt(t, &Hs, &qs);
+        sink += Hs.x() + qs.w();
       }
-      best = std::min(best, Seconds(a, Clock::now()));
+    });
+    if (!(sink == sink)) std::printf("(checksum NaN)\n");
+    row.closed_form = tc.median();
+  }
+  return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bench::Args args = bench::ParseArgs(argc, argv);
+  std::string path =
+      std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/smallsat_three_stage.yaml";
+  for (std::size_t i = 0; i < args.rest.size(); ++i) {
+    if (args.rest[i] == "--profile" && i + 1 < args.rest.size()) {
+      path = args.rest[++i];
+    } else {
+      std::fprintf(stderr, "usage: pipeline_bench [--quick] [--markdown FILE] [--profile FILE]\n");
+      return 2;
     }
-    std::printf(
-        "closed form alone (H_B and q_NB at %zu times): %.2f ms = %.2f x the outcome path "
-        "(checksum %.3g)\n",
-        n, 1e3 * best, best / best_outcome, sink);
   }
-  if (mission.stats.steps != outcome.steps ||
-      static_cast<long long>(mission.flip_times.size()) != outcome.flip_count) {
-    std::printf("note: the two paths took different steps or found different flips\n");
+  const int reps = args.quick ? 3 : 11;
+  const schedule::Profile profile = io::LoadProfile(path);
+  std::vector<Row> rows;
+  for (const char* m : {"exact", "rkmk-rkf78", "rkf78", "dopri5"}) {
+    rows.push_back(Measure(profile, m, reps));
   }
+
+  bench::Markdown md;
+  md.Printf("### 5. Full mission pipeline against the outcome-only path (%s, %.0f s)\n\n",
+            profile.name.c_str(), profile.t_end() - profile.t_begin());
+  md.Printf(
+      "`analysis::RunMission` (the trajectory on the %g s output grid: %zu samples of H_B, "
+      "w, q, J_B, h_N, energies, Euler angles; flip events; stage reports) against "
+      "`sweep::SimulateOutcome` (the same schedule, stepper, tolerances and flip rule; no "
+      "trajectory) for the main job's profile, per method (rtol %g). Target: the full "
+      "pipeline within 2x of the outcome-only path.\n\n",
+      profile.output.dt, rows.front().samples, profile.integrator.rtol);
+  md.Add(
+      "| method | RunMission [ms] | SimulateOutcome [ms] | ratio | steps | flips (mission / "
+      "outcome) | target <= 2x |\n|---|---:|---:|---:|---:|---|---|\n");
+  for (const Row& r : rows) {
+    md.Printf("| %s | %.3g | %.3g | %.3g | %ld | %zu / %lld | %s |\n", r.method.c_str(),
+              1e3 * r.mission, 1e3 * r.outcome, r.mission / r.outcome, r.steps, r.flips,
+              r.outcome_flips, r.mission <= 2.0 * r.outcome ? "met" : "missed");
+  }
+  for (const Row& r : rows) {
+    if (r.closed_form < 0.0) continue;
+    md.Printf(
+        "\nFor `exact`, evaluating the closed form alone (H_B and q_NB from one evaluation) at "
+        "%zu times takes %.3g ms = %.3gx the whole outcome path, so with the exact solution at "
+        "every sample the 2x target is out of reach; the dense output of `exact` therefore "
+        "samples a Chebyshev fit of the closed form (exact at steps and events; within 1.4x "
+        "of the closed form's own error), and the mission takes %.3g ms.\n",
+        r.samples, 1e3 * r.closed_form, r.closed_form / r.outcome, 1e3 * r.mission);
+  }
+  md.Printf("\n%s %s\n",
+            bench::TimingRule(reps,
+                              "loads nothing but builds the schedule, stepper "
+                              "and every cache from the parsed profile")
+                .c_str(),
+            "The two sides run interleaved.");
+  md.Printf("%s\n", bench::MachineLine().c_str());
+  md.Emit(args.markdown);
   return 0;
 }
 

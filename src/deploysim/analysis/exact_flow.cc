@@ -94,8 +94,8 @@ const FreeBodySolution& SolutionFor(const integrators::Problem& problem,
 integrators::State ClosedFormAt(const FreeBodySolution& sol, double t) {
   integrators::State s;
   s.t = t;
-  s.H_B = sol.H_B(t);
-  s.q_NB = sol.q_NB(t).normalized();
+  sol.StateAt(t, &s.H_B, &s.q_NB);
+  s.q_NB.normalize();
   return s;
 }
 
@@ -189,8 +189,10 @@ integrators::State ExactFlowStepper::DenseSample(const integrators::Problem& pro
       ws.spin_rate = 2.0 * sol.energy() / M;  // w . H / |H|: near the mean rate
       ws.spin_mid = 0.5 * (ws.step_begin.t + ws.step_end.t);
       auto f = [&sol, &ws](double s, double* out) {
-        const math::Vec3 H = sol.H_B(s);
-        const math::Quat q = SpinAbout(ws, s).conjugate() * sol.q_NB(s).normalized();
+        math::Vec3 H;
+        math::Quat q_cf;
+        sol.StateAt(s, &H, &q_cf);
+        const math::Quat q = SpinAbout(ws, s).conjugate() * q_cf.normalized();
         out[0] = H.x();
         out[1] = H.y();
         out[2] = H.z();

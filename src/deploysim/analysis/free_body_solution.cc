@@ -336,13 +336,28 @@ Vec3 FreeBodySolution::w_NB_B(double t) const {
   return principal_.axes * Evaluate(t, false).h.cwiseQuotient(principal_.moments);
 }
 
-Quat FreeBodySolution::q_NB(double t) const {
-  if (constant_) return q_NB0_ * math::ExpQuat((t - t0_) * w0_B_);
-  const State p = Evaluate(t, true);
+Quat FreeBodySolution::AttitudeOf(const State& p) const {
   const Quat qz(std::cos(0.5 * p.gamma), 0.0, 0.0, std::sin(0.5 * p.gamma));
   Quat q = q_left_ * qz * AlignQuat(p.h).conjugate() * q_right_;
   q.normalize();
   return q;
+}
+
+Quat FreeBodySolution::q_NB(double t) const {
+  if (constant_) return q_NB0_ * math::ExpQuat((t - t0_) * w0_B_);
+  return AttitudeOf(Evaluate(t, true));
+}
+
+void FreeBodySolution::StateAt(double t, Vec3* H_B, Quat* q_NB) const {
+  if (constant_) {
+    *H_B = principal_.axes * h0_;
+    *q_NB = q_NB0_ * math::ExpQuat((t - t0_) * w0_B_);
+    return;
+  }
+  // Evaluate(t, true).h is Evaluate(t, false).h: h is computed before gamma.
+  const State p = Evaluate(t, true);
+  *H_B = principal_.axes * p.h;
+  *q_NB = AttitudeOf(p);
 }
 
 int FreeBodySolution::intermediate_axis() const {
