@@ -12,6 +12,11 @@ set(CMAKE_LIBRARY_ARCHITECTURE aarch64-linux-gnu)
 # GCC 10.1 on this ABI: informational, and deploysim passes no such type across libraries
 # built by different compilers.
 set(CMAKE_CXX_FLAGS_INIT "-Wno-psabi")
+# Executables are linked statically: under Debian 12's qemu-user 7.2 a dynamically linked
+# aarch64 program (run with -L /usr/aarch64-linux-gnu) hangs at its first pthread_create
+# (seen with a five-line C program), while the same program linked statically runs its
+# threads. The thread-safety tests need threads.
+set(CMAKE_EXE_LINKER_FLAGS_INIT "-static")
 
 # Target libraries come from the multiarch directories of the host root (not a separate
 # sysroot), so the package search is not confined to a root path; programs are the host's.
