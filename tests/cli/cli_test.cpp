@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -202,4 +203,54 @@ TEST(CliTest, SweepRunsAndRejectsBadSweepFiles) {
 }
 
 }  // namespace
+// Issue 10 (first items): an output never replaces an input of the run, nor anything that
+// is not a regular file; a self-referencing YAML anchor is an error, not a crash.
+TEST(CliTest, OutputNeverReplacesAnInput) {
+  const fs::path dir = TempDir("output_over_input");
+  fs::copy(fs::path(DEPLOYSIM_SOURCE_DIR) / "deployment_profiles", dir / "deployment_profiles");
+  fs::copy(fs::path(DEPLOYSIM_SOURCE_DIR) / "models", dir / "models");
+  const fs::path profile = dir / "deployment_profiles" / "wing_nut.yaml";
+  const fs::path model = dir / "models" / "wing_nut.yaml";
+  const auto size_of = [](const fs::path& p) { return fs::file_size(p); };
+  const auto profile_size = size_of(profile);
+  const auto model_size = size_of(model);
+  for (const fs::path& target : {profile, model}) {
+    const CliRun r =
+        RunCli("simulate '" + profile.string() + "' -q -o '" + target.string() + "'", dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find("output is the input file"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  EXPECT_EQ(size_of(profile), profile_size);
+  EXPECT_EQ(size_of(model), model_size);
+  // --csv naming an input through OUT.h5.csv.
+  fs::copy_file(profile, dir / "run.h5.csv");
+  const CliRun c = RunCli("simulate '" + (dir / "run.h5.csv").string() + "' -q --csv -o '" +
+                              (dir / "run.h5").string() + "'",
+                          dir);
+  EXPECT_EQ(c.exit_code, 1) << c.err;
+  EXPECT_FALSE(fs::exists(dir / "run.h5"));
+  // Not a regular file.
+  const CliRun d = RunCli("simulate '" + profile.string() + "' -q -o /dev/null", dir);
+  EXPECT_EQ(d.exit_code, 1) << d.err;
+  EXPECT_NE(d.err.find("not a regular file"), std::string::npos) << d.err;
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  fs::remove_all(dir);
+}
+
+TEST(CliTest, SelfReferencingAnchorIsAnError) {
+  const fs::path dir = TempDir("anchor");
+  {
+    std::ofstream f(dir / "x.yaml");
+    f << "a: &a [*a]\n";
+  }
+  const CliRun r = RunCli(
+      "simulate '" + (dir / "x.yaml").string() + "' -q -o '" + (dir / "o.h5").string() + "'", dir);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("unknown key"), std::string::npos) << r.err;
+  EXPECT_LT(r.err.size(), 300u) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "o.h5"));
+  fs::remove_all(dir);
+}
+
 }  // namespace deploysim

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "deploysim/analysis/coupling_comparison.h"
 #include "deploysim/analysis/exact_flow.h"
@@ -77,6 +78,29 @@ std::function<void(double)> Progress(bool quiet) {
     if (f >= 1.0) std::fprintf(stderr, "\r%*s\r", width + 8, "");
     std::fflush(stderr);
   };
+}
+
+// Refuses an output path that names one of the run's input files (the same file by
+// another name included) or an existing thing that is not a regular file (a device, a
+// FIFO, a folder): writing would replace it. Throws std::invalid_argument.
+void RefuseOutputOver(const std::string& output, const std::vector<std::string>& inputs) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(output, ec);
+  if (ec || !fs::exists(st)) return;
+  if (!fs::is_regular_file(st)) {
+    throw std::invalid_argument(output +
+                                ": output exists and is not a regular file (rule: deploysim "
+                                "writes only regular files; choose another output path)");
+  }
+  for (const std::string& in : inputs) {
+    if (in.empty()) continue;
+    std::error_code e2;
+    if (fs::equivalent(output, in, e2) && !e2) {
+      throw std::invalid_argument(output + ": output is the input file " + in +
+                                  " (rule: an output never replaces an input of the run)");
+    }
+  }
 }
 
 }  // namespace
@@ -199,6 +223,9 @@ int main(int argc, char** argv) {
 #ifdef DEPLOYSIM_HAVE_SWEEP
     if (swp->parsed()) {
       const deploysim::sweep::SweepSpec spec = deploysim::sweep::LoadSweep(sweep_path);
+      const std::vector<std::string> inputs{sweep_path, spec.base.source, spec.base.model.source};
+      RefuseOutputOver(out_path, inputs);
+      if (csv) RefuseOutputOver(out_path + ".csv", inputs);
       deploysim::sweep::RunOptions o;
       o.output = out_path;
       o.csv = csv;
@@ -223,6 +250,9 @@ int main(int argc, char** argv) {
     const bool geometry = profile.mode == deploysim::schedule::Mode::kGeometry;
     if (sim->parsed()) {
       if (out_path.empty()) out_path = std::filesystem::path(profile_path).stem().string() + ".h5";
+      const std::vector<std::string> inputs{profile_path, profile.model.source};
+      RefuseOutputOver(out_path, inputs);
+      if (csv) RefuseOutputOver(out_path + ".csv", inputs);
       const MissionResult r = deploysim::analysis::RunMission(profile, Progress(quiet));
       if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
         std::cerr << "deploysim: error: " << profile_path << ": integration " << r.message << "\n";
@@ -249,6 +279,7 @@ int main(int argc, char** argv) {
       }
       const std::string stem = std::filesystem::path(profile_path).stem().string();
       if (out_path.empty()) out_path = stem + "_crosscheck.h5";
+      RefuseOutputOver(out_path, {profile_path, profile.model.source});
       xc::CrosscheckOptions o;
       o.accuracy = cc_accuracy;
       o.t_end = cc_until;

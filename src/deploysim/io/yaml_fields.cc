@@ -32,7 +32,12 @@ std::string Join(const std::vector<std::string>& names) {
   return s;
 }
 
-std::string RenderUnbounded(const YAML::Node& node) {
+// Nesting rendered before "...": bounds the recursion, which a self-referencing anchor
+// (`a: &a [*a]`) would otherwise make endless.
+constexpr int kMaxRenderedDepth = 8;
+
+std::string RenderUnbounded(const YAML::Node& node, int depth = 0) {
+  if (depth > kMaxRenderedDepth) return "...";
   switch (node.Type()) {
     case YAML::NodeType::Undefined:
     case YAML::NodeType::Null:
@@ -43,7 +48,7 @@ std::string RenderUnbounded(const YAML::Node& node) {
     case YAML::NodeType::Sequence: {
       std::string s = "[";
       for (std::size_t i = 0; i < node.size(); ++i) {
-        s += (i ? ", " : "") + RenderUnbounded(node[i]);
+        s += (i ? ", " : "") + RenderUnbounded(node[i], depth + 1);
         if (s.size() > kMaxRenderedLength) break;
       }
       return s + "]";
@@ -52,7 +57,8 @@ std::string RenderUnbounded(const YAML::Node& node) {
       std::string s = "{";
       bool first = true;
       for (const auto& kv : node) {
-        s += (first ? "" : ", ") + RenderUnbounded(kv.first) + ": " + RenderUnbounded(kv.second);
+        s += (first ? "" : ", ") + RenderUnbounded(kv.first, depth + 1) + ": " +
+             RenderUnbounded(kv.second, depth + 1);
         first = false;
         if (s.size() > kMaxRenderedLength) break;
       }
