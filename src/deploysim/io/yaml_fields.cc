@@ -1,12 +1,20 @@
 #include "deploysim/io/yaml_fields.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -33,39 +41,348 @@ std::string Join(const std::vector<std::string>& names) {
 }
 
 // Nesting rendered before "...": bounds the recursion, which a self-referencing anchor
-// (`a: &a [*a]`) would otherwise make endless.
+// (`a: &a [*a]`) would otherwise make endless (such documents are refused by the parse
+// guard below; nodes built in code are not).
 constexpr int kMaxRenderedDepth = 8;
 
-std::string RenderUnbounded(const YAML::Node& node, int depth = 0) {
-  if (depth > kMaxRenderedDepth) return "...";
+/// Appends `node` to `out` in flow style, stopping once `out` is longer than
+/// kMaxRenderedLength: the work is bounded by the output, not by the node (a node reached
+/// by 10^9 paths through aliases costs no more than any other).
+void RenderInto(const YAML::Node& node, int depth, std::string& out) {
+  if (out.size() > kMaxRenderedLength) return;
+  if (depth > kMaxRenderedDepth) {
+    out += "...";
+    return;
+  }
   switch (node.Type()) {
     case YAML::NodeType::Undefined:
     case YAML::NodeType::Null:
-      return "null";
-    case YAML::NodeType::Scalar:
+      out += "null";
+      return;
+    case YAML::NodeType::Scalar: {
       // Quoted scalars keep their quotes, so that `"60"` reads as the string it is.
-      return node.Tag() == "!" ? "\"" + node.Scalar() + "\"" : node.Scalar();
+      const bool quoted = node.Tag() == "!";
+      const std::string& v = node.Scalar();
+      out += quoted ? "\"" : "";
+      out += v.size() > kMaxShownBytes ? ShortValue(v) : v;
+      out += quoted ? "\"" : "";
+      return;
+    }
     case YAML::NodeType::Sequence: {
-      std::string s = "[";
-      for (std::size_t i = 0; i < node.size(); ++i) {
-        s += (i ? ", " : "") + RenderUnbounded(node[i], depth + 1);
-        if (s.size() > kMaxRenderedLength) break;
+      out += "[";
+      bool first = true;
+      for (const YAML::Node& e : node) {
+        if (out.size() > kMaxRenderedLength) return;
+        out += first ? "" : ", ";
+        RenderInto(e, depth + 1, out);
+        first = false;
       }
-      return s + "]";
+      out += "]";
+      return;
     }
     case YAML::NodeType::Map: {
-      std::string s = "{";
+      out += "{";
       bool first = true;
       for (const auto& kv : node) {
-        s += (first ? "" : ", ") + RenderUnbounded(kv.first, depth + 1) + ": " +
-             RenderUnbounded(kv.second, depth + 1);
+        if (out.size() > kMaxRenderedLength) return;
+        out += first ? "" : ", ";
+        RenderInto(kv.first, depth + 1, out);
+        out += ": ";
+        RenderInto(kv.second, depth + 1, out);
         first = false;
-        if (s.size() > kMaxRenderedLength) break;
       }
-      return s + "}";
+      out += "}";
+      return;
     }
   }
-  return "?";
+  out += "?";
+}
+
+/// Length of the longest prefix of `s` of at most `n` bytes that ends on a UTF-8
+/// character boundary.
+std::size_t Utf8Prefix(const std::string& s, std::size_t n) {
+  if (n >= s.size()) return s.size();
+  while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;
+  return n;
+}
+
+/// Control characters as visible escapes (one line per message).
+std::string Escaped(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (u < 0x20 || u == 0x7F) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", u);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+/// Where a check of text failed: byte offset and the rule broken.
+struct TextFault {
+  std::size_t offset = 0;
+  std::string rule;
+};
+
+/// Checks that `s` is UTF-8 (RFC 3629: no overlong forms, no surrogates, at most
+/// U+10FFFF) and holds no control characters other than tab, LF and CR (YAML 1.2,
+/// c-printable; NEL U+0085 allowed). Returns the first fault, if any.
+std::optional<TextFault> CheckText(const std::string& s) {
+  const auto* b = reinterpret_cast<const unsigned char*>(s.data());
+  const std::size_t n = s.size();
+  auto hex = [](unsigned v) {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "0x%02x", v);
+    return std::string(buf);
+  };
+  for (std::size_t i = 0; i < n;) {
+    const unsigned c = b[i];
+    if (c < 0x80) {
+      if ((c < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7F) {
+        return TextFault{
+            i, "control character " + hex(c) + " (only tab, LF and CR are allowed in YAML text)"};
+      }
+      ++i;
+      continue;
+    }
+    std::size_t len = 0;
+    unsigned lo = 0x80, hi = 0xBF;  // range of the second byte
+    if (c >= 0xC2 && c <= 0xDF) {
+      len = 2;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+      len = 3;
+      if (c == 0xE0) lo = 0xA0;  // no overlong forms
+      if (c == 0xED) hi = 0x9F;  // no surrogates U+D800..U+DFFF
+    } else if (c >= 0xF0 && c <= 0xF4) {
+      len = 4;
+      if (c == 0xF0) lo = 0x90;
+      if (c == 0xF4) hi = 0x8F;  // at most U+10FFFF
+    } else {
+      return TextFault{i, "invalid UTF-8 (byte " + hex(c) + "): YAML text must be UTF-8"};
+    }
+    if (i + len > n) return TextFault{i, "invalid UTF-8 (truncated character at the end)"};
+    for (std::size_t k = 1; k < len; ++k) {
+      const unsigned d = b[i + k];
+      if (d < (k == 1 ? lo : 0x80) || d > (k == 1 ? hi : 0xBF)) {
+        return TextFault{i, "invalid UTF-8 (byte " + hex(c) + " followed by " + hex(d) +
+                                "): YAML text must be UTF-8"};
+      }
+    }
+    if (len == 2) {
+      const unsigned cp = ((c & 0x1Fu) << 6) | (b[i + 1] & 0x3Fu);
+      if (cp >= 0x80 && cp <= 0x9F && cp != 0x85) {
+        return TextFault{i, "control character U+00" + hex(cp).substr(2) +
+                                " (only tab, LF and CR are allowed in YAML text)"};
+      }
+    }
+    i += len;
+  }
+  return std::nullopt;
+}
+
+/// Raised inside the event handler; turned into a one-line message by ParseOneDocument.
+struct ParseLimit {
+  YAML::Mark mark;
+  std::string rule;
+};
+
+/// First pass over the text (YAML::Parser events, no nodes built), which every document
+/// passes before yaml-cpp builds its nodes. It bounds, with every alias expanded, the
+/// number of nodes (kMaxNodes) and the nesting depth (kMaxDepth); refuses an alias to a
+/// node that contains it (`a: &a [*a]`: an infinite tree), string values that are not UTF-8
+/// text (escapes such as "\0" or "\uD800" make them), and stops yaml-cpp 0.7's document
+/// loop (see ParseOneDocument). Linear in the text: per node, a few integers.
+class GuardHandler : public YAML::EventHandler {
+ public:
+  explicit GuardHandler(const std::string& text) : text_(text) {}
+  std::size_t documents() const { return documents_; }
+
+  void OnDocumentStart(const YAML::Mark& mark) override {
+    // yaml-cpp 0.7 (issue 1040, fixed upstream by PR 1319): on a token that no rule
+    // consumes (a ',' outside a flow collection: `,` `!,` `a: ,` `- ,`) the parser emits
+    // an empty document without advancing, forever; LoadAll collects them until memory
+    // runs out. A document that starts where the previous one started is that loop.
+    if (documents_ > 0 && mark.pos == last_start_.pos) {
+      const std::size_t pos = static_cast<std::size_t>(std::max(mark.pos, 0));
+      const std::string c = pos < text_.size() ? text_.substr(pos, 1) : std::string();
+      throw ParseLimit{mark, "YAML syntax error: unexpected '" + ShortValue(c) +
+                                 "' (',' separates entries only inside [ ] or { })"};
+    }
+    last_start_ = mark;
+    ++documents_;
+    root_ = Size{};
+  }
+  void OnDocumentEnd() override {}
+
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override { Leaf(mark, anchor); }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t anchor) override {
+    Event(mark);
+    if (anchor >= anchors_.size() || !anchors_[anchor].defined) {
+      throw ParseLimit{mark,
+                       "an alias refers to a node that contains it (a recursive alias "
+                       "makes an infinite tree)"};
+    }
+    Add(mark, anchors_[anchor]);
+  }
+  void OnScalar(const YAML::Mark& mark,
+                const std::string& /*tag*/,
+                YAML::anchor_t anchor,
+                const std::string& value) override {
+    if (const std::optional<TextFault> fault = CheckText(value)) {
+      throw ParseLimit{mark, "string value " + ShortValue(value) + ": " + fault->rule};
+    }
+    Leaf(mark, anchor);
+  }
+  void OnSequenceStart(const YAML::Mark& mark,
+                       const std::string& /*tag*/,
+                       YAML::anchor_t anchor,
+                       YAML::EmitterStyle::value /*style*/) override {
+    Open(mark, anchor);
+  }
+  void OnSequenceEnd() override { Close(); }
+  void OnMapStart(const YAML::Mark& mark,
+                  const std::string& /*tag*/,
+                  YAML::anchor_t anchor,
+                  YAML::EmitterStyle::value /*style*/) override {
+    Open(mark, anchor);
+  }
+  void OnMapEnd() override { Close(); }
+
+ private:
+  /// A node's tree with aliases expanded: its node count and depth (a scalar: 1, 1).
+  struct Size {
+    std::size_t nodes = 0;
+    int depth = 0;
+    bool defined = false;  ///< For anchors: the node is complete.
+  };
+  struct Frame {
+    YAML::Mark mark;
+    YAML::anchor_t anchor;
+    Size size;
+  };
+
+  void Event(const YAML::Mark& mark) {
+    // Raw events are bounded too (each is also a node, so this never binds before the
+    // expanded count does, unless the parser stops advancing).
+    if (++events_ > kMaxNodes) {
+      throw ParseLimit{mark, "more than " + std::to_string(kMaxNodes) + " YAML nodes"};
+    }
+  }
+  void Define(YAML::anchor_t anchor, const Size& size) {
+    if (anchor == YAML::NullAnchor) return;
+    if (anchor >= anchors_.size()) anchors_.resize(anchor + 1);
+    anchors_[anchor] = size;
+  }
+  void Leaf(const YAML::Mark& mark, YAML::anchor_t anchor) {
+    Event(mark);
+    const Size one{1, 1, true};
+    Define(anchor, one);
+    Add(mark, one);
+  }
+  void Open(const YAML::Mark& mark, YAML::anchor_t anchor) {
+    Event(mark);
+    Define(anchor, Size{});  // not defined until closed: an alias to it inside is recursive
+    stack_.push_back(Frame{mark, anchor, Size{1, 0, true}});
+    CheckDepth(mark, static_cast<int>(stack_.size()));
+  }
+  void Close() {
+    Frame f = stack_.back();
+    stack_.pop_back();
+    f.size.depth += 1;
+    Define(f.anchor, f.size);
+    Add(f.mark, f.size);
+  }
+  /// Adds a child of expanded size `s` to the open collection (or the document).
+  void Add(const YAML::Mark& mark, const Size& s) {
+    Size& parent = stack_.empty() ? root_ : stack_.back().size;
+    parent.nodes += s.nodes;  // both <= kMaxNodes: no overflow
+    parent.depth = std::max(parent.depth, s.depth);
+    if (parent.nodes > kMaxNodes) {
+      throw ParseLimit{mark, "more than " + std::to_string(kMaxNodes) +
+                                 " YAML nodes (aliases counted as the nodes they repeat)"};
+    }
+    CheckDepth(mark, static_cast<int>(stack_.size()) + s.depth);
+  }
+  void CheckDepth(const YAML::Mark& mark, int depth) const {
+    if (depth > kMaxDepth) {
+      throw ParseLimit{mark, "sequences and mappings nested more than " +
+                                 std::to_string(kMaxDepth) +
+                                 " deep (aliases counted as the nodes they repeat)"};
+    }
+  }
+
+  const std::string& text_;
+  std::size_t documents_ = 0;
+  std::size_t events_ = 0;
+  YAML::Mark last_start_;
+  Size root_;
+  std::vector<Frame> stack_;
+  std::vector<Size> anchors_;  ///< By yaml-cpp's anchor id (1, 2, ...).
+};
+
+/// Parses the single document of `text`, with the guard first (one line for any error).
+///
+/// Why a guard and not another parser: yaml-cpp 0.7's loop is in LoadAll's document loop
+/// only. Tried on every 1- and 2-byte input (65,792) in a child process under a 512 MB
+/// address-space limit and a 2 s alarm: LoadAll ran out of memory on 262 of them (`,` and
+/// every input with a ',' at top level: `,x`, `x,` for x in NUL, tab, LF, space, '!'),
+/// YAML::Load (one document) on none. The guard walks the same parser's events, stops at
+/// the first document that makes no progress and counts nodes and depth; then YAML::Load
+/// builds the nodes. Both passes are linear in the text; the guard costs about as much as
+/// the parse (no nodes), and adds what a different parser would still need: node, depth
+/// and alias bounds. Exhaustive tests: tests/io_yaml/yaml_reader_test.cpp.
+YAML::Node ParseOneDocument(const std::string& path, const std::string& text) {
+  auto where = [&path](const YAML::Mark& m) {
+    return path + ": line " + std::to_string(m.line + 1) + ", column " +
+           std::to_string(m.column + 1) + ": ";
+  };
+  GuardHandler guard(text);
+  try {
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    while (parser.HandleNextDocument(guard)) {
+    }
+  } catch (const ParseLimit& e) {
+    throw std::invalid_argument(where(e.mark) + e.rule);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(where(e.mark) + "YAML syntax error: " + e.msg);
+  }
+  if (guard.documents() > 1) {
+    throw std::invalid_argument(path + ": " + std::to_string(guard.documents()) +
+                                " YAML documents ('---'): one document per file");
+  }
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(where(e.mark) + "YAML syntax error: " + e.msg);
+  }
+}
+
+const char* FileType(mode_t mode) {
+  if (S_ISDIR(mode)) return "is a directory";
+  if (S_ISCHR(mode)) return "is a character device, not a regular file";
+  if (S_ISBLK(mode)) return "is a block device, not a regular file";
+  if (S_ISFIFO(mode)) return "is a FIFO (named pipe), not a regular file";
+  if (S_ISSOCK(mode)) return "is a socket, not a regular file";
+  return "is not a regular file";
+}
+
+/// "" if `st` is a regular file within kMaxFileBytes, else the reason.
+std::string RegularFileProblem(const struct stat& st) {
+  if (!S_ISREG(st.st_mode)) return FileType(st.st_mode);
+  if (static_cast<std::uintmax_t>(st.st_size) > kMaxFileBytes) {
+    return "the file has " + std::to_string(st.st_size) + " bytes (input files have at most " +
+           std::to_string(kMaxFileBytes) + " bytes, 1 MiB)";
+  }
+  return "";
 }
 
 bool PlainScalar(const YAML::Node& node) {
@@ -89,48 +406,81 @@ std::string YamlNode::Scalar() const {
 }
 
 std::string ReadTextFile(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw std::runtime_error(path + ": cannot read: is a directory");
+  auto fail = [&path](const std::string& reason) {
+    throw std::runtime_error(path + ": cannot read: " + reason);
+  };
+  // The type first, without opening: opening a FIFO with no writer would block.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) fail(std::strerror(errno));
+  if (std::string problem = RegularFileProblem(st); !problem.empty()) fail(problem);
+  // O_NONBLOCK: should the path have become a FIFO since, open does not wait for a writer;
+  // fstat on the open file closes that race.
+  int fd = -1;
+  do {
+    fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  } while (fd < 0 && errno == EINTR);
+  if (fd < 0) fail(std::strerror(errno));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  if (::fstat(fd, &st) != 0) fail(std::strerror(errno));
+  if (std::string problem = RegularFileProblem(st); !problem.empty()) fail(problem);
+  // At most kMaxFileBytes + 1 bytes, whatever the file does meanwhile (it may grow).
+  std::string text(kMaxFileBytes + 1, '\0');
+  std::size_t got = 0;
+  while (got < text.size()) {
+    const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) fail(std::strerror(errno));
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot read: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw std::runtime_error(path + ": cannot read: " + std::strerror(errno));
-  return text.str();
+  if (got > kMaxFileBytes) {
+    fail("the file has more than " + std::to_string(kMaxFileBytes) +
+         " bytes (input files have at most " + std::to_string(kMaxFileBytes) + " bytes, 1 MiB)");
+  }
+  text.resize(got);
+  text.shrink_to_fit();
+  return text;
+}
+
+std::string ShortValue(const std::string& value, std::size_t max_bytes) {
+  if (value.size() <= max_bytes) return Escaped(value);
+  return Escaped(value.substr(0, Utf8Prefix(value, max_bytes))) + "... (" +
+         std::to_string(value.size()) + " bytes)";
 }
 
 std::string Render(const YamlNode& value) {
-  std::string s = RenderUnbounded(Y(value));
-  if (s.size() > kMaxRenderedLength) s = s.substr(0, kMaxRenderedLength - 3) + "...";
+  std::string s;
+  RenderInto(Y(value), 0, s);
+  if (s.size() > kMaxRenderedLength) s = s.substr(0, Utf8Prefix(s, kMaxRenderedLength - 3)) + "...";
   // One line: newlines of block scalars become visible escapes.
-  std::string out;
-  for (char c : s) out += (c == '\n') ? std::string("\\n") : std::string(1, c);
-  return out;
+  return Escaped(s);
 }
 
 YamlDocument::YamlDocument(std::string path, std::string text)
     : path_(std::move(path)), text_(std::move(text)) {
-  std::vector<YAML::Node> docs;
-  // yaml-cpp reports syntax errors by exception; translate them to this module's
-  // one-line format (the only place io handles a third-party parser error).
-  try {
-    docs = YAML::LoadAll(text_);
-  } catch (const YAML::Exception& e) {
-    throw std::invalid_argument(path_ + ": line " + std::to_string(e.mark.line + 1) + ", column " +
-                                std::to_string(e.mark.column + 1) +
-                                ": YAML syntax error: " + e.msg);
+  if (text_.size() > kMaxFileBytes) {
+    throw std::invalid_argument(path_ + ": the text has " + std::to_string(text_.size()) +
+                                " bytes (input files have at most " +
+                                std::to_string(kMaxFileBytes) + " bytes, 1 MiB)");
   }
-  if (docs.empty() || docs.front().IsNull()) {
+  // YAML streams are Unicode: refuse bytes that are not UTF-8 text before yaml-cpp sees
+  // them (it would pass them on into names, and so into HDF5 strings declared UTF-8).
+  if (const std::optional<TextFault> fault = CheckText(text_)) {
+    const auto begin = text_.begin();
+    const auto at = begin + static_cast<std::ptrdiff_t>(fault->offset);
+    const std::size_t line = static_cast<std::size_t>(std::count(begin, at, '\n')) + 1;
+    throw std::invalid_argument(path_ + ": line " + std::to_string(line) + ", byte offset " +
+                                std::to_string(fault->offset) + ": " + fault->rule);
+  }
+  const YAML::Node root = ParseOneDocument(path_, text_);
+  if (!root.IsDefined() || root.IsNull()) {
     throw std::invalid_argument(path_ + ": the file is empty (expected a YAML mapping)");
   }
-  if (docs.size() > 1) {
-    throw std::invalid_argument(path_ + ": " + std::to_string(docs.size()) +
-                                " YAML documents ('---'): one document per file");
-  }
-  root_ = Wrap(docs.front());
-  if (!docs.front().IsMap()) {
+  root_ = Wrap(root);
+  if (!root.IsMap()) {
     throw std::invalid_argument(path_ + ": top level = " + Render(root_) +
                                 ": expected a mapping of keys to values");
   }
@@ -147,7 +497,8 @@ void YamlDocument::Fail(const std::string& key, const std::string& rule) const {
 }
 
 std::string JoinKey(const std::string& parent, const std::string& key) {
-  return parent.empty() ? key : parent + "." + key;
+  const std::string shown = key.size() > kMaxShownBytes ? ShortValue(key) : key;
+  return parent.empty() ? shown : parent + "." + shown;
 }
 
 std::vector<std::pair<std::string, YamlNode>> MappingEntries(const YamlDocument& doc,
@@ -286,6 +637,16 @@ std::string Fields::Text(const std::string& key) const {
   return ReadText(*doc_, Get(key), Key(key));
 }
 
+std::string Fields::Name(const std::string& key) const {
+  std::string name = Text(key);
+  if (name.empty()) Fail(key, "must not be empty");
+  if (name.size() > kMaxNameBytes) {
+    Fail(key, "a name has at most " + std::to_string(kMaxNameBytes) + " bytes (this one has " +
+                  std::to_string(name.size()) + ")");
+  }
+  return name;
+}
+
 std::optional<std::string> Fields::OptionalText(const std::string& key) const {
   if (!Has(key)) return std::nullopt;
   return Text(key);
@@ -318,13 +679,20 @@ std::string Fields::FilePath(const std::string& key) const {
   if (relative.empty()) Fail(key, "must name a file");
   const std::filesystem::path resolved =
       (std::filesystem::path(doc_->path()).parent_path() / relative).lexically_normal();
-  std::error_code ec;
-  const bool is_dir = std::filesystem::is_directory(resolved, ec);
-  std::ifstream probe(resolved);
-  if (is_dir || !probe) {
-    throw std::runtime_error(doc_->path() + ": " + Key(key) + " = " + relative + ": cannot read " +
-                             resolved.string() + ": " +
-                             (is_dir ? std::string("is a directory") : std::strerror(errno)));
+  // Checked without opening (a FIFO would block): the reader (ReadTextFile) checks again.
+  std::string problem;
+  struct stat st {};
+  if (::stat(resolved.c_str(), &st) != 0) {
+    problem = std::strerror(errno);
+  } else if (::access(resolved.c_str(), R_OK) != 0) {
+    problem = std::strerror(errno);
+  } else {
+    problem = RegularFileProblem(st);
+  }
+  if (!problem.empty()) {
+    throw std::runtime_error(doc_->path() + ": " + Key(key) + " = " +
+                             ShortValue(relative, kMaxShownPathBytes) + ": cannot read " +
+                             ShortValue(resolved.string(), kMaxShownPathBytes) + ": " + problem);
   }
   return resolved.string();
 }

@@ -18,6 +18,7 @@
 /// exact length.
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
@@ -51,19 +52,53 @@ class YamlNode {
   std::shared_ptr<const Impl> impl_;
 };
 
-/// The whole file as text. Throws std::runtime_error "<path>: cannot read: <reason>".
+/// Limits on input files (docs/file_formats.md). Every YAML file deploysim reads passes
+/// them; past a limit the file is refused with one line naming the file and the limit.
+/// The largest shipped file has a few KB; at the limits a file parses in ~0.2 s with a peak
+/// RSS of ~60 MB (yaml-cpp keeps ~500 bytes per node: the node limit is what bounds memory).
+/// Largest input file [bytes] (1 MiB). Only regular files are read (not devices, FIFOs,
+/// directories), and never more than this + 1 bytes, even from a file that grows.
+inline constexpr std::size_t kMaxFileBytes = std::size_t{1} << 20;
+/// Most nodes (scalars, sequences, mappings) in a document, counted with every alias
+/// expanded: bounds the memory of the parse and the work of anything that walks the tree
+/// (a "billion laughs" of nested aliases is refused, not expanded).
+inline constexpr std::size_t kMaxNodes = 100000;
+/// Deepest nesting of sequences and mappings, aliases expanded (the deepest file format
+/// needs 4: configurations.<name>.tensor[i][j]).
+inline constexpr int kMaxDepth = 32;
+/// Values echoed in messages are cut to this many bytes (ShortValue); file names to
+/// kMaxShownPathBytes.
+inline constexpr std::size_t kMaxShownBytes = 60;
+inline constexpr std::size_t kMaxShownPathBytes = 240;
+/// Longest name (of a model, profile, sweep, configuration, panel or stage) [bytes]: names
+/// appear in messages, file attributes and CSV headers.
+inline constexpr std::size_t kMaxNameBytes = 200;
+
+/// The whole file as bytes: a regular file of at most kMaxFileBytes bytes. Throws
+/// std::runtime_error "<path>: cannot read: <reason>" (missing, unreadable, not a regular
+/// file, larger than kMaxFileBytes). Never blocks on a FIFO and never reads a device; the
+/// type is checked before opening and again on the open file. (The text is checked to be
+/// UTF-8 by YamlDocument.)
 std::string ReadTextFile(const std::string& path);
 
-/// A node as written, for messages (flow style, at most ~80 characters).
+/// `value` for a message: at most kMaxShownBytes bytes (cut at a UTF-8 character boundary,
+/// then "... (N bytes)"), newlines and other control characters shown as escapes.
+std::string ShortValue(const std::string& value, std::size_t max_bytes = kMaxShownBytes);
+
+/// A node as written, for messages (flow style, at most ~80 characters; long scalars as
+/// ShortValue). The work is bounded whatever the node (nested aliases included).
 std::string Render(const YamlNode& node);
 
 /// One parsed YAML file: the document and the file name that every message starts with.
 class YamlDocument {
  public:
-  /// Parses `text` (read from `path`). Throws std::invalid_argument
-  /// "<path>: line L, column C: YAML syntax error: <reason>" for syntax errors, and
-  /// "<path>: ..." for an empty file, several documents or a top level that is not a
-  /// mapping.
+  /// Parses `text` (read from `path`; any text, e.g. a fuzzer's). Throws
+  /// std::invalid_argument "<path>: line L, column C: YAML syntax error: <reason>" for
+  /// syntax errors, "<path>: line L, byte B: ..." for text that is not UTF-8 (or holds
+  /// control characters), "<path>: line L, column C: ..." past kMaxNodes / kMaxDepth, for a
+  /// recursive alias or a string value that is not UTF-8 text (e.g. "\0" or "\uD800"), and
+  /// "<path>: ..." for a text over kMaxFileBytes, an empty file, several documents or a top
+  /// level that is not a mapping. Never loops (yaml-cpp 0.7's LoadAll does, on a ',').
   YamlDocument(std::string path, std::string text);
 
   const std::string& path() const { return path_; }
@@ -84,7 +119,7 @@ class YamlDocument {
   YamlNode root_;
 };
 
-/// `parent.key` (or `key` at the top level).
+/// `parent.key` (or `key` at the top level); a long key as ShortValue.
 std::string JoinKey(const std::string& parent, const std::string& key);
 
 /// The entries of a mapping in file order. Rejects a node that is not a mapping, keys
@@ -138,6 +173,8 @@ class Fields {
   double Number(const std::string& key) const;
   std::optional<double> OptionalNumber(const std::string& key) const;
   std::string Text(const std::string& key) const;
+  /// A name: a string of 1 to kMaxNameBytes bytes.
+  std::string Name(const std::string& key) const;
   std::optional<std::string> OptionalText(const std::string& key) const;
   std::optional<bool> OptionalBool(const std::string& key) const;
   /// Exactly `size` numbers.

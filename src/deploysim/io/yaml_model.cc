@@ -64,7 +64,7 @@ std::vector<model::Panel> ReadPanels(const Fields& top) {
     const Fields f(top.doc(), nodes[k], "panels[" + std::to_string(k) + "]",
                    {"name", "mass", "box", "inertia", "hinge_point", "hinge_axis", "com_offset"});
     model::Panel p;
-    p.name = f.Text("name");
+    p.name = f.Name("name");
     for (const model::Panel& other : panels) {
       if (other.name == p.name) f.Fail("name", "panel names must be unique");
     }
@@ -125,8 +125,7 @@ model::Model LoadModel(const std::string& path) {
   model::Model m;
   m.source = path;
   m.text = doc.text();
-  m.name = top.Text("name");
-  if (m.name.empty()) top.Fail("name", "must not be empty");
+  m.name = top.Name("name");
   m.description = top.OptionalText("description").value_or("");
 
   const std::string kind = top.Text("kind");
@@ -148,6 +147,11 @@ model::Model LoadModel(const std::string& path) {
   const auto entries = yaml::MappingEntries(doc, top.Get("configurations"), "configurations");
   if (entries.empty()) top.Fail("configurations", "at least one configuration is required");
   for (const auto& [name, node] : entries) {
+    if (name.size() > yaml::kMaxNameBytes) {
+      doc.Fail(yaml::JoinKey("configurations", name),
+               "a configuration name has at most " + std::to_string(yaml::kMaxNameBytes) +
+                   " bytes (this one has " + std::to_string(name.size()) + ")");
+    }
     m.configurations.push_back(
         m.kind == model::ModelKind::kTensors
             ? ReadTensorConfiguration(doc, name, node)

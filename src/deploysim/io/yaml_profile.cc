@@ -45,8 +45,8 @@ schedule::Mode ReadMode(const Fields& top, const model::Model& m) {
   if (!top.Has("mode")) {
     // Defaulted only where there is no choice: a tensor model has no geometry.
     if (m.kind == model::ModelKind::kTensors) return schedule::Mode::kTensor;
-    top.doc().Fail("mode", "required key is missing (model '" + m.name + "' is hinged: choose " +
-                               Names(kModes) + ")");
+    top.doc().Fail("mode", "required key is missing (model '" + yaml::ShortValue(m.name) +
+                               "' is hinged: choose " + Names(kModes) + ")");
   }
   const std::optional<schedule::Mode> mode = FindByName(kModes, top.Text("mode"));
   if (!mode) top.Fail("mode", "unknown mode (valid: " + Names(kModes) + ")");
@@ -104,7 +104,7 @@ std::vector<schedule::Stage> ReadStages(const Fields& top) {
     f.RequireExactlyOne("hold", "to");
     if (f.Has("hold")) {
       if (f.Has("law")) f.Fail("law", "a hold has no law (law is for `to` stages)");
-      s.from = s.to = f.Text("hold");
+      s.from = s.to = f.Name("hold");
       // The law of a hold is never used; keep the header's default.
     } else {
       if (i == 0) {
@@ -112,14 +112,19 @@ std::vector<schedule::Stage> ReadStages(const Fields& top) {
                "the first stage has no previous configuration to move from "
                "(start with a hold)");
       }
-      s.to = f.Text("to");
+      s.to = f.Name("to");
       s.from = stages.back().to;
       const std::string law = f.Text("law");
       const std::optional<schedule::Law> l = FindByName(kLaws, law);
       if (!l) f.Fail("law", "unknown law (valid: " + Names(kLaws) + ")");
       s.law = *l;
     }
-    s.name = f.OptionalText("name").value_or((s.is_hold() ? "hold " : "to ") + s.to);
+    if (f.Has("name")) {
+      s.name = f.Text("name");
+      if (s.name.size() > yaml::kMaxNameBytes) (void)f.Name("name");  // the length rule
+    } else {
+      s.name = (s.is_hold() ? "hold " : "to ") + s.to;
+    }
     stages.push_back(s);
   }
   return stages;
@@ -170,8 +175,7 @@ schedule::Profile ReadProfile(const std::string& path) {
   schedule::Profile p;
   p.source = path;
   p.text = doc.text();
-  p.name = top.Text("name");
-  if (p.name.empty()) top.Fail("name", "must not be empty");
+  p.name = top.Name("name");
   p.description = top.OptionalText("description").value_or("");
   p.model = LoadModel(top.FilePath("model"));
   p.mode = ReadMode(top, p.model);

@@ -73,11 +73,19 @@ std::string ParameterNames() {
   return s;
 }
 
+/// Names for a message: each as io::yaml::ShortValue, at most 10 of them.
 std::string JoinNames(const std::vector<std::string>& v) {
+  constexpr std::size_t kMaxShown = 10;
   std::string s;
-  for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
+  for (std::size_t i = 0; i < v.size() && i < kMaxShown; ++i) {
+    s += (s.empty() ? "" : ", ") + io::yaml::ShortValue(v[i]);
+  }
+  if (v.size() > kMaxShown) s += ", ... (" + std::to_string(v.size()) + " in all)";
   return s;
 }
+
+/// A name from an input file, for a message.
+std::string Short(const std::string& s) { return io::yaml::ShortValue(s); }
 
 bool InRange(const ParameterInfo& p, double v) {
   return (p.lower_open ? v > p.lower : v >= p.lower) && v < p.upper;
@@ -154,12 +162,12 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
     }
     t.column += "[" + std::to_string(t.stage) + "]";
     t.description += " (stage " + std::to_string(t.stage) + ", '" +
-                     base.stages[static_cast<std::size_t>(t.stage)].name + "')";
+                     Short(base.stages[static_cast<std::size_t>(t.stage)].name) + "')";
   }
   if (par == Parameter::kPanelMassScale) {
     if (base.model.kind != model::ModelKind::kHinged) {
-      f.Fail("parameter", "panel_mass_scale needs a hinged model (model '" + base.model.name +
-                              "' is kind tensors; use inertia_scale)");
+      f.Fail("parameter", "panel_mass_scale needs a hinged model (model '" +
+                              Short(base.model.name) + "' is kind tensors; use inertia_scale)");
     }
     if (f.Has("panel")) {
       const std::string panel = f.Text("panel");
@@ -177,7 +185,7 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
   }
   if (par == Parameter::kInertiaScale) {
     if (base.model.kind != model::ModelKind::kTensors) {
-      f.Fail("parameter", "inertia_scale needs a tensors model (model '" + base.model.name +
+      f.Fail("parameter", "inertia_scale needs a tensors model (model '" + Short(base.model.name) +
                               "' is hinged; use panel_mass_scale)");
     }
     std::string qualifier;
@@ -186,8 +194,8 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
       std::vector<std::string> names;
       for (const model::Configuration& c : base.model.configurations) names.push_back(c.name);
       if (std::find(names.begin(), names.end(), t.configuration) == names.end()) {
-        f.Fail("configuration", "no configuration of that name in model '" + base.model.name +
-                                    "' (valid: " + JoinNames(names) + ")");
+        f.Fail("configuration", "no configuration of that name in model '" +
+                                    Short(base.model.name) + "' (valid: " + JoinNames(names) + ")");
       }
       if (t.configuration.find(',') != std::string::npos) {
         f.Fail("configuration", "configuration names in sweeps must not contain ','");
@@ -408,8 +416,7 @@ SweepSpec LoadSweep(const std::string& path) {
   SweepSpec spec;
   spec.source = path;
   spec.text = doc.text();
-  spec.name = top.Text("name");
-  if (spec.name.empty()) top.Fail("name", "must not be empty");
+  spec.name = top.Name("name");
   spec.description = top.OptionalText("description").value_or("");
   spec.base = io::LoadProfile(top.FilePath("base"));
   spec.model_text = io::yaml::ReadTextFile(spec.base.model.source);
