@@ -64,7 +64,9 @@ void RenderInto(const YAML::Node& node, int depth, std::string& out) {
       const bool quoted = node.Tag() == "!";
       const std::string& v = node.Scalar();
       out += quoted ? "\"" : "";
-      out += v.size() > kMaxShownBytes ? ShortValue(v) : v;
+      // Inside a collection shorter, so that the rest shows too.
+      const std::size_t shown = depth == 0 ? kMaxShownBytes : kMaxShownBytes / 3;
+      out += v.size() > shown ? ShortValue(v, shown) : v;
       out += quoted ? "\"" : "";
       return;
     }
@@ -257,7 +259,8 @@ class GuardHandler : public YAML::EventHandler {
   void OnMapEnd() override { Close(); }
 
  private:
-  /// A node's tree with aliases expanded: its node count and depth (a scalar: 1, 1).
+  /// A node's tree with aliases expanded: its node count and its depth in nested
+  /// collections (a scalar: 1, 0; `[1]`: 2, 1).
   struct Size {
     std::size_t nodes = 0;
     int depth = 0;
@@ -283,7 +286,7 @@ class GuardHandler : public YAML::EventHandler {
   }
   void Leaf(const YAML::Mark& mark, YAML::anchor_t anchor) {
     Event(mark);
-    const Size one{1, 1, true};
+    const Size one{1, 0, true};
     Define(anchor, one);
     Add(mark, one);
   }
