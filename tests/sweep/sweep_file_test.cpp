@@ -5,6 +5,7 @@
 #include "deploysim/sweep/sweep_file.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <ostream>
@@ -228,6 +229,7 @@ TEST_P(BadSweepTest, IsRejectedWithOneLine) {
     message = e.what();
   }
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  EXPECT_LT(message.size(), 600u) << message.substr(0, 700);  // long values are cut
   EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
   EXPECT_NE(message.find(bad.expected), std::string::npos)
       << "expected '" << bad.expected << "' in: " << message;
@@ -325,8 +327,67 @@ INSTANTIATE_TEST_SUITE_P(
                  "grid:\n  - {parameter: spin_rate, values: [1]}\noutcome: {tumble_angle_deg: "
                  "0}\n",
                  "outcome.tumble_angle_deg = 0: must be in (0, 90) [deg]"},
-        BadSweep{"YamlSyntax", "grid: [\n", "YAML syntax error"}),
+        BadSweep{"YamlSyntax", "grid: [\n", "YAML syntax error"},
+        // Hostile input (issue 10).
+        BadSweep{"BaseIsADevice", "name: t\nbase: /dev/zero\n",
+                 "base = /dev/zero: cannot read /dev/zero: is a character device, not a regular "
+                 "file",
+                 true},
+        BadSweep{"CommaLoop", ",\n", "line 1, column 1: YAML syntax error: unexpected ','", true},
+        BadSweep{"CommaAfterAKey", "name: t\n,\n", "line 2, column 1: YAML syntax error", true},
+        BadSweep{"RecursiveAlias", "grid: &g [{parameter: spin_rate, values: *g}]\n",
+                 "an alias refers to a node that contains it"},
+        BadSweep{"LongName", "name: " + std::string(1000000, 'n') + "\nbase: x.yaml\n",
+                 "name = nnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnn... (1000000 "
+                 "bytes): a name has at most 200 bytes (this one has 1000000)",
+                 true},
+        BadSweep{"LongStageValue",
+                 "grid:\n  - {parameter: stage_duration, stage: " + std::string(500000, 's') +
+                     ", values: [10]}\n",
+                 "grid[0].stage = ssssssssssssssssssssssssssssssssssssssssssssssssssssssssssss... "
+                 "(500000 bytes): no stage of that name in "},
+        BadSweep{"InvalidUtf8", "description: \"\xc3\x28\"\n", "line 4, byte offset ", false}),
     [](const ::testing::TestParamInfo<BadSweep>& param) { return std::string(param.param.name); });
+
+// A base profile with many long stage names: the list of names in the message is cut.
+TEST_F(SweepDirTest, ManyStageNamesAreCutInMessages) {
+  std::string profile = "name: p\nmodel: " + std::string(DEPLOYSIM_SOURCE_DIR) +
+                        "/models/wing_nut.yaml\ninitial: {angular_momentum: [0, 1, 0]}\nstages:\n";
+  for (int i = 1; i <= 500; ++i) {
+    profile += "  - {name: " + std::string(190, 'q') + std::to_string(i) +
+               ", hold: default, until: " + std::to_string(i) + "}\n";
+  }
+  const std::string base = Write("base.yaml", profile);
+  const std::string sweep =
+      Write("s.yaml", "name: s\nbase: " + base +
+                          "\ngrid:\n  - {parameter: stage_duration, stage: nope, values: [1]}\n");
+  try {
+    (void)LoadSweep(sweep);
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_LT(m.size(), 1500u) << m.substr(0, 2000);
+    EXPECT_NE(m.find("no stage of that name in"), std::string::npos) << m.substr(0, 300);
+    EXPECT_NE(m.find(", ... (500 in all))"), std::string::npos) << m.substr(0, 2000);
+  }
+}
+
+// A FIFO as base: refused at once (opening it to probe would block).
+TEST_F(SweepDirTest, BaseThatIsAFifoIsRefused) {
+  ASSERT_EQ(::mkfifo(Path("fifo.yaml").c_str(), 0600), 0);
+  const std::string sweep = Write("s.yaml", "name: s\nbase: fifo.yaml\ngrid: []\n");
+  try {
+    (void)LoadSweep(sweep);
+    FAIL() << "accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("s.yaml: base = fifo.yaml: cannot read "),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("is a FIFO (named pipe), not a regular file"),
+              std::string::npos)
+        << e.what();
+  }
+}
 
 }  // namespace
 }  // namespace deploysim::sweep

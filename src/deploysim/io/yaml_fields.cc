@@ -457,7 +457,9 @@ std::string ShortValue(const std::string& value, std::size_t max_bytes) {
 std::string Render(const YamlNode& value) {
   std::string s;
   RenderInto(Y(value), 0, s);
-  if (s.size() > kMaxRenderedLength) s = s.substr(0, Utf8Prefix(s, kMaxRenderedLength - 3)) + "...";
+  // A scalar is already short (ShortValue); a collection is cut here.
+  if (!Y(value).IsScalar() && s.size() > kMaxRenderedLength)
+    s = s.substr(0, Utf8Prefix(s, kMaxRenderedLength - 3)) + "...";
   // One line: newlines of block scalars become visible escapes.
   return Escaped(s);
 }

@@ -69,7 +69,7 @@ inline constexpr int kMaxDepth = 32;
 /// Values echoed in messages are cut to this many bytes (ShortValue); file names to
 /// kMaxShownPathBytes.
 inline constexpr std::size_t kMaxShownBytes = 60;
-inline constexpr std::size_t kMaxShownPathBytes = 240;
+inline constexpr std::size_t kMaxShownPathBytes = 160;
 /// Longest name (of a model, profile, sweep, configuration, panel or stage) [bytes]: names
 /// appear in messages, file attributes and CSV headers.
 inline constexpr std::size_t kMaxNameBytes = 200;
