@@ -168,6 +168,21 @@ TEST(HostileYaml, TooManyNodesAreRefused) {
   ExpectRefused(list(kMaxNodes), "more than 100000 YAML nodes");
 }
 
+// A mapping of ~45,000 keys (the node limit allows ~50,000): duplicates are found (by
+// hash; the pairwise check this replaced took seconds).
+TEST(HostileYaml, DuplicateKeysAmongManyAreFound) {
+  std::string text;
+  for (int i = 0; i < 45000; ++i) text += "k" + std::to_string(i) + ": 0\n";
+  text += "k17: 1\n";
+  const YamlDocument doc("t.yaml", text);
+  try {
+    (void)yaml::MappingEntries(doc, doc.root(), "");
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "t.yaml: k17 = 1: duplicate key (first given on line 18)");
+  }
+}
+
 TEST(HostileYaml, TextOverTheSizeLimitIsRefused) {
   const std::string text = "a: 1\n#" + std::string(kMaxFileBytes, 'x') + "\n";
   ExpectRefused(text, "bytes (input files have at most 1048576 bytes, 1 MiB)");

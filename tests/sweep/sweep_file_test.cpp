@@ -346,6 +346,13 @@ INSTANTIATE_TEST_SUITE_P(
                      ", values: [10]}\n",
                  "grid[0].stage = ssssssssssssssssssssssssssssssssssssssssssssssssssssssssssss... "
                  "(500000 bytes): no stage of that name in "},
+        // Refused at the axis, before its million values are made (with 200 such axes
+        // loading took 1.6 GB).
+        BadSweep{"AxisPastTheCaseLimit",
+                 "grid:\n  - {parameter: spin_rate, linspace: [1, 2, 1000000]}\n"
+                 "  - {parameter: deploy_duration_scale, linspace: [1, 2, 1000]}\n",
+                 "grid[1].linspace = [1, 2, 1000]: gives 1e+09 cases with the axes before it "
+                 "(at most 1e+08)"},
         BadSweep{"InvalidUtf8", "description: \"\xc3\x28\"\n", "line 4, byte offset ", false}),
     [](const ::testing::TestParamInfo<BadSweep>& param) { return std::string(param.param.name); });
 

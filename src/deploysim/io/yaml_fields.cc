@@ -17,6 +17,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace deploysim::io::yaml {
 
@@ -512,18 +513,21 @@ std::vector<std::pair<std::string, YamlNode>> MappingEntries(const YamlDocument&
   const YAML::Node& node = Y(value);
   if (!node.IsMap()) doc.Fail(path, value, "expected a mapping (key: value entries)");
   std::vector<std::pair<std::string, YamlNode>> entries;
+  // Duplicates by hash: a mapping may have ~kMaxNodes / 2 keys (a pairwise check of 50,000
+  // keys took seconds).
+  std::unordered_map<std::string, std::size_t> seen;
   for (const auto& kv : node) {
     if (!kv.first.IsScalar()) {
       doc.Fail(JoinKey(path, Render(Wrap(kv.first))), Wrap(kv.second),
                "keys must be plain strings");
     }
     const std::string key = kv.first.Scalar();
-    for (const auto& [seen, first] : entries) {
-      if (seen == key) {
-        doc.Fail(
-            JoinKey(path, key), Wrap(kv.second),
-            "duplicate key (first given on line " + std::to_string(Y(first).Mark().line + 1) + ")");
-      }
+    const auto [it, inserted] = seen.emplace(key, entries.size());
+    if (!inserted) {
+      const YamlNode& first = entries[it->second].second;
+      doc.Fail(
+          JoinKey(path, key), Wrap(kv.second),
+          "duplicate key (first given on line " + std::to_string(Y(first).Mark().line + 1) + ")");
     }
     entries.emplace_back(key, Wrap(kv.second));
   }

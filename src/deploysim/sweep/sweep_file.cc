@@ -247,7 +247,16 @@ double ReadCount(const Fields& f, const YamlNode& node, const std::string& key, 
   return n;
 }
 
-std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p) {
+/// The values of one grid axis. `cases` is the number of cases of the axes before it: an
+/// axis that would take the sweep past kMaxCases is refused before its values are made (a
+/// few lines of linspace axes would otherwise allocate gigabytes).
+std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p, double cases) {
+  auto check_cases = [&f, cases](const std::string& key, double count) {
+    if (cases * count > kMaxCases) {
+      f.Fail(key, "gives " + FormatNumber(cases * count) +
+                      " cases with the axes before it (at most " + FormatNumber(kMaxCases) + ")");
+    }
+  };
   const bool categorical = IsCategorical(p.parameter);
   const char* keys[] = {"values", "linspace", "logspace"};
   int given = 0;
@@ -262,6 +271,7 @@ std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p) {
     const std::vector<YamlNode> nodes =
         io::yaml::SequenceElements(f.doc(), f.Get("values"), f.Key("values"), "values");
     if (nodes.empty()) f.Fail("values", "at least one value is required");
+    check_cases("values", static_cast<double>(nodes.size()));
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       const std::string key = f.Key("values") + "[" + std::to_string(i) + "]";
       values.push_back(categorical ? ReadCategory(f, nodes[i], key, p)
@@ -283,6 +293,7 @@ std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p) {
   const double n = ReadCount(f, nodes[2], f.Key(key) + "[2]", 2.0);
   if (log && !(a > 0.0 && b > 0.0)) f.Fail(key, "logspace needs first and last > 0");
   if (a == b) f.Fail(key, "first and last must differ");
+  check_cases(key, n);
   const std::size_t count = static_cast<std::size_t>(n);
   for (std::size_t i = 0; i < count; ++i) {
     const double u = static_cast<double>(i) / static_cast<double>(count - 1);
@@ -452,7 +463,7 @@ SweepSpec LoadSweep(const std::string& path) {
                      with({"values", "linspace", "logspace"}));
       const Entry e = ReadTarget(f, spec.base);
       claim(f, e.target);
-      GridAxis axis{e.target, ReadGridValues(f, *e.info)};
+      GridAxis axis{e.target, ReadGridValues(f, *e.info, cases)};
       cases *= static_cast<double>(axis.values.size());
       spec.grid.push_back(std::move(axis));
     }
