@@ -9,6 +9,8 @@
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/math/inertia.h"
 #include "deploysim/math/number_format.h"
+#include "deploysim/model/mass_properties.h"
+#include "deploysim/model/model.h"
 #include "deploysim/schedule/deployment_schedule.h"
 
 namespace deploysim::analysis {
@@ -54,45 +56,85 @@ std::string Num(double x) {
 WorkEstimate EstimateWork(const schedule::Profile& profile) {
   WorkEstimate out;
   if (profile.stages.empty()) return out;
-  const schedule::DeploymentSchedule sched(profile);
-  const double t0 = profile.t_begin();
-  const dynamics::InertiaSample s0 = sched.Evaluate(t0);
-  const math::Vec3 H0 =
-      profile.initial.H_B
-          ? *profile.initial.H_B
-          : math::Vec3(s0.J_B * profile.initial.w_NB_B.value_or(math::Vec3::Zero()) + s0.h_rel_B);
+  const model::Model& model = profile.model;
+  const bool hinged = model.kind == model::ModelKind::kHinged;
+  // J_B of a named configuration (hinged: the mass properties at its hinge angles, at rest).
+  auto config_J = [&](const std::string& name) -> math::Mat3 {
+    const model::Configuration& c = model.configuration(name);
+    if (!hinged) return c.J_B;
+    return model::ComputeMassProperties(model.hinged, c.hinge_angles,
+                                        Eigen::VectorXd::Zero(c.hinge_angles.size()))
+        .J_B;
+  };
+  auto smallest_moment = [](const math::Mat3& J) {
+    return math::PrincipalDecomposition(J).moments[0];
+  };
+
+  // H_B(t0): given, or J_B(t0) w + h_rel_B(t0) from the schedule (single runs only: a
+  // sweep case always has H_B).
+  math::Vec3 H0 = math::Vec3::Zero();
+  if (profile.initial.H_B) {
+    H0 = *profile.initial.H_B;
+  } else if (profile.initial.w_NB_B) {
+    const schedule::DeploymentSchedule sched(profile);
+    const dynamics::InertiaSample s0 = sched.Evaluate(profile.t_begin());
+    H0 = s0.J_B * *profile.initial.w_NB_B + s0.h_rel_B;
+  }
   const double M = H0.norm();
   out.momentum = M;
   const bool adaptive = MakeStepper(profile.integrator.method)->info().adaptive;
+
+  // Geometry-mode moves: J_B >= the sum of the parts' own inertias about their CoMs (the
+  // parallel-axis terms are positive semi-definite), so its smallest moment is at least
+  // the sum of theirs, whatever the hinge angles.
+  double parts_bound = -1.0;
+  auto parts_smallest = [&] {
+    if (parts_bound < 0.0) {
+      parts_bound = smallest_moment(model.hinged.hub.body.inertia_cm);
+      for (const model::Panel& pn : model.hinged.panels) {
+        parts_bound += smallest_moment(pn.body.inertia_cm);
+      }
+    }
+    return parts_bound;
+  };
+
+  math::Mat3 J_prev = math::Mat3::Zero();
+  std::string prev_name;
+  double I_prev = 0.0;
+  auto I_of = [&](const std::string& name) {
+    if (name != prev_name || prev_name.empty()) {
+      J_prev = config_J(name);
+      I_prev = smallest_moment(J_prev);
+      prev_name = name;
+    }
+    return I_prev;
+  };
 
   for (std::size_t k = 0; k < profile.stages.size(); ++k) {
     const schedule::Stage& st = profile.stages[k];
     StageWork w;
     w.duration = st.t_end - st.t_begin;
-    const bool rigid = sched.IsRigidOn(st.t_begin, st.t_end);
-    double rate2 = 0.0;
-    if (rigid && k == 0) {
-      // The initial state is known: the exact largest |w| on its energy ellipsoid.
-      const dynamics::InertiaSample js = sched.Evaluate(st.t_begin, dynamics::Side::kRight);
-      const math::PrincipalAxes pa = math::PrincipalDecomposition(js.J_B);
-      const math::Vec3 h = pa.axes.transpose() * H0;
-      const math::Vec3 I = pa.moments;
-      const double two_T = h[0] * h[0] / I[0] + h[1] * h[1] / I[1] + h[2] * h[2] / I[2];
-      rate2 = MaxRateSquaredOnEllipsoid(I, h.squaredNorm(), two_T);
-    } else {
-      const int n = rigid ? 1 : kMoveSamples;
-      for (int i = 0; i < n; ++i) {
-        const double t =
-            rigid ? st.t_begin
-                  : st.t_begin + (st.t_end - st.t_begin) * (static_cast<double>(i) / (n - 1));
-        const dynamics::InertiaSample js = sched.Evaluate(
-            t, i + 1 == n && !rigid ? dynamics::Side::kLeft : dynamics::Side::kRight);
-        const double I_min = math::PrincipalDecomposition(js.J_B).moments[0];
-        const double r = (M + js.h_rel_B.norm()) / I_min;
-        rate2 = std::max(rate2, r * r);
+    if (st.is_hold()) {
+      const double I_min = I_of(st.to);
+      if (k == 0) {
+        // The initial state is known: the largest |w| on its energy ellipsoid.
+        const math::PrincipalAxes pa = math::PrincipalDecomposition(J_prev);
+        const math::Vec3 h = pa.axes.transpose() * H0;
+        const math::Vec3& I = pa.moments;
+        const double two_T = h[0] * h[0] / I[0] + h[1] * h[1] / I[1] + h[2] * h[2] / I[2];
+        w.max_rate = std::sqrt(MaxRateSquaredOnEllipsoid(I, h.squaredNorm(), two_T));
+      } else {
+        w.max_rate = M / I_min;
       }
+    } else {
+      // Tensor mode: J_B is a convex combination of the end tensors, and the smallest
+      // moment is concave in J_B. The panels' relative momentum h_rel_B turns the hub by
+      // about their hinge travel over the stage (a fraction of a turn): left out.
+      const double I_min = profile.mode == schedule::Mode::kGeometry && hinged
+                               ? parts_smallest()
+                               : std::min(I_of(st.from), I_of(st.to));
+      w.max_rate = M / I_min;
     }
-    w.max_rate = std::sqrt(rate2);
     w.turns = w.max_rate * w.duration / kTwoPi;
     if (!adaptive && profile.integrator.step > 0.0) {
       w.fixed_steps = std::ceil(w.duration / profile.integrator.step);

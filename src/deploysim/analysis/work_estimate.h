@@ -7,12 +7,16 @@
 /// Lie-group and exact methods, the motion of H_B in the body, which is no faster), and
 /// the flips of a stage (FreeBodySolution::FlipTimes) number at most two per turn.
 ///
-/// Rate bound per stage: |H_B| = M is the same at every time of a torque-free run, so
-/// |w_NB_B| = |J_B^-1 (H_B - h_rel_B)| <= (M + |h_rel_B|) / I_min, I_min the smallest
-/// principal moment of J_B. On the first stage, if it is rigid, the initial state is known
-/// and the bound is the largest |w| on the energy ellipsoid of that state (exact for a
-/// rigid body). Move stages are sampled at kMoveSamples times (an estimate, not a bound).
-/// Cost: ~1 us per stage plus the schedule's set-up.
+/// Rate bound per stage: |H_B| = M is the same at every time of a torque-free run, and
+/// |w_NB_B| = |J_B^-1 (H_B - h_rel_B)| <= M / I_min, I_min the smallest principal moment
+/// of J_B. First stage (a hold; the initial state is known): the largest |w| on that
+/// state's energy ellipsoid (exact for a rigid body). Later holds: M / I_min of the held
+/// configuration. Moves: tensor mode, the smaller I_min of the two end tensors (J_B is a
+/// convex combination of them); geometry mode, the sum of the parts' own smallest
+/// moments (a lower bound of I_min at any hinge angles). The panels' relative momentum
+/// h_rel_B is left out (it turns the hub by about the hinge travel: a fraction of a turn).
+/// Cost: a principal decomposition per configuration used (~1 us each); no schedule is
+/// built when initial.H_B is given (as in every sweep case).
 
 #include <string>
 #include <vector>
@@ -30,8 +34,6 @@ inline constexpr double kMaxTurns = 1e6;
 /// ceil(duration / integrator.step)): the integrator's max_steps
 /// (integrators::IntegratorSettings), where it would stop anyway.
 inline constexpr double kMaxFixedSteps = 5e7;
-/// Samples of a move stage for its rate bound (ends included).
-inline constexpr int kMoveSamples = 17;
 
 struct StageWork {
   double duration = 0.0;     ///< [s]

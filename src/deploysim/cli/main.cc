@@ -132,6 +132,22 @@ void RefuseOutputOver(const std::string& output, const std::vector<std::string>&
   }
 }
 
+// Runs f(); an error whose message does not start with `file` (e.g. a root solver's or
+// FreeBodySolution's, which know no file) is rethrown as "<file>: <message>".
+template <class F>
+auto NamingFile(const std::string& file, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::exception& e) {
+    const std::string m = e.what();
+    if (m.rfind(file, 0) == 0) throw;
+    if (dynamic_cast<const std::invalid_argument*>(&e) != nullptr) {
+      throw std::invalid_argument(file + ": " + m);
+    }
+    throw std::runtime_error(file + ": " + m);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -291,7 +307,8 @@ int main(int argc, char** argv) {
       const std::vector<std::string> inputs{profile_path, profile.model.source};
       RefuseOutputOver(out_path, inputs);
       if (csv) RefuseOutputOver(out_path + ".csv", inputs);
-      const MissionResult r = deploysim::analysis::RunMission(profile, Progress(quiet));
+      const MissionResult r = NamingFile(
+          profile_path, [&] { return deploysim::analysis::RunMission(profile, Progress(quiet)); });
       if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
         std::cerr << "deploysim: error: " << profile_path << ": integration " << r.message << "\n";
         return 3;
@@ -321,7 +338,8 @@ int main(int argc, char** argv) {
       xc::CrosscheckOptions o;
       o.accuracy = cc_accuracy;
       o.t_end = cc_until;
-      const xc::CrosscheckResult r = xc::RunCrosscheck(profile, o);
+      const xc::CrosscheckResult r =
+          NamingFile(profile_path, [&] { return xc::RunCrosscheck(profile, o); });
       xc::WriteCrosscheckFile(out_path, r);
       std::cout << xc::FormatCrosscheckTable(r) << "\nwrote " << out_path << "\n";
       if (speed_study) {
@@ -338,7 +356,8 @@ int main(int argc, char** argv) {
     }
 #endif
     if (ana->parsed()) {
-      const MissionResult r = deploysim::analysis::RunMission(profile);
+      const MissionResult r =
+          NamingFile(profile_path, [&] { return deploysim::analysis::RunMission(profile); });
       std::optional<deploysim::analysis::CouplingComparison> c;
       if (geometry) c = deploysim::analysis::CompareCouplings(profile);
       if (json) {

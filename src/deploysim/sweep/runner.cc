@@ -66,6 +66,23 @@ void CheckDestination(const std::string& output) {
   }
 }
 
+/// SimulateOutcome; an error that does not name the sweep file (e.g. one from a root
+/// solver deep inside) is rethrown as "<sweep file>: case <i>: <message>", same type class
+/// (std::invalid_argument or std::runtime_error).
+CaseOutcome OutcomeNamingFile(const SweepSpec& spec, const Case& c) {
+  const std::string where = (spec.source.empty() ? std::string("sweep") : spec.source) + ": case " +
+                            std::to_string(c.parameters.index) + ": ";
+  try {
+    return SimulateOutcome(c, spec.outcome);
+  } catch (const std::invalid_argument& e) {
+    if (std::string(e.what()).rfind(spec.source, 0) == 0 && !spec.source.empty()) throw;
+    throw std::invalid_argument(where + e.what());
+  } catch (const std::exception& e) {
+    if (std::string(e.what()).rfind(spec.source, 0) == 0 && !spec.source.empty()) throw;
+    throw std::runtime_error(where + e.what());
+  }
+}
+
 int DefaultThreads(const MpiSession* mpi) {
   const int local = mpi != nullptr ? std::max(1, mpi->local_size()) : 1;
   return std::max(1, HardwareThreads() / local);
@@ -163,7 +180,7 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
           [&](std::size_t k) {
             const std::size_t i = todo[k];
             const Case c = BuildCase(spec, i);
-            const CaseOutcome o = SimulateOutcome(c, spec.outcome);
+            const CaseOutcome o = OutcomeNamingFile(spec, c);
             journal.Append(i, o);
             outcomes[i] = o;  // slot i is this worker's alone
             finished.fetch_add(1);
