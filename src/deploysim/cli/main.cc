@@ -5,7 +5,10 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -22,6 +25,7 @@
 #ifdef DEPLOYSIM_HAVE_SWEEP
 #include "deploysim/sweep/interrupt.h"
 #include "deploysim/sweep/mpi_session.h"
+#include "deploysim/sweep/parallel.h"
 #include "deploysim/sweep/runner.h"
 #include "deploysim/sweep/sweep_file.h"
 #endif
@@ -43,12 +47,37 @@ struct Overrides {
   std::optional<double> rtol, atol, step, dt;
 };
 
+// A numeric option's rule, checked on its text before CLI11 converts it, so that every
+// option error is one short line "--dt: 1e-5x is not a number > 0" (CLI11's own
+// messages take two lines and print DBL_MAX in full). Long values are cut.
+CLI::Validator Number(const std::string& rule,
+                      const std::function<bool(double)>& ok,
+                      bool integer = false) {
+  return CLI::Validator(
+      [rule, ok, integer](std::string& text) -> std::string {
+        const char* b = text.c_str();
+        char* e = nullptr;
+        errno = 0;
+        const double v =
+            integer ? static_cast<double>(std::strtoll(b, &e, 10)) : std::strtod(b, &e);
+        if (e != b && *e == '\0' && errno == 0 && std::isfinite(v) && ok(v)) return {};
+        const std::string shown = text.size() > 40 ? text.substr(0, 40) + "..." : text;
+        return shown + " is not " + (integer ? "an integer " : "a number ") + rule;
+      },
+      rule);
+}
+
 void AddOverrideOptions(CLI::App* cmd, Overrides& o) {
   cmd->add_option("--method", o.method, "integrator (see `deploysim methods`)");
-  cmd->add_option("--rtol", o.rtol, "relative tolerance of adaptive integrators");
-  cmd->add_option("--atol", o.atol, "absolute tolerance, relative to |H_B(0)|");
-  cmd->add_option("--step", o.step, "fixed step [s] (initial step for adaptive methods)");
-  cmd->add_option("--dt", o.dt, "output sampling interval [s]");
+  cmd->add_option("--rtol", o.rtol, "relative tolerance of adaptive integrators")
+      ->check(Number("in [1e-16, 1)", [](double v) { return v >= 1e-16 && v < 1.0; }));
+  cmd->add_option("--atol", o.atol, "absolute tolerance, relative to |H_B(0)|")
+      ->check(Number("> 0", [](double v) { return v > 0.0; }));
+  cmd->add_option("--step", o.step, "fixed step [s] (initial step for adaptive methods)")
+      ->check(Number(">= 0", [](double v) { return v >= 0.0; }));
+  cmd->add_option("--dt", o.dt, "output sampling interval [s]")->check(Number("> 0", [](double v) {
+    return v > 0.0;
+  }));
   cmd->add_option("--coupling", o.coupling, "quasi-rigid | exact");
   cmd->add_option("--mode", o.mode, "tensor | geometry");
 }
@@ -103,6 +132,22 @@ void RefuseOutputOver(const std::string& output, const std::vector<std::string>&
   }
 }
 
+// Runs f(); an error whose message does not start with `file` (e.g. a root solver's or
+// FreeBodySolution's, which know no file) is rethrown as "<file>: <message>".
+template <class F>
+auto NamingFile(const std::string& file, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::exception& e) {
+    const std::string m = e.what();
+    if (m.rfind(file, 0) == 0) throw;
+    if (dynamic_cast<const std::invalid_argument*>(&e) != nullptr) {
+      throw std::invalid_argument(file + ": " + m);
+    }
+    throw std::runtime_error(file + ": " + m);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -114,6 +159,10 @@ int main(int argc, char** argv) {
       "deploysim: does a spinning spacecraft stay put when it deploys its panels, or "
       "does it start to tumble? (Dzhanibekov effect with time-varying inertia)"};
   app.set_version_flag("--version", deploysim::kBuildId);
+  // Every command-line error on one line (subcommands inherit it).
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return "deploysim: error: " + std::string(e.what()) + " (see deploysim --help)\n";
+  });
   app.require_subcommand(1);
   app.footer(
       "Examples:\n"
@@ -163,10 +212,13 @@ int main(int argc, char** argv) {
   cc->add_option("-o,--output", out_path,
                  "output HDF5 file (default: <profile stem>_crosscheck.h5 in the current folder)");
   cc->add_option("--accuracy", cc_accuracy, "Simbody Runge-Kutta-Merson accuracy (default 1e-12)")
-      ->check(CLI::Range(1e-16, 0.1));
+      ->check(Number("in [1e-16, 0.1]", [](double v) { return v >= 1e-16 && v <= 0.1; }));
   cc->add_option("--until", cc_until,
-                 "stop at this time [s] (inside a hold stage or on a stage end)");
-  cc->add_option("--dt", ov.dt, "output sampling interval [s]");
+                 "stop at this time [s] (inside a hold stage or on a stage end)")
+      ->check(Number("(finite)", [](double) { return true; }));
+  cc->add_option("--dt", ov.dt, "output sampling interval [s]")->check(Number("> 0", [](double v) {
+    return v > 0.0;
+  }));
   cc->add_flag("--speed-study", speed_study,
                "also run the deployment-speed study: quasi-rigid coupling vs Simbody for "
                "deployments of 1 to 1000 s (geometry-mode profiles)");
@@ -191,7 +243,9 @@ int main(int argc, char** argv) {
   swp->add_option("-o,--output", out_path, "results HDF5 file")->required();
   swp->add_option("--threads", sweep_threads,
                   "worker threads (default: all hardware threads; per rank under mpirun)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(Number(
+          "in [0, " + std::to_string(deploysim::sweep::kMaxThreads) + "]",
+          [](double v) { return v >= 0 && v <= deploysim::sweep::kMaxThreads; }, true));
   swp->add_flag("--resume", resume,
                 "finish an interrupted sweep from its journal <output>.partial");
   swp->add_flag("--csv", csv, "also write <output>.csv");
@@ -253,7 +307,8 @@ int main(int argc, char** argv) {
       const std::vector<std::string> inputs{profile_path, profile.model.source};
       RefuseOutputOver(out_path, inputs);
       if (csv) RefuseOutputOver(out_path + ".csv", inputs);
-      const MissionResult r = deploysim::analysis::RunMission(profile, Progress(quiet));
+      const MissionResult r = NamingFile(
+          profile_path, [&] { return deploysim::analysis::RunMission(profile, Progress(quiet)); });
       if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
         std::cerr << "deploysim: error: " << profile_path << ": integration " << r.message << "\n";
         return 3;
@@ -283,7 +338,8 @@ int main(int argc, char** argv) {
       xc::CrosscheckOptions o;
       o.accuracy = cc_accuracy;
       o.t_end = cc_until;
-      const xc::CrosscheckResult r = xc::RunCrosscheck(profile, o);
+      const xc::CrosscheckResult r =
+          NamingFile(profile_path, [&] { return xc::RunCrosscheck(profile, o); });
       xc::WriteCrosscheckFile(out_path, r);
       std::cout << xc::FormatCrosscheckTable(r) << "\nwrote " << out_path << "\n";
       if (speed_study) {
@@ -300,7 +356,8 @@ int main(int argc, char** argv) {
     }
 #endif
     if (ana->parsed()) {
-      const MissionResult r = deploysim::analysis::RunMission(profile);
+      const MissionResult r =
+          NamingFile(profile_path, [&] { return deploysim::analysis::RunMission(profile); });
       std::optional<deploysim::analysis::CouplingComparison> c;
       if (geometry) c = deploysim::analysis::CompareCouplings(profile);
       if (json) {

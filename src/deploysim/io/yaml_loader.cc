@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "deploysim/analysis/exact_flow.h"
+#include "deploysim/analysis/work_estimate.h"
 #include "deploysim/math/number_format.h"
 
 namespace deploysim::io {
@@ -59,6 +60,8 @@ void CheckRunSettings(const schedule::Profile& p) {
                                   " s (at most " + FormatNumber(kMaxOutputSamples) + ")");
     }
   }
+  // Turns of the body and fixed steps against the run limits (analysis/work_estimate.h).
+  analysis::CheckWork(p);
 }
 
 schedule::Profile LoadProfile(const std::string& path) {

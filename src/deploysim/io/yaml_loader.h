@@ -38,8 +38,9 @@ void ApplyOverrides(schedule::Profile& profile, const ProfileOverrides& override
 
 /// The io-level rules on a profile's run settings that schedule::ValidateProfile leaves
 /// to the reader: the integrator method exists (analysis::StepperNames), fixed-step
-/// methods have integrator.step > 0, and the output grid has at most
-/// kMaxOutputSamples samples. Throws std::invalid_argument naming the key.
+/// methods have integrator.step > 0, the output grid has at most kMaxOutputSamples
+/// samples, and the work is within the run limits (analysis::CheckWork: turns of the
+/// body, fixed steps). Throws std::invalid_argument naming the key or the limit.
 void CheckRunSettings(const schedule::Profile& profile);
 
 /// Largest number of output samples a profile may ask for ((t_end - t_begin)/dt + 1).

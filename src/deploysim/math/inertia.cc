@@ -142,6 +142,11 @@ std::string InertiaTensor::Check(const Mat3& J, const std::string& what) {
   const double scale = J.cwiseAbs().maxCoeff();
   const double asym = (J - J.transpose()).cwiseAbs().maxCoeff();
   if (scale == 0.0) return what + " is zero (rule: positive definite)";
+  if (scale > kMaxEntry) {
+    os << what << " has an entry of magnitude " << scale
+       << " kg m^2 (rule: |entry| <= " << kMaxEntry << " kg m^2)";
+    return os.str();
+  }
   if (asym > kRelTolerance * scale) {
     os << what << " = " << Format(J) << " is not symmetric: max |J - J^T| = " << asym << " > "
        << kRelTolerance << " * max|J| (rule: symmetric)";

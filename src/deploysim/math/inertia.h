@@ -33,6 +33,9 @@ class InertiaTensor {
  public:
   /// Relative tolerance for the symmetry and triangle-inequality checks.
   static constexpr double kRelTolerance = 1e-12;
+  /// Largest |entry| [kg m^2] allowed: far above any spacecraft (a 1e12 kg body 1e6 m
+  /// across has ~1e25), low enough that M^2, energies and products of inertias stay finite.
+  static constexpr double kMaxEntry = 1e30;
 
   /// Validates J (throws std::invalid_argument naming the rule) and symmetrizes it.
   /// `what` names the quantity in error messages (e.g. "models/wing_nut.yaml: inertia").

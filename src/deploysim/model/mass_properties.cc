@@ -6,6 +6,7 @@
 #include <string>
 
 #include "deploysim/math/inertia.h"
+#include "deploysim/math/number_format.h"
 
 namespace deploysim::model {
 
@@ -89,12 +90,25 @@ void CheckMass(double mass, const std::string& what) {
     throw std::invalid_argument(what + ".mass = " + Fmt(mass) +
                                 ": must be finite and > 0 (rule: mass > 0)");
   }
+  if (!(mass <= kMaxPartMass)) {
+    throw std::invalid_argument(what + ".mass = " + Fmt(mass) + ": too large (rule: mass <= " +
+                                math::FormatNumber(kMaxPartMass) + " kg)");
+  }
 }
 
 void CheckFinite(const Vec3& v, const std::string& what) {
   if (!v.allFinite()) {
     throw std::invalid_argument(what + " = " + Fmt(v) +
                                 ": every component must be finite (rule: finite)");
+  }
+}
+
+/// A position [m]: finite, every component within kMaxCoordinate.
+void CheckPosition(const Vec3& v, const std::string& what) {
+  CheckFinite(v, what);
+  if (!(v.cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
+    throw std::invalid_argument(what + " = " + Fmt(v) + ": too far from the origin (rule: |" +
+                                "component| <= " + math::FormatNumber(kMaxCoordinate) + " m)");
   }
 }
 
@@ -222,15 +236,15 @@ HingedBody ValidatedHingedBody(HingedBody body, const std::string& where) {
   CheckMass(body.hub.body.mass, where + ": hub");
   CheckInertia(body.hub.body.inertia_cm, where + ": hub.inertia");
   body.hub.body.inertia_cm = Symmetrized(body.hub.body.inertia_cm);
-  CheckFinite(body.hub.com_B, where + ": hub.com");
+  CheckPosition(body.hub.com_B, where + ": hub.com");
   for (std::size_t k = 0; k < body.panels.size(); ++k) {
     Panel& p = body.panels[k];
     const std::string label = PanelLabel(where, k, p);
     CheckMass(p.body.mass, label);
     CheckInertia(p.body.inertia_cm, label + ".inertia");
     p.body.inertia_cm = Symmetrized(p.body.inertia_cm);
-    CheckFinite(p.hinge_point_B, label + ".hinge_point");
-    CheckFinite(p.com_offset_B, label + ".com_offset");
+    CheckPosition(p.hinge_point_B, label + ".hinge_point");
+    CheckPosition(p.com_offset_B, label + ".com_offset");
     CheckFinite(p.hinge_axis_B, label + ".hinge_axis");
     const double norm = p.hinge_axis_B.stableNorm();
     if (!(norm > 0.0) || !std::isfinite(norm)) {

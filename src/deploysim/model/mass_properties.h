@@ -52,7 +52,15 @@ math::Mat3 BoxInertia(double mass, const math::Vec3& size);
 /// throws std::invalid_argument if it is zero or not finite).
 math::Mat3 AxisAngle(const math::Vec3& axis, double angle);
 
-/// Checks masses > 0 and finite, finite vectors, valid inertias (math::InertiaTensor::Check:
+/// Largest mass of a part [kg] (ValidatedHingedBody): 1e12 kg, far above any spacecraft;
+/// with kMaxCoordinate it keeps every inertia below 1e26 kg m^2 (finite and well-scaled:
+/// math::InertiaTensor::kMaxEntry is 1e30).
+inline constexpr double kMaxPartMass = 1e12;
+/// Largest |component| [m] of a position (hub.com, hinge_point, com_offset).
+inline constexpr double kMaxCoordinate = 1e6;
+
+/// Checks masses finite and in (0, kMaxPartMass], positions finite with components within
+/// kMaxCoordinate, finite vectors, valid inertias (math::InertiaTensor::Check:
 /// finite, symmetric, positive definite, triangle inequality), hinge axes of non-zero
 /// length and unique non-empty panel names. Returns the body with unit hinge axes and
 /// exactly symmetric inertias. Throws std::invalid_argument whose message names `where`

@@ -6,6 +6,8 @@
 #include <condition_variable>
 #include <exception>
 #include <mutex>
+#include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -70,14 +72,23 @@ void ParallelFor(std::size_t count,
         const std::lock_guard<std::mutex> lock(mutex);
         ++running;
       }
-      pool.emplace_back([&] {
-        work();
+      try {
+        pool.emplace_back([&] {
+          work();
+          {
+            const std::lock_guard<std::mutex> lock(mutex);
+            --running;
+          }
+          finished.notify_all();
+        });
+      } catch (const std::system_error& e) {
         {
           const std::lock_guard<std::mutex> lock(mutex);
           --running;
         }
-        finished.notify_all();
-      });
+        throw ThreadStartError("cannot start worker thread " + std::to_string(t + 1) + " of " +
+                               std::to_string(spawned) + ": " + e.what());
+      }
     }
     if (monitored) {
       const auto interval = std::chrono::duration<double>(std::max(options.monitor_interval, 1e-3));

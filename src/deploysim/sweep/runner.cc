@@ -1,8 +1,12 @@
 #include "deploysim/sweep/runner.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
@@ -41,6 +45,44 @@ std::vector<std::string> ExistingJournals(const std::string& output) {
   return found;
 }
 
+/// The output's destination, before any case runs: not a folder, in an existing folder
+/// that this process may write. Throws std::invalid_argument (a folder) or
+/// std::runtime_error (the folder is missing or not writable), one line.
+void CheckDestination(const std::string& output) {
+  std::error_code ec;
+  const fs::path out(output);
+  if (fs::is_directory(out, ec) || (!output.empty() && output.back() == '/')) {
+    throw std::invalid_argument(output + ": output is a folder (rule: -o names a file)");
+  }
+  const fs::path dir = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+  if (!fs::is_directory(dir, ec)) {
+    throw std::runtime_error(output + ": the output's folder " + dir.string() +
+                             " does not exist or is not a folder (rule: write into an existing "
+                             "folder)");
+  }
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) {
+    throw std::runtime_error(output + ": the output's folder " + dir.string() +
+                             " is not writable: " + std::strerror(errno));
+  }
+}
+
+/// SimulateOutcome; an error that does not name the sweep file (e.g. one from a root
+/// solver deep inside) is rethrown as "<sweep file>: case <i>: <message>", same type class
+/// (std::invalid_argument or std::runtime_error).
+CaseOutcome OutcomeNamingFile(const SweepSpec& spec, const Case& c) {
+  const std::string where = (spec.source.empty() ? std::string("sweep") : spec.source) + ": case " +
+                            std::to_string(c.parameters.index) + ": ";
+  try {
+    return SimulateOutcome(c, spec.outcome);
+  } catch (const std::invalid_argument& e) {
+    if (std::string(e.what()).rfind(spec.source, 0) == 0 && !spec.source.empty()) throw;
+    throw std::invalid_argument(where + e.what());
+  } catch (const std::exception& e) {
+    if (std::string(e.what()).rfind(spec.source, 0) == 0 && !spec.source.empty()) throw;
+    throw std::runtime_error(where + e.what());
+  }
+}
+
 int DefaultThreads(const MpiSession* mpi) {
   const int local = mpi != nullptr ? std::max(1, mpi->local_size()) : 1;
   return std::max(1, HardwareThreads() / local);
@@ -55,6 +97,12 @@ std::string JournalPath(const std::string& output, int rank) {
 RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
   if (options.output.empty()) throw std::invalid_argument("sweep: no output file given");
+  if (options.threads < 0 || options.threads > kMaxThreads) {
+    throw std::invalid_argument("sweep: threads = " + std::to_string(options.threads) +
+                                ": must be in [0, " + std::to_string(kMaxThreads) +
+                                "] (0: all hardware threads)");
+  }
+  CheckDestination(options.output);
   RunSummary summary;
   summary.cases = spec.case_count();
   summary.rank = options.mpi != nullptr ? options.mpi->rank() : 0;
@@ -126,18 +174,26 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
     const auto parallel0 = std::chrono::steady_clock::now();
     // A worker's exception is rethrown after the others have stopped (ParallelFor); the
     // journal keeps every case finished before it.
-    ParallelFor(
-        todo.size(),
-        [&](std::size_t k) {
-          const std::size_t i = todo[k];
-          const Case c = BuildCase(spec, i);
-          const CaseOutcome o = SimulateOutcome(c, spec.outcome);
-          journal.Append(i, o);
-          outcomes[i] = o;  // slot i is this worker's alone
-          finished.fetch_add(1);
-          if (options.on_case_done) options.on_case_done(i);
-        },
-        parallel);
+    try {
+      ParallelFor(
+          todo.size(),
+          [&](std::size_t k) {
+            const std::size_t i = todo[k];
+            const Case c = BuildCase(spec, i);
+            const CaseOutcome o = OutcomeNamingFile(spec, c);
+            journal.Append(i, o);
+            outcomes[i] = o;  // slot i is this worker's alone
+            finished.fetch_add(1);
+            if (options.on_case_done) options.on_case_done(i);
+          },
+          parallel);
+    } catch (const ThreadStartError& e) {
+      // The workers that started have stopped; their cases are in the journal.
+      journal.Sync();
+      throw std::runtime_error(options.output + ": " + e.what() + "; the journal " +
+                               summary.journal + " keeps " + std::to_string(finished.load()) +
+                               " finished cases: rerun with fewer --threads and --resume");
+    }
     summary.parallel_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - parallel0).count();
     journal.Sync();

@@ -1,0 +1,62 @@
+#pragma once
+
+/// Up-front estimate of the work a profile asks for, and the run limits checked from it
+/// (io::CheckRunSettings calls CheckWork, so simulate, analyze, crosscheck and every
+/// sweep case are refused before they start). A torque-free run's cost grows with the
+/// number of turns of the body: every integrator resolves the rotation (or, for the
+/// Lie-group and exact methods, the motion of H_B in the body, which is no faster), and
+/// the flips of a stage (FreeBodySolution::FlipTimes) number at most two per turn.
+///
+/// Rate bound per stage: |H_B| = M is the same at every time of a torque-free run, and
+/// |w_NB_B| = |J_B^-1 (H_B - h_rel_B)| <= M / I_min, I_min the smallest principal moment
+/// of J_B. First stage (a hold; the initial state is known): the largest |w| on that
+/// state's energy ellipsoid (exact for a rigid body). Later holds: M / I_min of the held
+/// configuration. Moves: tensor mode, the smaller I_min of the two end tensors (J_B is a
+/// convex combination of them); geometry mode, the sum of the parts' own smallest
+/// moments (a lower bound of I_min at any hinge angles). The panels' relative momentum
+/// h_rel_B is left out (it turns the hub by about the hinge travel: a fraction of a turn).
+/// Cost: a principal decomposition per configuration used (~1 us each); no schedule is
+/// built when initial.H_B is given (as in every sweep case).
+
+#include <string>
+#include <vector>
+
+#include "deploysim/schedule/profile.h"
+
+namespace deploysim::analysis {
+
+/// Largest number of turns of the body (sum over the stages of max |w| * duration / 2 pi)
+/// a run may ask for. 1e6 turns are 116 days at 10 rpm; they keep the flips of any stage
+/// (<= 2 per turn, +1) 5x below FreeBodySolution::kMaxFlips and the steps of `exact`
+/// (8 per period) below the integrator's max_steps.
+inline constexpr double kMaxTurns = 1e6;
+/// Largest number of steps of a fixed-step method (sum over the stages of
+/// ceil(duration / integrator.step)): the integrator's max_steps
+/// (integrators::IntegratorSettings), where it would stop anyway.
+inline constexpr double kMaxFixedSteps = 5e7;
+
+struct StageWork {
+  double duration = 0.0;     ///< [s]
+  double max_rate = 0.0;     ///< Bound on |w_NB_B| [rad/s] (see the file comment).
+  double turns = 0.0;        ///< max_rate * duration / (2 pi).
+  double fixed_steps = 0.0;  ///< ceil(duration / integrator.step) for fixed-step methods, else 0.
+};
+
+struct WorkEstimate {
+  std::vector<StageWork> stages;  ///< One per profile stage.
+  double momentum = 0.0;          ///< M = |H_B(t0)| [kg m^2/s].
+  double turns = 0.0;             ///< Sum over the stages.
+  double fixed_steps = 0.0;       ///< Sum over the stages (0 for adaptive methods).
+  bool finite = true;             ///< False if a rate is not finite (invalid input elsewhere).
+};
+
+/// The estimate for a valid profile (schedule::ValidateProfile passed; the integrator
+/// method known). Throws only what DeploymentSchedule throws.
+WorkEstimate EstimateWork(const schedule::Profile& profile);
+
+/// EstimateWork, then the limits kMaxTurns and kMaxFixedSteps: throws
+/// std::invalid_argument "<profile source>: <what>: <numbers> (rule: ...)", one line.
+/// Estimates that are not finite pass (other checks report their cause).
+void CheckWork(const schedule::Profile& profile);
+
+}  // namespace deploysim::analysis
