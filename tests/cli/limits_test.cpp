@@ -32,7 +32,7 @@ class LimitsTest : public testing::TempDirTest {
   CliRun Run(const std::string& args, const std::string& prefix = "") const {
     const std::string err = Path("stderr.txt");
     const std::string cmd =
-        prefix + "timeout 60 '" + DEPLOYSIM_CLI + "' " + args + " >/dev/null 2>'" + err + "'";
+        prefix + "timeout 30 '" + DEPLOYSIM_CLI + "' " + args + " >/dev/null 2>'" + err + "'";
     const int status = std::system(cmd.c_str());
     CliRun r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
