@@ -59,6 +59,12 @@ TEST(InertiaTest, RejectsNonFinite) {
   ExpectRejected(J, "rule: finite");
 }
 
+// Issue 10: |entries| above 1e30 kg m^2 would overflow M^2 and the energies.
+TEST(InertiaTest, RejectsHugeEntries) {
+  ExpectRejected(Vec3(1e31, 1e31, 1e31).asDiagonal(), "rule: |entry| <= 1e+30 kg m^2");
+  EXPECT_EQ(InertiaTensor::Check(Vec3(1e30, 1e30, 1e30).asDiagonal()), "");
+}
+
 TEST(InertiaTest, RejectsNonSymmetric) {
   Mat3 J = Vec3(1, 2, 2.5).asDiagonal();
   J(0, 1) = 0.1;

@@ -577,6 +577,31 @@ TEST(ValidatedHingedBodyTest, RejectsBadVectors) {
   ExpectRejected(b, {"hub.com", "rule: finite"});
 }
 
+// Issue 10: hinge_point 1e200 overflowed J_B and was reported as the profile's "zero
+// angular momentum": masses and positions are bounded so that J_B stays finite.
+TEST(ValidatedHingedBodyTest, RejectsHugeMassesAndPositions) {
+  HingedBody b = TwoPanelBody();
+  b.panels[0].hinge_point_B.x() = 1e200;
+  ExpectRejected(b, {"panels[0] (wing_a).hinge_point", "rule: |component| <= 1e+06 m"});
+  b = TwoPanelBody();
+  b.panels[1].com_offset_B.y() = -2e6;
+  ExpectRejected(b, {"panels[1] (wing_b).com_offset", "rule: |component| <= 1e+06 m"});
+  b = TwoPanelBody();
+  b.hub.com_B.z() = 1e7;
+  ExpectRejected(b, {"hub.com", "rule: |component| <= 1e+06 m"});
+  b = TwoPanelBody();
+  b.hub.body.mass = 1e13;
+  ExpectRejected(b, {"hub.mass = ", "too large (rule: mass <= 1e+12 kg)"});
+  // At the bounds: J_B finite.
+  b = TwoPanelBody();
+  b.hub.body.mass = kMaxPartMass;
+  b.panels[0].hinge_point_B.x() = kMaxCoordinate;
+  const HingedBody ok = ValidatedHingedBody(b, "models/test.yaml");
+  const MassProperties mp =
+      ComputeMassProperties(ok, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2));
+  EXPECT_TRUE(mp.J_B.allFinite());
+}
+
 TEST(ValidatedHingedBodyTest, RejectsDuplicatePanelNames) {
   HingedBody b = TwoPanelBody();
   b.panels[1].name = "wing_a";

@@ -22,6 +22,7 @@
 
 #include "deploysim/sweep/journal.h"
 #include "deploysim/sweep/mpi_session.h"
+#include "deploysim/sweep/parallel.h"
 #include "deploysim/sweep/sweep_file.h"
 #include "sweep_test_support.h"
 
@@ -228,6 +229,30 @@ TEST_F(SweepDirTest, KilledSweepResumesWithoutRepeatingOrLosingCases) {
   const std::string reference = Path("reference.h5");
   ASSERT_TRUE(RunSweep(spec, Options(reference, 2)).complete);
   ExpectSameCases(ReadSweepResults(reference), ReadSweepResults(out));
+}
+
+// Issue 10: the destination was found unusable only after every case had run; it is
+// checked first (no case runs), and --threads is capped at kMaxThreads.
+TEST_F(SweepDirTest, DestinationAndThreadsAreCheckedBeforeAnyCase) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", SweepText(2, 2)));
+  std::atomic<int> ran{0};
+  auto expect_refused = [&](RunOptions o, const std::string& part) {
+    o.on_case_done = [&](std::size_t) { ran.fetch_add(1); };
+    try {
+      RunSweep(spec, o);
+      ADD_FAILURE() << "accepted " << o.output << " with " << o.threads << " threads";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+  };
+  expect_refused(Options(Path("missing/r.h5"), 1), "the output's folder");
+  fs::create_directories(Path("folder"));
+  expect_refused(Options(Path("folder"), 1), "output is a folder");
+  expect_refused(Options(Path("r.h5"), kMaxThreads + 1), "must be in [0, 256]");
+  expect_refused(Options(Path("r.h5"), -1), "must be in [0, 256]");
+  EXPECT_EQ(ran.load(), 0);
+  EXPECT_FALSE(fs::exists(JournalPath(Path("r.h5"), 0)));
+  EXPECT_TRUE(fs::is_empty(Path("folder")));
 }
 
 TEST_F(SweepDirTest, JournalOfAnotherSweepIsRefused) {

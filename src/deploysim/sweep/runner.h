@@ -66,9 +66,15 @@ struct RunSummary {
 /// Journal path of `rank` for results file `output`.
 std::string JournalPath(const std::string& output, int rank);
 
-/// Runs the sweep. Throws std::runtime_error for I/O problems and when a journal exists
-/// without `resume` or belongs to another sweep; rethrows a worker's exception after the
-/// other workers have stopped (the journal keeps every finished case).
+/// Runs the sweep. Before any case: throws std::invalid_argument for threads outside
+/// [0, kMaxThreads] (parallel.h) or an output that is a folder, std::runtime_error when
+/// the output's folder is missing or not writable. Throws std::runtime_error for I/O
+/// problems and when a journal exists without `resume` or belongs to another sweep, and
+/// "<output>: cannot start worker thread i of n: <reason>; the journal ... keeps k
+/// finished cases: rerun with fewer --threads and --resume" when a thread cannot be
+/// created. Rethrows a worker's exception after the other workers have stopped (the
+/// journal keeps every finished case), as "<sweep file>: case <i>: <message>" when the
+/// message did not name the sweep file.
 RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options);
 
 /// One line for the user: "N cases: F flipped, T tumbling, X failed; wrote PATH".

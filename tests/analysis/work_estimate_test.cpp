@@ -1,0 +1,96 @@
+// analysis::EstimateWork / CheckWork (issue 10: runs that hung are refused up front).
+
+#include "deploysim/analysis/work_estimate.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/analysis/mission.h"
+#include "schedule/schedule_fixtures.h"
+#include "test_support.h"
+
+namespace deploysim::analysis {
+namespace {
+
+using schedule::Coupling;
+using schedule::Law;
+using schedule::Mode;
+namespace fx = schedule::testing;
+
+schedule::Profile WingNutProfile(double until) {
+  schedule::Profile p;
+  p.name = "wing_nut";
+  p.source = "wn.yaml";
+  p.model.name = "wing_nut";
+  p.model.kind = model::ModelKind::kTensors;
+  p.model.configurations = {
+      fx::TensorConfiguration("default", testing::WingNutMoments().asDiagonal())};
+  p.initial.H_B = testing::WingNutH0();
+  p.stages = {fx::Hold("default", 0.0, until)};
+  p.output.dt = until / 100.0;
+  return p;
+}
+
+// The first stage's bound is the largest |w| on the energy ellipsoid: reached by the
+// closed-form motion, never exceeded.
+TEST(WorkEstimateTest, FirstStageBoundIsTheLargestRateOfTheMotion) {
+  const schedule::Profile p = WingNutProfile(40.0);
+  const WorkEstimate e = EstimateWork(p);
+  ASSERT_EQ(e.stages.size(), 1u);
+  const FreeBodySolution sol(math::InertiaTensor::FromPrincipalMoments(testing::WingNutMoments()),
+                             testing::WingNutH0());
+  double w_max = 0.0;
+  for (int i = 0; i <= 400000; ++i) w_max = std::max(w_max, sol.w_NB_B(i * 1e-4).norm());
+  EXPECT_LE(w_max, e.stages[0].max_rate * (1.0 + 1e-12));
+  EXPECT_GE(w_max, e.stages[0].max_rate * (1.0 - 1e-6));
+  EXPECT_NEAR(e.turns, e.stages[0].max_rate * 40.0 / (2.0 * 3.141592653589793), 1e-9);
+  EXPECT_NO_THROW(CheckWork(p));
+}
+
+// Later stages and moves: M / (a lower bound of I_min) bounds |w| along a real run.
+TEST(WorkEstimateTest, BoundsTheRateOfEveryStage) {
+  for (const Mode mode : {Mode::kTensor, Mode::kGeometry}) {
+    const schedule::Profile p = fx::MakeProfile(
+        mode == Mode::kGeometry ? fx::HingedModel() : fx::TensorModel(), mode,
+        mode == Mode::kGeometry ? Coupling::kExact : Coupling::kQuasiRigid, Law::kMinimumJerk);
+    const WorkEstimate e = EstimateWork(p);
+    const MissionResult r = RunMission(p);
+    ASSERT_EQ(e.stages.size(), p.stages.size());
+    for (std::size_t i = 0; i < r.trajectory.size(); ++i) {
+      const double t = r.trajectory.time[i];
+      std::size_t k = 0;
+      while (k + 1 < p.stages.size() && t > p.stages[k].t_end) ++k;
+      EXPECT_LE(r.trajectory.w_NB_B[i].norm(), e.stages[k].max_rate * (1.0 + 1e-9))
+          << "t = " << t << ", stage " << k;
+    }
+    EXPECT_NO_THROW(CheckWork(p));
+  }
+}
+
+// Until 1e15 s (the exact flow took ~1e15 steps) and fixed steps past max_steps: refused
+// with one line naming the profile and the limit.
+TEST(WorkEstimateTest, RefusesRunsPastTheLimits) {
+  try {
+    CheckWork(WingNutProfile(1e15));
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind("wn.yaml: the run asks for up to 1.4e+15 turns", 0), 0u) << m;
+    EXPECT_NE(m.find("at most 1e+06 turns per run"), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
+  schedule::Profile p = WingNutProfile(40.0);
+  p.integrator.method = "rk4";
+  p.integrator.step = 1e-6;
+  EXPECT_EQ(EstimateWork(p).fixed_steps, 4e7);
+  EXPECT_NO_THROW(CheckWork(p));
+  p.integrator.step = 1e-7;
+  EXPECT_THROW(CheckWork(p), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace deploysim::analysis
