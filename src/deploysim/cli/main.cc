@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -16,6 +17,7 @@
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/mission.h"
 #include "deploysim/cli/report.h"
+#include "deploysim/io/atomic_file.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/version.h"
@@ -106,6 +108,8 @@ void RefuseOutputOver(const std::string& output, const std::vector<std::string>&
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A file size limit (ulimit -f) then fails a write with EFBIG, reported by name.
+  std::signal(SIGXFSZ, SIG_IGN);
 #ifdef DEPLOYSIM_HAVE_SWEEP
   // First: under mpirun, MPI_Init may consume arguments. A no-op otherwise.
   deploysim::sweep::MpiSession mpi(&argc, &argv);
@@ -253,13 +257,17 @@ int main(int argc, char** argv) {
       const std::vector<std::string> inputs{profile_path, profile.model.source};
       RefuseOutputOver(out_path, inputs);
       if (csv) RefuseOutputOver(out_path + ".csv", inputs);
-      const MissionResult r = deploysim::analysis::RunMission(profile, Progress(quiet));
+      // Streamed to both temporaries as it runs; both complete before either is renamed
+      // (io::TrajectoryOutputs). SIGINT/SIGTERM/SIGHUP remove named temporaries.
+      deploysim::io::RemoveTemporariesOnSignals();
+      deploysim::io::TrajectoryOutputs outputs(out_path, csv ? out_path + ".csv" : "", profile);
+      const MissionResult r = deploysim::analysis::RunMission(profile, outputs, Progress(quiet));
       if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
         std::cerr << "deploysim: error: " << profile_path << ": integration " << r.message << "\n";
         return 3;
       }
-      deploysim::io::WriteTrajectoryFile(out_path, r);
-      if (csv) deploysim::io::WriteTrajectoryCsv(out_path + ".csv", r.trajectory);
+      outputs.Finish(r);
+      outputs.Commit();
       if (!quiet) {
         std::cout << deploysim::cli::FormatSummary(r);
         if (compare && geometry) {

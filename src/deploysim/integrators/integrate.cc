@@ -142,7 +142,8 @@ IntegrationResult Integrate(const Stepper& stepper,
                             double t_end,
                             const std::vector<double>& output_times,
                             const std::vector<EventFunction>& events,
-                            const StepObserver& observer) {
+                            const StepObserver& observer,
+                            const SampleObserver& samples) {
   const StepperInfo& info = stepper.info();
   ValidateSettings(info, settings);
   Require(Finite(initial), "initial state must be finite");
@@ -180,10 +181,17 @@ IntegrationResult Integrate(const Stepper& stepper,
   };
 
   IntegrationResult result;
-  result.samples.reserve(output_times.size());
+  if (!samples) result.samples.reserve(output_times.size());
+  auto emit = [&](const State& s) {
+    if (samples) {
+      samples(s);
+    } else {
+      result.samples.push_back(s);
+    }
+  };
   std::size_t next_out = 0;
   while (next_out < output_times.size() && output_times[next_out] <= y.t) {
-    result.samples.push_back(y);
+    emit(y);
     ++next_out;
   }
   std::vector<double> g_prev(events.size());
@@ -305,11 +313,11 @@ IntegrationResult Integrate(const Stepper& stepper,
       const std::size_t samples_in_step = step_out - next_out;
       while (next_out < step_out) {
         const double t_out = output_times[next_out];
-        result.samples.push_back(
-            t_out <= y.t    ? y
-            : t_out >= y1.t ? y1
-                            : stepper.DenseSample(problem, t_out, samples_in_step, tol, ws));
-        result.samples.back().t = output_times[next_out];
+        State s = t_out <= y.t    ? y
+                  : t_out >= y1.t ? y1
+                                  : stepper.DenseSample(problem, t_out, samples_in_step, tol, ws);
+        s.t = t_out;
+        emit(s);
         ++next_out;
       }
       y = y1;
@@ -318,8 +326,9 @@ IntegrationResult Integrate(const Stepper& stepper,
   }
   // Output times that equal t_end up to rounding.
   while (next_out < output_times.size()) {
-    result.samples.push_back(y);
-    result.samples.back().t = output_times[next_out];
+    State s = y;
+    s.t = output_times[next_out];
+    emit(s);
     ++next_out;
   }
   result.final_state = y;

@@ -74,6 +74,10 @@ struct IntegrationResult {
 /// Called after every accepted step with the new state.
 using StepObserver = std::function<void(const State&)>;
 
+/// Receives the samples at the output times, in order, instead of
+/// IntegrationResult::samples (which then stays empty): long runs need not hold them.
+using SampleObserver = std::function<void(const State&)>;
+
 /// Integrates from `initial` to `t_end` (> initial.t). `output_times` must be
 /// ascending and within [initial.t, t_end]. Events are located to ~1e-13 of the step
 /// (toms748 on the continuous extension, then within +-1e-6 of the step around that
@@ -89,7 +93,8 @@ IntegrationResult Integrate(const Stepper& stepper,
                             double t_end,
                             const std::vector<double>& output_times = {},
                             const std::vector<EventFunction>& events = {},
-                            const StepObserver& observer = {});
+                            const StepObserver& observer = {},
+                            const SampleObserver& samples = {});
 
 /// A uniform output grid t0, t0 + dt, ..., t_end (t_end included).
 std::vector<double> UniformGrid(double t0, double t_end, double dt);
