@@ -59,6 +59,8 @@ class OutputFaultTest : public testing::TempDirTest {
       const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       ::dup2(o, 1);
       ::dup2(e, 2);
+      // A write past the limit then fails with EFBIG (the CLI ignores SIGXFSZ too).
+      std::signal(SIGXFSZ, SIG_IGN);
       if (fsize_kb > 0) {
         const rlim_t bytes = static_cast<rlim_t>(fsize_kb) * 1024;
         const rlimit r{bytes, bytes};
@@ -105,19 +107,18 @@ class OutputFaultTest : public testing::TempDirTest {
 
   // The wing nut, `until` seconds sampled every `dt`.
   std::string Profile(const std::string& name, double until, double dt) {
-    return Write(name,
-                 "name: " + name +
-                     "\nmodel: " DEPLOYSIM_SOURCE_DIR
-                     "/models/wing_nut.yaml\n"
-                     "mode: tensor\ncoupling: quasi-rigid\n"
-                     "initial:\n  attitude_wxyz: [1, 0, 0, 0]\n"
-                     "  angular_momentum: [1.0e-8, 2.1252e-5, 1.0e-8]\n"
-                     "stages:\n  - {name: free spin, hold: default, until: " +
-                     std::to_string(until) +
-                     "}\n"
-                     "integrator:\n  method: rkmk-rkf78\n  rtol: 1.0e-12\n  atol: 1.0e-14\n"
-                     "output:\n  dt: " +
-                     std::to_string(dt) + "\n");
+    return Write(name, "name: " + name +
+                           "\nmodel: " DEPLOYSIM_SOURCE_DIR
+                           "/models/wing_nut.yaml\n"
+                           "mode: tensor\ncoupling: quasi-rigid\n"
+                           "initial:\n  attitude_wxyz: [1, 0, 0, 0]\n"
+                           "  angular_momentum: [1.0e-8, 2.1252e-5, 1.0e-8]\n"
+                           "stages:\n  - {name: free spin, hold: default, until: " +
+                           std::to_string(until) +
+                           "}\n"
+                           "integrator:\n  method: rkmk-rkf78\n  rtol: 1.0e-12\n  atol: 1.0e-14\n"
+                           "output:\n  dt: " +
+                           std::to_string(dt) + "\n");
   }
   // A small sweep of the small satellite (12 cases).
   std::string Sweep() {

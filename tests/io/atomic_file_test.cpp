@@ -8,7 +8,6 @@
 #include <unistd.h>
 
 #include <csignal>
-
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -134,9 +133,9 @@ TEST_F(AtomicFileTest, StaleTemporariesOfDeadProcessesGo) {
     std::ofstream(f.temporary_path()) << "new";
     f.Commit();
   }
-  EXPECT_EQ(Entries(), (std::vector<std::string>{".other.txt." + d + ".0.tmp",
-                                                  ".out.txt." + live + ".4.tmp",
-                                                  ".out.txt.x.0.tmp", "out.txt"}));
+  EXPECT_EQ(Entries(),
+            (std::vector<std::string>{".other.txt." + d + ".0.tmp", ".out.txt." + live + ".4.tmp",
+                                      ".out.txt.x.0.tmp", "out.txt"}));
   EXPECT_EQ(RemoveStaleTemporaries(Path("out.txt")), 0);
 }
 

@@ -110,12 +110,14 @@ TEST(ValidUtf8Test, ReplacesEachInvalidSequence) {
   EXPECT_EQ(ValidUtf8("plain"), "plain");
   EXPECT_EQ(ValidUtf8("\xC3\xA9t\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x9A\x80"),
             "\xC3\xA9t\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x9A\x80");
-  EXPECT_EQ(ValidUtf8("a\xFF" "b"), "a" + fffd + "b");
-  EXPECT_EQ(ValidUtf8("\x80"), fffd);                      // stray continuation byte
-  EXPECT_EQ(ValidUtf8("\xC3"), fffd);                      // truncated at the end
-  EXPECT_EQ(ValidUtf8("\xE2\x82x"), fffd + "x");           // truncated: one U+FFFD
-  EXPECT_EQ(ValidUtf8("\xC0\xAF"), fffd + fffd);           // overlong '/'
-  EXPECT_EQ(ValidUtf8("\xED\xA0\x80"), fffd + fffd + fffd);  // a surrogate
+  EXPECT_EQ(ValidUtf8("a\xFF"
+                      "b"),
+            "a" + fffd + "b");
+  EXPECT_EQ(ValidUtf8("\x80"), fffd);                                   // stray continuation byte
+  EXPECT_EQ(ValidUtf8("\xC3"), fffd);                                   // truncated at the end
+  EXPECT_EQ(ValidUtf8("\xE2\x82x"), fffd + "x");                        // truncated: one U+FFFD
+  EXPECT_EQ(ValidUtf8("\xC0\xAF"), fffd + fffd);                        // overlong '/'
+  EXPECT_EQ(ValidUtf8("\xED\xA0\x80"), fffd + fffd + fffd);             // a surrogate
   EXPECT_EQ(ValidUtf8("\xF4\x90\x80\x80"), fffd + fffd + fffd + fffd);  // > U+10FFFF
 }
 

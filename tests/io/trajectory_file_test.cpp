@@ -169,7 +169,8 @@ class TrajectoryFileTest : public testing::TempDirTest {};
 analysis::Trajectory Slice(const analysis::Trajectory& t, std::size_t from, std::size_t to) {
   analysis::Trajectory b;
   auto cut = [&](auto& out, const auto& in) {
-    if (!in.empty()) out.assign(in.begin() + static_cast<long>(from), in.begin() + static_cast<long>(to));
+    if (!in.empty())
+      out.assign(in.begin() + static_cast<long>(from), in.begin() + static_cast<long>(to));
   };
   cut(b.time, t.time);
   cut(b.H_B, t.H_B);
@@ -226,8 +227,8 @@ TEST_F(TrajectoryFileTest, StreamedInBlocksIsTheSameFile) {
       EXPECT_EQ(header(Path("whole.h5")), header(Path("streamed.h5")));
     }
   }
-  EXPECT_EQ(Entries(), (std::vector<std::string>{"streamed.csv", "streamed.h5", "whole.csv",
-                                                  "whole.h5"}));
+  EXPECT_EQ(Entries(),
+            (std::vector<std::string>{"streamed.csv", "streamed.h5", "whole.csv", "whole.h5"}));
 }
 
 TEST_F(TrajectoryFileTest, AFailingStreamLeavesNeitherOutput) {
@@ -245,7 +246,6 @@ TEST_F(TrajectoryFileTest, AFailingStreamLeavesNeitherOutput) {
   std::ifstream f(Path("out.h5"));
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(f), {}), "old h5");
 }
-
 
 TEST_F(TrajectoryFileTest, RoundTripIsBitExactInGeometryMode) {
   const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);

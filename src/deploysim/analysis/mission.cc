@@ -197,7 +197,6 @@ MissionResult RunMission(const schedule::Profile& profile,
   integrators::State last_sample = y0;
   std::size_t next_extra = 0;
   std::size_t next_boundary = 0;
-  std::size_t grid_samples = 0;
   bool in_window = false;
   auto add_sample = [&](const integrators::State& s, double t) {
     while (stage + 1 < profile.stages.size() && t >= profile.stages[stage].t_end) ++stage;
@@ -240,7 +239,6 @@ MissionResult RunMission(const schedule::Profile& profile,
     if (danger && !in_window) out.danger_windows.push_back({t, t});
     if (danger) out.danger_windows.back().t_end = t;
     in_window = danger;
-    ++grid_samples;
     if (block.size() == kSampleBlock) {
       sink.Append(block);
       Clear(block);
@@ -261,8 +259,8 @@ MissionResult RunMission(const schedule::Profile& profile,
     }
     add_sample(s, t);
   };
-  const integrators::IntegrationResult run = integrators::Integrate(
-      *stepper, settings, sched, y0, t1, times, {flip}, observer, on_sample);
+  const integrators::IntegrationResult run =
+      integrators::Integrate(*stepper, settings, sched, y0, t1, times, {flip}, observer, on_sample);
   out.stats = run.stats;
   out.termination = run.termination;
   out.message = run.message;

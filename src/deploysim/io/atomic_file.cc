@@ -106,8 +106,8 @@ std::pair<std::string, int> CreateNamed(const std::string& target,
                                         const std::filesystem::path& dir,
                                         const std::string& stem) {
   for (int attempt = 0; attempt < kMaxCreateAttempts; ++attempt) {
-    const std::string name = stem + std::to_string(::getpid()) + "." +
-                             std::to_string(temporary_counter++) + ".tmp";
+    const std::string name =
+        stem + std::to_string(::getpid()) + "." + std::to_string(temporary_counter++) + ".tmp";
     const std::string candidate = (dir / name).string();
     const int fd = ::open(candidate.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) return {candidate, fd};
@@ -201,7 +201,8 @@ AtomicFile::AtomicFile(std::string target, bool allow_anonymous) : target_(std::
   const std::filesystem::path dir = t.parent_path();
   // Up front: an anonymous temporary would only meet the limit at the final rename.
   const long name_max = ::pathconf(DirName(dir).c_str(), _PC_NAME_MAX);
-  if (t.filename().string().size() > (name_max > 0 ? static_cast<std::size_t>(name_max) : kNameMax)) {
+  if (t.filename().string().size() >
+      (name_max > 0 ? static_cast<std::size_t>(name_max) : kNameMax)) {
     throw std::runtime_error(target_ + ": cannot write: " + std::strerror(ENAMETOOLONG));
   }
   RemoveStaleTemporaries(target_);
@@ -240,8 +241,8 @@ AtomicFile::~AtomicFile() {
 void AtomicFile::Reserve(std::uint64_t size) {
   if (size <= reserved_) return;
   auto fail = [&](int err) {
-    throw std::runtime_error(target_ + ": cannot write: " + std::strerror(err) +
-                             " (no room for " + std::to_string(size) + " bytes)");
+    throw std::runtime_error(target_ + ": cannot write: " + std::strerror(err) + " (no room for " +
+                             std::to_string(size) + " bytes)");
   };
   rlimit limit{};
   if (::getrlimit(RLIMIT_FSIZE, &limit) != 0) limit.rlim_cur = RLIM_INFINITY;
@@ -287,8 +288,8 @@ void AtomicFile::Commit() {
                                             std::to_string(temporary_counter++) + ".tmp"))
                                         .string();
       slot = Register(candidate);
-      if (::linkat(AT_FDCWD, temporary_.c_str(), AT_FDCWD, candidate.c_str(),
-                   AT_SYMLINK_FOLLOW) == 0) {
+      if (::linkat(AT_FDCWD, temporary_.c_str(), AT_FDCWD, candidate.c_str(), AT_SYMLINK_FOLLOW) ==
+          0) {
         named_ = candidate;
         break;
       }

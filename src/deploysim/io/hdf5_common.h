@@ -53,8 +53,8 @@ class QuietErrors {
 [[noreturn]] inline void Throw(const std::string& path, const H5::Exception& e) {
   std::string reason = LastInnermostError();
   if (reason.size() > 160) reason = reason.substr(0, 160) + "...";
-  throw std::runtime_error(path + ": HDF5 error in " + e.getFuncName() + ": " +
-                           e.getDetailMsg() + (reason.empty() ? "" : " (" + reason + ")"));
+  throw std::runtime_error(path + ": HDF5 error in " + e.getFuncName() + ": " + e.getDetailMsg() +
+                           (reason.empty() ? "" : " (" + reason + ")"));
 }
 
 /// Variable-length UTF-8 strings, the type of every text dataset and attribute.

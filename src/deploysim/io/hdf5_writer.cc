@@ -163,8 +163,13 @@ struct Hdf5Writer::Impl {
 };
 
 Hdf5Writer::Hdf5Writer(const std::string& path) : impl_(std::make_unique<Impl>(path)) {
+  // Room for the superblock and what closing an empty file writes: checked before HDF5
+  // opens the file (which it cannot then fail to close), and allocated again after,
+  // as opening it truncates the temporary and frees the blocks.
   impl_->atomic.Reserve(kMetadataMargin);
   impl_->Guard([&] { impl_->file.emplace(impl_->atomic.temporary_path(), H5F_ACC_TRUNC); });
+  impl_->atomic.ReleaseReserve();
+  impl_->Guard([&] { impl_->Reserve(0); });
 }
 
 Hdf5Writer::~Hdf5Writer() = default;
@@ -234,9 +239,9 @@ void Hdf5Writer::AppendRows(std::size_t handle, const std::vector<double>& data,
   }
   Growing& g = impl_->growing[handle];
   if (data.size() != rows * g.width) {
-    throw std::invalid_argument(impl_->target + ": " + g.path + ": " +
-                                std::to_string(data.size()) + " values for " +
-                                std::to_string(rows) + " rows of " + std::to_string(g.width));
+    throw std::invalid_argument(impl_->target + ": " + g.path + ": " + std::to_string(data.size()) +
+                                " values for " + std::to_string(rows) + " rows of " +
+                                std::to_string(g.width));
   }
   const hsize_t added = rows;
   if (added == 0) return;

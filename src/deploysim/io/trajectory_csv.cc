@@ -93,8 +93,8 @@ struct TrajectoryCsvWriter::Impl {
   }
   [[noreturn]] void Fail() {
     const int err = errno;
-    throw std::runtime_error(path + ": cannot write: " +
-                             (err != 0 ? std::strerror(err) : "output error"));
+    throw std::runtime_error(path +
+                             ": cannot write: " + (err != 0 ? std::strerror(err) : "output error"));
   }
   // Writes `text` after checking that the file may grow by it (AtomicFile::Reserve: a
   // full disk or the size limit is reported here, by name, not as a stream state).

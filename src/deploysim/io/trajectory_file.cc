@@ -236,29 +236,45 @@ struct ColumnSpec {
 std::vector<ColumnSpec> Columns(std::size_t panels) {
   return {
       {"/time", {}, "s", "output grid"},
-      {"/H_B", {3}, "kg m^2/s",
+      {"/H_B",
+       {3},
+       "kg m^2/s",
        "total angular momentum about the system centre of mass, body (B) components"},
       {"/w_NB_B", {3}, "rad/s", "angular velocity of B in N, B components"},
-      {"/q_NB", {4}, "1",
+      {"/q_NB",
+       {4},
+       "1",
        "attitude quaternion q_NB (v_N = q_NB v_B), Hamilton, scalar first (w, x, y, z)"},
-      {"/J_B", {3, 3}, "kg m^2",
+      {"/J_B",
+       {3, 3},
+       "kg m^2",
        "inertia tensor about the system centre of mass, B components; J_B[n][i][j]"},
       {"/principal_moments", {3}, "kg m^2", "eigenvalues of J_B, ascending"},
       {"/h_rel_B", {3}, "kg m^2/s", "momentum of the panels' motion relative to B, B components"},
-      {"/h_N", {3}, "kg m^2/s",
+      {"/h_N",
+       {3},
+       "kg m^2/s",
        "total angular momentum, inertial (N) components (constant in exact arithmetic)"},
-      {"/energy", {}, "J",
+      {"/energy",
+       {},
+       "J",
        "total kinetic energy about the system centre of mass, 1/2 w.J_B w + w.h_rel_B + "
        "T_rel (T_rel: kinetic energy of the panels' motion relative to B; h_rel_B and "
        "T_rel are 0 under quasi-rigid coupling)"},
-      {"/energy_rigid", {}, "J",
+      {"/energy_rigid",
+       {},
+       "J",
        "rigid-body part 1/2 w.J_B w of /energy (equal to it when nothing moves "
        "relative to B)"},
-      {"/euler_313", {3}, "rad",
+      {"/euler_313",
+       {3},
+       "rad",
        "3-1-3 Euler angles (precession, nutation, spin) of B relative to a frame whose "
        "third axis is h_N"},
       {"/spin_axis_angle", {}, "rad", "angle between the initial spin axis (fixed in B) and h_N"},
-      {"/hinge_angles", {panels}, "rad",
+      {"/hinge_angles",
+       {panels},
+       "rad",
        "hinge angle of each panel, in panel order (geometry mode)"},
   };
 }
@@ -606,9 +622,8 @@ struct TrajectoryFileWriter::Impl {
     const std::vector<ColumnSpec> columns = Columns(panels);
     const std::size_t used = geometry ? kColumns : kHinge;
     for (std::size_t c = 0; c < used; ++c) {
-      handles.push_back(
-          writer.GrowingDoubles(columns[c].path, columns[c].trailing, columns[c].units,
-                                columns[c].description));
+      handles.push_back(writer.GrowingDoubles(columns[c].path, columns[c].trailing,
+                                              columns[c].units, columns[c].description));
     }
   }
   std::string path;

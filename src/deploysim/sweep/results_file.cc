@@ -301,8 +301,8 @@ void WriteCsvTemporary(io::AtomicFile& out,
     }
     text += CsvNumber(outcomes[r].run_time) + '\n';
   }
-  out.Reserve(text.size());  // a full disk or the size limit, reported by name
   std::ofstream f(out.temporary_path());
+  out.Reserve(text.size());  // a full disk or the size limit, reported by name
   f.write(text.data(), static_cast<std::streamsize>(text.size()));
   f.close();
   if (!f) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
