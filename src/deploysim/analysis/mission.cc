@@ -73,6 +73,44 @@ void Reserve(Trajectory& t, std::size_t n) {
   t.spin_axis_angle.reserve(n);
 }
 
+/// Number of times of `grid` below x (a binary search; the grid is ascending).
+std::size_t CountBelow(const integrators::OutputTimes& grid, double x) {
+  std::size_t lo = 0, hi = grid.size();
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (grid.at(mid) < x) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+/// The output grid merged with `extra` times not on it (ascending, few): the merged,
+/// sorted list of the times, unstored.
+class GridWithExtras final : public integrators::OutputTimes {
+ public:
+  GridWithExtras(const integrators::OutputTimes& grid, std::vector<double> extra)
+      : grid_(grid), extra_(std::move(extra)) {
+    for (std::size_t e = 0; e < extra_.size(); ++e) {
+      position_.push_back(CountBelow(grid_, extra_[e]) + e);
+    }
+  }
+  std::size_t size() const override { return grid_.size() + extra_.size(); }
+  double at(std::size_t k) const override {
+    const auto it = std::lower_bound(position_.begin(), position_.end(), k);
+    const std::size_t e = static_cast<std::size_t>(it - position_.begin());  // extras before k
+    if (it != position_.end() && *it == k) return extra_[e];
+    return grid_.at(k - e);
+  }
+
+ private:
+  const integrators::OutputTimes& grid_;
+  std::vector<double> extra_;
+  std::vector<std::size_t> position_;  // index of extra_[e] in the merged list
+};
+
 /// The in-memory RunMission: appends every block to a trajectory.
 class CollectSink final : public SampleSink {
  public:
@@ -141,10 +179,10 @@ MissionResult RunMission(const schedule::Profile& profile,
                                                         s.H_B);
                                   }};
 
-  // Output grid plus the stage boundaries (kept apart for the stage reports). Only the
-  // merged list is stored; a sample is a grid sample unless its time is one of the
+  // Output grid plus the stage boundaries (kept apart for the stage reports), computed
+  // on demand (GridWithExtras): a sample is a grid sample unless its time is one of the
   // boundaries that are not on the grid (`extra`).
-  std::vector<double> times = integrators::UniformGrid(t0, t1, profile.output.dt);
+  const integrators::UniformGridTimes grid(t0, t1, profile.output.dt);
   std::vector<double> boundaries;
   for (const schedule::Stage& st : profile.stages) {
     boundaries.push_back(st.t_begin);
@@ -154,10 +192,10 @@ MissionResult RunMission(const schedule::Profile& profile,
   boundaries.erase(std::unique(boundaries.begin(), boundaries.end()), boundaries.end());
   std::vector<double> extra;
   for (double b : boundaries) {
-    if (!std::binary_search(times.begin(), times.end(), b)) extra.push_back(b);
+    const std::size_t i = CountBelow(grid, b);
+    if (!(i < grid.size() && grid.at(i) == b)) extra.push_back(b);
   }
-  times.insert(times.end(), extra.begin(), extra.end());
-  std::sort(times.begin(), times.end());
+  const GridWithExtras times(grid, extra);
 
   const auto stepper = MakeStepper(profile.integrator.method);
   integrators::IntegratorSettings settings;
@@ -247,7 +285,7 @@ MissionResult RunMission(const schedule::Profile& profile,
   // Sample number k of `times` (the integrator delivers them in order).
   std::size_t delivered = 0;
   auto on_sample = [&](const integrators::State& s) {
-    const double t = times[delivered++];
+    const double t = times.at(delivered++);
     last_sample = s;
     if (next_boundary < boundaries.size() && boundaries[next_boundary] == t) {
       boundary_states.push_back(s);

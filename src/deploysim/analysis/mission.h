@@ -94,10 +94,10 @@ inline constexpr std::size_t kSampleBlock = 4096;
 
 /// Runs the profile, streaming the trajectory to `sink` (the result's trajectory stays
 /// empty; everything else, which needs no stored trajectory, is filled: flips, stage
-/// reports, danger windows, max_h_N_drift). Memory: the output times (8 bytes per
-/// sample) and one block. Progress (fraction done in [0, 1]) is reported through
-/// `progress` if given. Throws std::invalid_argument for an invalid profile; exceptions
-/// from the sink pass through (the run stops).
+/// reports, danger windows, max_h_N_drift). Memory does not grow with the number of
+/// samples: the output times are computed on demand, and one block is held. Progress (fraction done
+/// in [0, 1]) is reported through `progress` if given. Throws std::invalid_argument for an invalid
+/// profile; exceptions from the sink pass through (the run stops).
 MissionResult RunMission(const schedule::Profile& profile,
                          SampleSink& sink,
                          const std::function<void(double)>& progress = {});
