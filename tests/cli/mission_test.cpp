@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -154,6 +155,56 @@ TEST(CouplingTest, QuasiRigidConservesMomentumToo) {
   const analysis::CouplingComparison c = analysis::CompareCouplings(Deployment(5.0));
   EXPECT_LT(c.exact.max_h_N_drift, 1e-10);
   EXPECT_LT(c.quasi_rigid.max_h_N_drift, 1e-10);
+}
+
+// The streamed run is the in-memory run: the same samples, in blocks of at most
+// kSampleBlock (memory bounded whatever the horizon), and the same analysis.
+class BlockCounter final : public analysis::SampleSink {
+ public:
+  void Append(const analysis::Trajectory& b) override {
+    ++blocks;
+    largest = std::max(largest, b.size());
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      time.push_back(b.time[k]);
+      H_B.push_back(b.H_B[k]);
+      if (!b.hinge_angles.empty()) hinges.push_back(b.hinge_angles[k]);
+    }
+  }
+  std::size_t blocks = 0, largest = 0;
+  std::vector<double> time;
+  std::vector<math::Vec3> H_B;
+  std::vector<Eigen::VectorXd> hinges;
+};
+
+TEST(MissionStreamTest, StreamedSamplesEqualTheInMemoryTrajectory) {
+  for (const char* name : {"wing_nut.yaml", "smallsat_three_stage.yaml"}) {
+    SCOPED_TRACE(name);
+    schedule::Profile p =
+        io::LoadProfile(std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/" + name);
+    p.output.dt = p.t_end() / 10000.0;  // > 2 blocks, the last one partial
+    const analysis::MissionResult whole = analysis::RunMission(p);
+    BlockCounter sink;
+    const analysis::MissionResult streamed = analysis::RunMission(p, sink);
+    EXPECT_EQ(streamed.trajectory.size(), 0u) << "streamed runs keep no trajectory";
+    EXPECT_GE(sink.blocks, 3u);
+    EXPECT_EQ(sink.largest, analysis::kSampleBlock);
+    EXPECT_EQ(sink.time, whole.trajectory.time);
+    EXPECT_EQ(sink.H_B, whole.trajectory.H_B);
+    EXPECT_EQ(sink.hinges, whole.trajectory.hinge_angles);
+    EXPECT_EQ(streamed.flip_times, whole.flip_times);
+    EXPECT_EQ(streamed.max_h_N_drift, whole.max_h_N_drift);
+    ASSERT_EQ(streamed.danger_windows.size(), whole.danger_windows.size());
+    for (std::size_t i = 0; i < whole.danger_windows.size(); ++i) {
+      EXPECT_EQ(streamed.danger_windows[i].t_begin, whole.danger_windows[i].t_begin);
+      EXPECT_EQ(streamed.danger_windows[i].t_end, whole.danger_windows[i].t_end);
+    }
+    ASSERT_EQ(streamed.stages.size(), whole.stages.size());
+    for (std::size_t i = 0; i < whole.stages.size(); ++i) {
+      EXPECT_EQ(streamed.stages[i].separatrix_distance, whole.stages[i].separatrix_distance);
+      EXPECT_EQ(streamed.stages[i].observed_flips, whole.stages[i].observed_flips);
+      EXPECT_EQ(streamed.stages[i].predicted_flips, whole.stages[i].predicted_flips);
+    }
+  }
 }
 
 }  // namespace

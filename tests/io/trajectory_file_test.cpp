@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -163,6 +164,88 @@ std::string Capture(const std::string& command) {
 bool HaveH5dump() { return std::system("h5dump --version > /dev/null 2>&1") == 0; }
 
 class TrajectoryFileTest : public testing::TempDirTest {};
+
+/// Samples [from, to) of t.
+analysis::Trajectory Slice(const analysis::Trajectory& t, std::size_t from, std::size_t to) {
+  analysis::Trajectory b;
+  auto cut = [&](auto& out, const auto& in) {
+    if (!in.empty())
+      out.assign(in.begin() + static_cast<long>(from), in.begin() + static_cast<long>(to));
+  };
+  cut(b.time, t.time);
+  cut(b.H_B, t.H_B);
+  cut(b.w_NB_B, t.w_NB_B);
+  cut(b.q_NB, t.q_NB);
+  cut(b.J_B, t.J_B);
+  cut(b.principal_moments, t.principal_moments);
+  cut(b.h_rel_B, t.h_rel_B);
+  cut(b.h_N, t.h_N);
+  cut(b.energy, t.energy);
+  cut(b.energy_rigid, t.energy_rigid);
+  cut(b.euler_313, t.euler_313);
+  cut(b.spin_axis_angle, t.spin_axis_angle);
+  cut(b.hinge_angles, t.hinge_angles);
+  return b;
+}
+
+TEST_F(TrajectoryFileTest, StreamedInBlocksIsTheSameFile) {
+  for (schedule::Mode mode : {schedule::Mode::kTensor, schedule::Mode::kGeometry}) {
+    const MissionResult r = SyntheticResult(mode);
+    for (const char* f : {"whole.h5", "whole.csv", "streamed.h5", "streamed.csv"}) {
+      fs::remove(Path(f));
+    }
+    WriteTrajectoryFile(Path("whole.h5"), r);
+    WriteTrajectoryCsv(Path("whole.csv"), r.trajectory);
+    {
+      TrajectoryOutputs out(Path("streamed.h5"), Path("streamed.csv"), r.profile);
+      const std::size_t n = r.trajectory.size();
+      for (std::size_t from = 0; from < n; from += 3) {
+        out.Append(Slice(r.trajectory, from, std::min(n, from + 3)));
+      }
+      out.Finish(r);
+      EXPECT_FALSE(fs::exists(Path("streamed.h5"))) << "nothing at the targets before Commit";
+      EXPECT_FALSE(fs::exists(Path("streamed.csv")));
+      out.Commit();
+    }
+    const TrajectoryFile a = ReadTrajectoryFile(Path("whole.h5"));
+    const TrajectoryFile b = ReadTrajectoryFile(Path("streamed.h5"));
+    ExpectSameTrajectory(a.trajectory, b.trajectory);
+    ExpectSameTrajectory(r.trajectory, b.trajectory);
+    EXPECT_EQ(a.attributes, b.attributes);
+    EXPECT_EQ(a.units, b.units);
+    EXPECT_EQ(a.flip_times, b.flip_times);
+    EXPECT_EQ(a.stages.size(), b.stages.size());
+    std::ifstream ca(Path("whole.csv")), cb(Path("streamed.csv"));
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(ca), {}),
+              std::string(std::istreambuf_iterator<char>(cb), {}));
+    if (HaveH5dump()) {
+      // Same names, shapes and types for h5dump (chunking is a storage detail).
+      auto header = [](const std::string& path) {
+        std::string h = Capture("h5dump -H '" + path + "' 2>&1");
+        return h.substr(h.find('\n'));  // past the line that names the file
+      };
+      EXPECT_EQ(header(Path("whole.h5")), header(Path("streamed.h5")));
+    }
+  }
+  EXPECT_EQ(Entries(),
+            (std::vector<std::string>{"streamed.csv", "streamed.h5", "whole.csv", "whole.h5"}));
+}
+
+TEST_F(TrajectoryFileTest, AFailingStreamLeavesNeitherOutput) {
+  const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);
+  Write("out.h5", "old h5");
+  Write("out.h5.csv", "old csv");
+  {
+    TrajectoryOutputs out(Path("out.h5"), Path("out.h5.csv"), r.profile);
+    out.Append(Slice(r.trajectory, 0, 2));
+    analysis::Trajectory bad = Slice(r.trajectory, 2, 4);
+    bad.hinge_angles[1] = Eigen::VectorXd::Zero(1);
+    EXPECT_THROW(out.Append(bad), std::invalid_argument);
+  }
+  EXPECT_EQ(Entries(), (std::vector<std::string>{"out.h5", "out.h5.csv"}));
+  std::ifstream f(Path("out.h5"));
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(f), {}), "old h5");
+}
 
 TEST_F(TrajectoryFileTest, RoundTripIsBitExactInGeometryMode) {
   const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/free_body_solution.h"
@@ -43,7 +44,111 @@ math::Vec3 Euler313RelativeToMomentum(const math::Quat& q_NB, const math::Vec3& 
   return math::Vec3(phi, theta, psi);
 }
 
+namespace {
+
+void Clear(Trajectory& t) {
+  for (std::vector<math::Vec3>* v :
+       {&t.H_B, &t.w_NB_B, &t.principal_moments, &t.h_rel_B, &t.h_N, &t.euler_313}) {
+    v->clear();
+  }
+  t.time.clear();
+  t.q_NB.clear();
+  t.J_B.clear();
+  t.energy.clear();
+  t.energy_rigid.clear();
+  t.spin_axis_angle.clear();
+  t.hinge_angles.clear();
+}
+
+void Reserve(Trajectory& t, std::size_t n) {
+  for (std::vector<math::Vec3>* v :
+       {&t.H_B, &t.w_NB_B, &t.principal_moments, &t.h_rel_B, &t.h_N, &t.euler_313}) {
+    v->reserve(n);
+  }
+  t.time.reserve(n);
+  t.q_NB.reserve(n);
+  t.J_B.reserve(n);
+  t.energy.reserve(n);
+  t.energy_rigid.reserve(n);
+  t.spin_axis_angle.reserve(n);
+}
+
+/// Number of times of `grid` below x (a binary search; the grid is ascending).
+std::size_t CountBelow(const integrators::OutputTimes& grid, double x) {
+  std::size_t lo = 0, hi = grid.size();
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (grid.at(mid) < x) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+/// The output grid merged with `extra` times not on it (ascending, few): the merged,
+/// sorted list of the times, unstored.
+class GridWithExtras final : public integrators::OutputTimes {
+ public:
+  GridWithExtras(const integrators::OutputTimes& grid, std::vector<double> extra)
+      : grid_(grid), extra_(std::move(extra)) {
+    for (std::size_t e = 0; e < extra_.size(); ++e) {
+      position_.push_back(CountBelow(grid_, extra_[e]) + e);
+    }
+  }
+  std::size_t size() const override { return grid_.size() + extra_.size(); }
+  double at(std::size_t k) const override {
+    const auto it = std::lower_bound(position_.begin(), position_.end(), k);
+    const std::size_t e = static_cast<std::size_t>(it - position_.begin());  // extras before k
+    if (it != position_.end() && *it == k) return extra_[e];
+    return grid_.at(k - e);
+  }
+
+ private:
+  const integrators::OutputTimes& grid_;
+  std::vector<double> extra_;
+  std::vector<std::size_t> position_;  // index of extra_[e] in the merged list
+};
+
+/// The in-memory RunMission: appends every block to a trajectory.
+class CollectSink final : public SampleSink {
+ public:
+  explicit CollectSink(Trajectory& t) : t_(t) {}
+  void Append(const Trajectory& b) override {
+    auto add = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+    add(t_.time, b.time);
+    add(t_.H_B, b.H_B);
+    add(t_.w_NB_B, b.w_NB_B);
+    add(t_.q_NB, b.q_NB);
+    add(t_.J_B, b.J_B);
+    add(t_.principal_moments, b.principal_moments);
+    add(t_.h_rel_B, b.h_rel_B);
+    add(t_.h_N, b.h_N);
+    add(t_.energy, b.energy);
+    add(t_.energy_rigid, b.energy_rigid);
+    add(t_.euler_313, b.euler_313);
+    add(t_.spin_axis_angle, b.spin_axis_angle);
+    add(t_.hinge_angles, b.hinge_angles);
+  }
+
+ private:
+  Trajectory& t_;
+};
+
+}  // namespace
+
 MissionResult RunMission(const schedule::Profile& profile,
+                         const std::function<void(double)>& progress) {
+  Trajectory collected;
+  CollectSink sink(collected);
+  MissionResult out = RunMission(profile, sink, progress);
+  out.trajectory = std::move(collected);
+  return out;
+}
+
+MissionResult RunMission(const schedule::Profile& profile,
+                         SampleSink& sink,
                          const std::function<void(double)>& progress) {
   const auto wall0 = std::chrono::steady_clock::now();
   const schedule::DeploymentSchedule sched(profile);
@@ -74,15 +179,23 @@ MissionResult RunMission(const schedule::Profile& profile,
                                                         s.H_B);
                                   }};
 
-  // Output grid plus the stage boundaries (kept apart for the stage reports).
-  const std::vector<double> grid = integrators::UniformGrid(t0, t1, profile.output.dt);
-  std::vector<double> times = grid;
+  // Output grid plus the stage boundaries (kept apart for the stage reports), computed
+  // on demand (GridWithExtras): a sample is a grid sample unless its time is one of the
+  // boundaries that are not on the grid (`extra`).
+  const integrators::UniformGridTimes grid(t0, t1, profile.output.dt);
+  std::vector<double> boundaries;
   for (const schedule::Stage& st : profile.stages) {
-    times.push_back(st.t_begin);
-    times.push_back(st.t_end);
+    boundaries.push_back(st.t_begin);
+    boundaries.push_back(st.t_end);
   }
-  std::sort(times.begin(), times.end());
-  times.erase(std::unique(times.begin(), times.end()), times.end());
+  std::sort(boundaries.begin(), boundaries.end());
+  boundaries.erase(std::unique(boundaries.begin(), boundaries.end()), boundaries.end());
+  std::vector<double> extra;
+  for (double b : boundaries) {
+    const std::size_t i = CountBelow(grid, b);
+    if (!(i < grid.size() && grid.at(i) == b)) extra.push_back(b);
+  }
+  const GridWithExtras times(grid, extra);
 
   const auto stepper = MakeStepper(profile.integrator.method);
   integrators::IntegratorSettings settings;
@@ -100,37 +213,12 @@ MissionResult RunMission(const schedule::Profile& profile,
       }
     };
   }
-  const integrators::IntegrationResult run =
-      integrators::Integrate(*stepper, settings, sched, y0, t1, times, {flip}, observer);
-  out.stats = run.stats;
-  out.termination = run.termination;
-  out.message = run.message;
 
-  // Flip events: the rule of flip_rule.h.
-  for (const integrators::Event& e : run.events) {
-    if (IsFlip(sched.Evaluate(e.t).J_B, spin_axis_B, e.state.H_B)) out.flip_times.push_back(e.t);
-  }
-
-  // States at the stage boundaries, and the trajectory on the output grid.
-  auto state_at = [&](double t) -> const integrators::State& {
-    const auto it = std::lower_bound(times.begin(), times.end(), t);
-    const std::size_t i = static_cast<std::size_t>(it - times.begin());
-    return run.samples.at(std::min(i, run.samples.size() - 1));
-  };
-  Trajectory& tr = out.trajectory;
+  // The trajectory on the output grid, computed sample by sample as the integrator
+  // delivers them and passed on in blocks.
   const bool geometry = profile.mode == schedule::Mode::kGeometry;
-  const std::size_t n = grid.size();
-  for (std::vector<math::Vec3>* v :
-       {&tr.H_B, &tr.w_NB_B, &tr.principal_moments, &tr.h_rel_B, &tr.h_N, &tr.euler_313}) {
-    v->reserve(n);
-  }
-  tr.time.reserve(n);
-  tr.q_NB.reserve(n);
-  tr.J_B.reserve(n);
-  tr.energy.reserve(n);
-  tr.spin_axis_angle.reserve(n);
-  std::vector<AxisRole> spin_roles;
-  spin_roles.reserve(n);
+  Trajectory block;
+  Reserve(block, kSampleBlock);
   // Inside a rigid stage the inertia sample is the same at every time: evaluate it once
   // per stage. The principal decomposition is cached on the exact bits of J_B.
   std::vector<bool> stage_rigid;
@@ -143,8 +231,12 @@ MissionResult RunMission(const schedule::Profile& profile,
   bool have_principal = false;
   math::Mat3 principal_J = math::Mat3::Zero();
   math::PrincipalAxes principal{};
-  for (double t : grid) {
-    const integrators::State& s = state_at(t);
+  std::vector<integrators::State> boundary_states;  // at `boundaries`, as they pass
+  integrators::State last_sample = y0;
+  std::size_t next_extra = 0;
+  std::size_t next_boundary = 0;
+  bool in_window = false;
+  auto add_sample = [&](const integrators::State& s, double t) {
     while (stage + 1 < profile.stages.size() && t >= profile.stages[stage].t_end) ++stage;
     const bool interior = stage < profile.stages.size() && stage_rigid[stage] &&
                           t > profile.stages[stage].t_begin && t < profile.stages[stage].t_end;
@@ -165,23 +257,68 @@ MissionResult RunMission(const schedule::Profile& profile,
     }
     const math::Vec3 w = dynamics::AngularVelocity(js, s.H_B);
     const math::Vec3 h_N = s.q_NB * s.H_B;
-    tr.time.push_back(t);
-    tr.H_B.push_back(s.H_B);
-    tr.w_NB_B.push_back(w);
-    tr.q_NB.push_back(s.q_NB);
-    tr.J_B.push_back(js.J_B);
-    tr.principal_moments.push_back(principal.moments);
-    tr.h_rel_B.push_back(js.h_rel_B);
-    tr.h_N.push_back(h_N);
-    tr.energy.push_back(dynamics::TotalKineticEnergy(js, s.H_B));
-    tr.energy_rigid.push_back(dynamics::KineticEnergy(js, s.H_B));
-    tr.euler_313.push_back(Euler313RelativeToMomentum(s.q_NB, h_N));
-    tr.spin_axis_angle.push_back(
+    block.time.push_back(t);
+    block.H_B.push_back(s.H_B);
+    block.w_NB_B.push_back(w);
+    block.q_NB.push_back(s.q_NB);
+    block.J_B.push_back(js.J_B);
+    block.principal_moments.push_back(principal.moments);
+    block.h_rel_B.push_back(js.h_rel_B);
+    block.h_N.push_back(h_N);
+    block.energy.push_back(dynamics::TotalKineticEnergy(js, s.H_B));
+    block.energy_rigid.push_back(dynamics::KineticEnergy(js, s.H_B));
+    block.euler_313.push_back(Euler313RelativeToMomentum(s.q_NB, h_N));
+    block.spin_axis_angle.push_back(
         std::acos(std::clamp(spin_axis_B.dot(s.H_B) / s.H_B.norm(), -1.0, 1.0)));
-    if (geometry) tr.hinge_angles.push_back(sched.HingeAngles(t));
+    if (geometry) block.hinge_angles.push_back(sched.HingeAngles(t));
     out.max_h_N_drift = std::max(out.max_h_N_drift, (h_N - h_N0).norm() / M);
-    spin_roles.push_back(LocateSpinAxis(principal, spin_axis_B).role);
+    // Danger windows: the body spin axis is the intermediate principal axis of J(t).
+    const bool danger = LocateSpinAxis(principal, spin_axis_B).role == AxisRole::kIntermediate;
+    if (danger && !in_window) out.danger_windows.push_back({t, t});
+    if (danger) out.danger_windows.back().t_end = t;
+    in_window = danger;
+    if (block.size() == kSampleBlock) {
+      sink.Append(block);
+      Clear(block);
+    }
+  };
+  // Sample number k of `times` (the integrator delivers them in order).
+  std::size_t delivered = 0;
+  auto on_sample = [&](const integrators::State& s) {
+    const double t = times.at(delivered++);
+    last_sample = s;
+    if (next_boundary < boundaries.size() && boundaries[next_boundary] == t) {
+      boundary_states.push_back(s);
+      ++next_boundary;
+    }
+    if (next_extra < extra.size() && extra[next_extra] == t) {
+      ++next_extra;
+      return;
+    }
+    add_sample(s, t);
+  };
+  const integrators::IntegrationResult run =
+      integrators::Integrate(*stepper, settings, sched, y0, t1, times, {flip}, observer, on_sample);
+  out.stats = run.stats;
+  out.termination = run.termination;
+  out.message = run.message;
+  // A run that stopped early: the remaining times get its last sample (as before
+  // streaming: the trajectory always has one sample per grid time).
+  while (delivered < times.size()) on_sample(integrators::State(last_sample));
+  if (!block.time.empty()) sink.Append(block);
+  Clear(block);
+
+  // Flip events: the rule of flip_rule.h.
+  for (const integrators::Event& e : run.events) {
+    if (IsFlip(sched.Evaluate(e.t).J_B, spin_axis_B, e.state.H_B)) out.flip_times.push_back(e.t);
   }
+
+  // States at the stage boundaries.
+  auto state_at = [&](double t) -> const integrators::State& {
+    const auto it = std::lower_bound(boundaries.begin(), boundaries.end(), t);
+    const std::size_t i = static_cast<std::size_t>(it - boundaries.begin());
+    return boundary_states.at(std::min(i, boundary_states.size() - 1));
+  };
 
   // Stage reports.
   for (std::size_t k = 0; k < profile.stages.size(); ++k) {
@@ -233,17 +370,6 @@ MissionResult RunMission(const schedule::Profile& profile,
     out.stages.push_back(rep);
   }
 
-  // Danger windows: the body spin axis is the intermediate principal axis of J(t).
-  bool in_window = false;
-  for (std::size_t i = 0; i < tr.size(); ++i) {
-    const bool danger = spin_roles[i] == AxisRole::kIntermediate;
-    if (danger && !in_window) {
-      out.danger_windows.push_back({tr.time[i], tr.time[i]});
-      in_window = true;
-    }
-    if (danger) out.danger_windows.back().t_end = tr.time[i];
-    if (!danger) in_window = false;
-  }
   out.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return out;

@@ -79,8 +79,30 @@ struct MissionResult {
   double wall_seconds = 0.0;
 };
 
-/// Runs the profile. Progress (fraction done in [0, 1]) is reported through `progress`
-/// if given. Throws std::invalid_argument for an invalid profile.
+/// Receives the trajectory of a run as it is computed, in blocks of consecutive samples
+/// (kSampleBlock samples, the last block fewer), so that memory stays bounded whatever
+/// the horizon (io::TrajectoryFileWriter writes them to a file).
+class SampleSink {
+ public:
+  virtual ~SampleSink() = default;
+  /// The next samples, in time order (block.size() >= 1; hinge_angles as in Trajectory).
+  virtual void Append(const Trajectory& block) = 0;
+};
+
+/// Samples per block passed to a SampleSink.
+inline constexpr std::size_t kSampleBlock = 4096;
+
+/// Runs the profile, streaming the trajectory to `sink` (the result's trajectory stays
+/// empty; everything else, which needs no stored trajectory, is filled: flips, stage
+/// reports, danger windows, max_h_N_drift). Memory does not grow with the number of
+/// samples: the output times are computed on demand, and one block is held. Progress (fraction done
+/// in [0, 1]) is reported through `progress` if given. Throws std::invalid_argument for an invalid
+/// profile; exceptions from the sink pass through (the run stops).
+MissionResult RunMission(const schedule::Profile& profile,
+                         SampleSink& sink,
+                         const std::function<void(double)>& progress = {});
+
+/// The same run with the trajectory collected in the result (by a sink that appends).
 MissionResult RunMission(const schedule::Profile& profile,
                          const std::function<void(double)>& progress = {});
 

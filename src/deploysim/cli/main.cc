@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/mission.h"
 #include "deploysim/cli/report.h"
+#include "deploysim/io/atomic_file.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/version.h"
@@ -148,9 +150,17 @@ auto NamingFile(const std::string& file, F&& f) -> decltype(f()) {
   }
 }
 
+// A sink that keeps nothing (analyze prints tables, not samples).
+class DiscardSamples final : public deploysim::analysis::SampleSink {
+ public:
+  void Append(const deploysim::analysis::Trajectory& /*block*/) override {}
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A file size limit (ulimit -f) then fails a write with EFBIG, reported by name.
+  std::signal(SIGXFSZ, SIG_IGN);
 #ifdef DEPLOYSIM_HAVE_SWEEP
   // First: under mpirun, MPI_Init may consume arguments. A no-op otherwise.
   deploysim::sweep::MpiSession mpi(&argc, &argv);
@@ -307,20 +317,26 @@ int main(int argc, char** argv) {
       const std::vector<std::string> inputs{profile_path, profile.model.source};
       RefuseOutputOver(out_path, inputs);
       if (csv) RefuseOutputOver(out_path + ".csv", inputs);
-      const MissionResult r = NamingFile(
-          profile_path, [&] { return deploysim::analysis::RunMission(profile, Progress(quiet)); });
+      // Streamed to both temporaries as it runs; both complete before either is renamed
+      // (io::TrajectoryOutputs). SIGINT/SIGTERM/SIGHUP remove named temporaries.
+      deploysim::io::RemoveTemporariesOnSignals();
+      deploysim::io::TrajectoryOutputs outputs(out_path, csv ? out_path + ".csv" : "", profile);
+      const MissionResult r = NamingFile(profile_path, [&] {
+        return deploysim::analysis::RunMission(profile, outputs, Progress(quiet));
+      });
       if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
         std::cerr << "deploysim: error: " << profile_path << ": integration " << r.message << "\n";
         return 3;
       }
-      deploysim::io::WriteTrajectoryFile(out_path, r);
-      if (csv) deploysim::io::WriteTrajectoryCsv(out_path + ".csv", r.trajectory);
+      outputs.Finish(r);
+      outputs.Commit();
       if (!quiet) {
         std::cout << deploysim::cli::FormatSummary(r);
         if (compare && geometry) {
           std::cout << "\n"
-                    << deploysim::cli::FormatCouplingComparison(
-                           deploysim::analysis::CompareCouplings(profile));
+                    << deploysim::cli::FormatCouplingComparison(NamingFile(profile_path, [&] {
+                         return deploysim::analysis::CompareCouplings(profile);
+                       }));
         }
         std::cout << "\nwrote " << out_path << (csv ? " and " + out_path + ".csv" : "") << "\n";
       }
@@ -356,10 +372,15 @@ int main(int argc, char** argv) {
     }
 #endif
     if (ana->parsed()) {
-      const MissionResult r =
-          NamingFile(profile_path, [&] { return deploysim::analysis::RunMission(profile); });
+      // The table needs no trajectory: its samples are dropped as they come (bounded memory).
+      DiscardSamples discard;
+      const MissionResult r = NamingFile(
+          profile_path, [&] { return deploysim::analysis::RunMission(profile, discard); });
       std::optional<deploysim::analysis::CouplingComparison> c;
-      if (geometry) c = deploysim::analysis::CompareCouplings(profile);
+      if (geometry) {
+        c = NamingFile(profile_path,
+                       [&] { return deploysim::analysis::CompareCouplings(profile); });
+      }
       if (json) {
         std::cout << deploysim::cli::FormatJson(r, c ? &*c : nullptr);
       } else {

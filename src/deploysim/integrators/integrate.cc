@@ -120,20 +120,40 @@ std::string ToString(Termination t) {
   return "unknown";
 }
 
-std::vector<double> UniformGrid(double t0, double t_end, double dt) {
+UniformGridTimes::UniformGridTimes(double t0, double t_end, double dt)
+    : t0_(t0), t_end_(t_end), dt_(dt) {
   Require(dt > 0.0 && std::isfinite(dt), "output step must be finite and > 0");
   Require(t_end >= t0, "output grid: t_end must be >= t0");
   const double span = t_end - t0;
   const auto n = static_cast<std::int64_t>(std::floor(span / dt * (1.0 + 1e-12)));
+  // t0 + i dt for i <= n; then t_end appended, or in place of the last one if that is
+  // t_end up to rounding.
+  const double last = t0 + static_cast<double>(n) * dt;
+  size_ = static_cast<std::size_t>(n) +
+          (t_end - last > kTimeEps * std::max(1.0, std::abs(t_end)) ? 2 : 1);
+}
+
+std::vector<double> UniformGrid(double t0, double t_end, double dt) {
+  const UniformGridTimes times(t0, t_end, dt);
   std::vector<double> grid;
-  grid.reserve(static_cast<std::size_t>(n) + 2);
-  for (std::int64_t i = 0; i <= n; ++i) grid.push_back(t0 + static_cast<double>(i) * dt);
-  if (t_end - grid.back() > kTimeEps * std::max(1.0, std::abs(t_end)))
-    grid.push_back(t_end);
-  else
-    grid.back() = t_end;
+  grid.reserve(times.size());
+  for (std::size_t i = 0; i < times.size(); ++i) grid.push_back(times.at(i));
   return grid;
 }
+
+namespace {
+
+class VectorTimes final : public OutputTimes {
+ public:
+  explicit VectorTimes(const std::vector<double>& v) : v_(v) {}
+  std::size_t size() const override { return v_.size(); }
+  double at(std::size_t i) const override { return v_[i]; }
+
+ private:
+  const std::vector<double>& v_;
+};
+
+}  // namespace
 
 IntegrationResult Integrate(const Stepper& stepper,
                             const IntegratorSettings& settings,
@@ -142,20 +162,41 @@ IntegrationResult Integrate(const Stepper& stepper,
                             double t_end,
                             const std::vector<double>& output_times,
                             const std::vector<EventFunction>& events,
-                            const StepObserver& observer) {
+                            const StepObserver& observer,
+                            const SampleObserver& samples) {
+  return Integrate(stepper, settings, source, initial, t_end, VectorTimes(output_times), events,
+                   observer, samples);
+}
+
+IntegrationResult Integrate(const Stepper& stepper,
+                            const IntegratorSettings& settings,
+                            const dynamics::InertiaSource& source,
+                            const State& initial,
+                            double t_end,
+                            const OutputTimes& output_times,
+                            const std::vector<EventFunction>& events,
+                            const StepObserver& observer,
+                            const SampleObserver& samples) {
   const StepperInfo& info = stepper.info();
   ValidateSettings(info, settings);
   Require(Finite(initial), "initial state must be finite");
   const math::Quat q_NB0 = math::ValidateUnitQuaternion(initial.q_NB, "initial attitude q_NB");
-  Require(std::all_of(output_times.begin(), output_times.end(),
-                      [](double t) { return std::isfinite(t); }),
-          "output times must be finite");
-  Require(std::isfinite(t_end) && t_end > initial.t, "end time must be finite and > start time");
-  Require(std::is_sorted(output_times.begin(), output_times.end()),
-          "output times must be ascending");
-  Require(
-      output_times.empty() || (output_times.front() >= initial.t && output_times.back() <= t_end),
-      "output times must lie within [t0, t_end]");
+  {
+    const std::size_t n = output_times.size();
+    bool finite = true, sorted = true;
+    double previous = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = output_times.at(i);
+      finite = finite && std::isfinite(t);
+      sorted = sorted && !(t < previous);
+      previous = t;
+    }
+    Require(finite, "output times must be finite");
+    Require(std::isfinite(t_end) && t_end > initial.t, "end time must be finite and > start time");
+    Require(sorted, "output times must be ascending");
+    Require(n == 0 || (output_times.at(0) >= initial.t && output_times.at(n - 1) <= t_end),
+            "output times must lie within [t0, t_end]");
+  }
 
   // The initial condition is the given state: H_B bit for bit, q_NB normalized (the
   // steppers carry their attitude relative to it, rkmk.h). h_N only for reporting and
@@ -180,10 +221,17 @@ IntegrationResult Integrate(const Stepper& stepper,
   };
 
   IntegrationResult result;
-  result.samples.reserve(output_times.size());
+  if (!samples) result.samples.reserve(output_times.size());
+  auto emit = [&](const State& s) {
+    if (samples) {
+      samples(s);
+    } else {
+      result.samples.push_back(s);
+    }
+  };
   std::size_t next_out = 0;
-  while (next_out < output_times.size() && output_times[next_out] <= y.t) {
-    result.samples.push_back(y);
+  while (next_out < output_times.size() && output_times.at(next_out) <= y.t) {
+    emit(y);
     ++next_out;
   }
   std::vector<double> g_prev(events.size());
@@ -301,15 +349,15 @@ IntegrationResult Integrate(const Stepper& stepper,
       }
 
       std::size_t step_out = next_out;
-      while (step_out < output_times.size() && output_times[step_out] <= y1.t) ++step_out;
+      while (step_out < output_times.size() && output_times.at(step_out) <= y1.t) ++step_out;
       const std::size_t samples_in_step = step_out - next_out;
       while (next_out < step_out) {
-        const double t_out = output_times[next_out];
-        result.samples.push_back(
-            t_out <= y.t    ? y
-            : t_out >= y1.t ? y1
-                            : stepper.DenseSample(problem, t_out, samples_in_step, tol, ws));
-        result.samples.back().t = output_times[next_out];
+        const double t_out = output_times.at(next_out);
+        State s = t_out <= y.t    ? y
+                  : t_out >= y1.t ? y1
+                                  : stepper.DenseSample(problem, t_out, samples_in_step, tol, ws);
+        s.t = t_out;
+        emit(s);
         ++next_out;
       }
       y = y1;
@@ -318,8 +366,9 @@ IntegrationResult Integrate(const Stepper& stepper,
   }
   // Output times that equal t_end up to rounding.
   while (next_out < output_times.size()) {
-    result.samples.push_back(y);
-    result.samples.back().t = output_times[next_out];
+    State s = y;
+    s.t = output_times.at(next_out);
+    emit(s);
     ++next_out;
   }
   result.final_state = y;

@@ -19,6 +19,7 @@
 /// Initial state: H_B is used bit for bit; q_NB must be a unit quaternion
 /// (math::ValidateUnitQuaternion) and is normalized.
 
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -71,8 +72,37 @@ struct IntegrationResult {
   std::string message;  ///< Why it stopped, for the user.
 };
 
+/// Output times by index, ascending, computed on demand: a grid of 1e7 times need not
+/// be stored (a std::vector is adapted by the vector overload of Integrate).
+class OutputTimes {
+ public:
+  virtual ~OutputTimes() = default;
+  virtual std::size_t size() const = 0;
+  /// Time number i < size().
+  virtual double at(std::size_t i) const = 0;
+};
+
+/// UniformGrid(t0, t_end, dt) as OutputTimes: the same times, bit for bit, unstored.
+class UniformGridTimes final : public OutputTimes {
+ public:
+  /// Throws std::invalid_argument as UniformGrid does.
+  UniformGridTimes(double t0, double t_end, double dt);
+  std::size_t size() const override { return size_; }
+  double at(std::size_t i) const override {
+    return i + 1 == size_ ? t_end_ : t0_ + static_cast<double>(i) * dt_;
+  }
+
+ private:
+  double t0_, t_end_, dt_;
+  std::size_t size_ = 0;
+};
+
 /// Called after every accepted step with the new state.
 using StepObserver = std::function<void(const State&)>;
+
+/// Receives the samples at the output times, in order, instead of
+/// IntegrationResult::samples (which then stays empty): long runs need not hold them.
+using SampleObserver = std::function<void(const State&)>;
 
 /// Integrates from `initial` to `t_end` (> initial.t). `output_times` must be
 /// ascending and within [initial.t, t_end]. Events are located to ~1e-13 of the step
@@ -89,7 +119,20 @@ IntegrationResult Integrate(const Stepper& stepper,
                             double t_end,
                             const std::vector<double>& output_times = {},
                             const std::vector<EventFunction>& events = {},
-                            const StepObserver& observer = {});
+                            const StepObserver& observer = {},
+                            const SampleObserver& samples = {});
+
+/// The same with output times computed on demand (samples usually to `samples`: then
+/// nothing grows with the number of output times).
+IntegrationResult Integrate(const Stepper& stepper,
+                            const IntegratorSettings& settings,
+                            const dynamics::InertiaSource& source,
+                            const State& initial,
+                            double t_end,
+                            const OutputTimes& output_times,
+                            const std::vector<EventFunction>& events,
+                            const StepObserver& observer,
+                            const SampleObserver& samples);
 
 /// A uniform output grid t0, t0 + dt, ..., t_end (t_end included).
 std::vector<double> UniformGrid(double t0, double t_end, double dt);

@@ -1,6 +1,7 @@
 // CSV trajectories (WriteTrajectoryCsv in trajectory_file.h).
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -80,52 +81,102 @@ void Check(const std::string& path, const analysis::Trajectory& t, std::size_t& 
 
 }  // namespace
 
+struct TrajectoryCsvWriter::Impl {
+  Impl(const std::string& p, std::size_t hinge) : path(p), hinge_columns(hinge), file(p) {
+    out.open(file.temporary_path(), std::ios::trunc);
+    if (!out) Fail();
+    const std::vector<std::string> header = Header(hinge_columns);
+    std::string line;
+    for (std::size_t i = 0; i < header.size(); ++i) line += (i ? "," : "") + header[i];
+    line += '\n';
+    Write(line);
+  }
+  [[noreturn]] void Fail() {
+    const int err = errno;
+    throw std::runtime_error(path +
+                             ": cannot write: " + (err != 0 ? std::strerror(err) : "output error"));
+  }
+  // Writes `text` after checking that the file may grow by it (AtomicFile::Reserve: a
+  // full disk or the size limit is reported here, by name, not as a stream state).
+  void Write(const std::string& text) {
+    written += text.size();
+    file.Reserve(written);
+    errno = 0;
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    if (!out) Fail();
+  }
+  std::string path;
+  std::size_t hinge_columns;
+  AtomicFile file;
+  std::ofstream out;
+  std::uint64_t written = 0;
+  bool finished = false;
+};
+
+TrajectoryCsvWriter::TrajectoryCsvWriter(const std::string& path, std::size_t hinge_columns)
+    : impl_(std::make_unique<Impl>(path, hinge_columns)) {}
+
+TrajectoryCsvWriter::~TrajectoryCsvWriter() = default;
+
+void TrajectoryCsvWriter::Append(const analysis::Trajectory& t) {
+  if (impl_->finished) throw std::logic_error(impl_->path + ": Append after Finish");
+  std::size_t hinge_columns = 0;
+  Check(impl_->path, t, hinge_columns);
+  if (t.size() > 0 && hinge_columns != impl_->hinge_columns) {
+    throw std::invalid_argument(impl_->path + ": trajectory.hinge_angles rows have " +
+                                std::to_string(hinge_columns) + " angles, the header " +
+                                std::to_string(impl_->hinge_columns));
+  }
+  std::string text;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    std::string line;
+    auto put = [&line](double x) {
+      if (!line.empty()) line += ',';
+      line += FormatNumber(x);
+    };
+    put(t.time[k]);
+    for (int i = 0; i < 3; ++i) put(t.H_B[k][i]);
+    for (int i = 0; i < 3; ++i) put(t.w_NB_B[k][i]);
+    const math::Vec4 q = math::ToWxyz(t.q_NB[k]);
+    for (int i = 0; i < 4; ++i) put(q[i]);
+    const math::Mat3& J = t.J_B[k];
+    for (double x : {J(0, 0), J(1, 1), J(2, 2), J(0, 1), J(0, 2), J(1, 2)}) put(x);
+    for (int i = 0; i < 3; ++i) put(t.principal_moments[k][i]);
+    for (int i = 0; i < 3; ++i) put(t.h_rel_B[k][i]);
+    for (int i = 0; i < 3; ++i) put(t.h_N[k][i]);
+    put(t.energy[k]);
+    put(t.energy_rigid[k]);
+    for (int i = 0; i < 3; ++i) put(t.euler_313[k][i]);
+    put(t.spin_axis_angle[k]);
+    for (std::size_t i = 0; i < hinge_columns; ++i) {
+      put(t.hinge_angles[k][static_cast<Eigen::Index>(i)]);
+    }
+    text += line;
+    text += '\n';
+  }
+  impl_->Write(text);
+}
+
+void TrajectoryCsvWriter::Finish() {
+  errno = 0;
+  impl_->out.close();
+  if (!impl_->out) impl_->Fail();
+  impl_->file.ReleaseReserve();
+  impl_->finished = true;
+}
+
+void TrajectoryCsvWriter::Commit() {
+  if (!impl_->finished) throw std::logic_error(impl_->path + ": Commit before Finish");
+  impl_->file.Commit();
+}
+
 void WriteTrajectoryCsv(const std::string& path, const analysis::Trajectory& t) {
   std::size_t hinge_columns = 0;
   Check(path, t, hinge_columns);
-  AtomicFile file(path);
-  {
-    std::ofstream out(file.temporary_path(), std::ios::trunc);
-    if (!out) {
-      throw std::runtime_error(path + ": cannot write " + file.temporary_path() + ": " +
-                               std::strerror(errno));
-    }
-    const std::vector<std::string> header = Header(hinge_columns);
-    for (std::size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << header[i];
-    out << '\n';
-    std::string line;
-    for (std::size_t k = 0; k < t.size(); ++k) {
-      line.clear();
-      auto put = [&line](double x) {
-        if (!line.empty()) line += ',';
-        line += FormatNumber(x);
-      };
-      put(t.time[k]);
-      for (int i = 0; i < 3; ++i) put(t.H_B[k][i]);
-      for (int i = 0; i < 3; ++i) put(t.w_NB_B[k][i]);
-      const math::Vec4 q = math::ToWxyz(t.q_NB[k]);
-      for (int i = 0; i < 4; ++i) put(q[i]);
-      const math::Mat3& J = t.J_B[k];
-      for (double x : {J(0, 0), J(1, 1), J(2, 2), J(0, 1), J(0, 2), J(1, 2)}) put(x);
-      for (int i = 0; i < 3; ++i) put(t.principal_moments[k][i]);
-      for (int i = 0; i < 3; ++i) put(t.h_rel_B[k][i]);
-      for (int i = 0; i < 3; ++i) put(t.h_N[k][i]);
-      put(t.energy[k]);
-      put(t.energy_rigid[k]);
-      for (int i = 0; i < 3; ++i) put(t.euler_313[k][i]);
-      put(t.spin_axis_angle[k]);
-      for (std::size_t i = 0; i < hinge_columns; ++i) {
-        put(t.hinge_angles[k][static_cast<Eigen::Index>(i)]);
-      }
-      out << line << '\n';
-    }
-    out.close();
-    if (!out) {
-      throw std::runtime_error(path + ": cannot write " + file.temporary_path() + ": " +
-                               std::strerror(errno));
-    }
-  }
-  file.Commit();
+  TrajectoryCsvWriter w(path, hinge_columns);  // atomic: nothing at `path` unless Commit()
+  w.Append(t);
+  w.Finish();
+  w.Commit();
 }
 
 }  // namespace deploysim::io

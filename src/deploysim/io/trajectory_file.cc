@@ -68,9 +68,9 @@ std::size_t HingeColumns(const analysis::MissionResult& r) {
   return r.profile.model.hinged.panels.size();
 }
 
-/// Every per-sample array has one entry per output time (internal consistency of r).
-void CheckConsistent(const std::string& path, const analysis::MissionResult& r) {
-  const Trajectory& t = r.trajectory;
+/// Every per-sample array of t has one entry per output time; in geometry mode one row
+/// of `panels` hinge angles per time.
+void CheckSamples(const std::string& path, const Trajectory& t, bool geometry, std::size_t panels) {
   const std::size_t n = t.time.size();
   auto require = [&](const char* name, std::size_t size) {
     if (size != n) {
@@ -90,6 +90,21 @@ void CheckConsistent(const std::string& path, const analysis::MissionResult& r) 
   require("energy_rigid", t.energy_rigid.size());
   require("euler_313", t.euler_313.size());
   require("spin_axis_angle", t.spin_axis_angle.size());
+  if (geometry) {
+    require("hinge_angles", t.hinge_angles.size());
+    for (std::size_t k = 0; k < n; ++k) {
+      if (static_cast<std::size_t>(t.hinge_angles[k].size()) != panels) {
+        throw std::invalid_argument(path + ": trajectory.hinge_angles[" + std::to_string(k) +
+                                    "] has " + std::to_string(t.hinge_angles[k].size()) +
+                                    " angles, the model has " + std::to_string(panels) +
+                                    " panels (rule: one angle per panel)");
+      }
+    }
+  }
+}
+
+/// The analysis of r fits its profile: one report per stage, ordered danger windows.
+void CheckAnalysis(const std::string& path, const analysis::MissionResult& r) {
   if (r.stages.size() != r.profile.stages.size()) {
     throw std::invalid_argument(path + ": " + std::to_string(r.stages.size()) +
                                 " stage reports for " + std::to_string(r.profile.stages.size()) +
@@ -99,18 +114,6 @@ void CheckConsistent(const std::string& path, const analysis::MissionResult& r) 
     if (!(d.t_begin <= d.t_end)) {
       throw std::invalid_argument(path + ": danger window [" + FormatNumber(d.t_begin) + ", " +
                                   FormatNumber(d.t_end) + "] (rule: t_begin <= t_end)");
-    }
-  }
-  const std::size_t panels = HingeColumns(r);
-  if (r.profile.mode == schedule::Mode::kGeometry) {
-    require("hinge_angles", t.hinge_angles.size());
-    for (std::size_t k = 0; k < n; ++k) {
-      if (static_cast<std::size_t>(t.hinge_angles[k].size()) != panels) {
-        throw std::invalid_argument(path + ": trajectory.hinge_angles[" + std::to_string(k) +
-                                    "] has " + std::to_string(t.hinge_angles[k].size()) +
-                                    " angles, the model has " + std::to_string(panels) +
-                                    " panels (rule: one angle per panel)");
-      }
     }
   }
 }
@@ -129,7 +132,7 @@ std::string StatisticsText(const integrators::Statistics& s) {
 }
 
 /// The /stages table: one row per profile stage, its definition and its analysis
-/// (analysis::StageReport; CheckConsistent ensured one report per stage).
+/// (analysis::StageReport; CheckAnalysis ensured one report per stage).
 void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
   const schedule::Profile& p = r.profile;
   std::vector<double> t_begin, t_end, moments, one_minus_k2, separatrix, half_period, max_diff;
@@ -205,43 +208,111 @@ void WriteDangerWindows(Hdf5Writer& w, const analysis::MissionResult& r) {
             "last output time of the window at which it still is");
 }
 
-void WriteContents(Hdf5Writer& w, const analysis::MissionResult& r) {
-  const Trajectory& t = r.trajectory;
-  const std::size_t n = t.size();
+/// The per-sample datasets, in file order: rows grow as blocks of samples arrive.
+enum Column : std::size_t {
+  kTime,
+  kHB,
+  kW,
+  kQ,
+  kJ,
+  kMoments,
+  kHRel,
+  kHN,
+  kEnergy,
+  kEnergyRigid,
+  kEuler,
+  kSpinAngle,
+  kHinge,
+  kColumns
+};
 
-  w.Doubles("/time", {n}, t.time, "s", "output grid");
-  w.Doubles("/H_B", {n, 3}, Flatten(t.H_B), "kg m^2/s",
-            "total angular momentum about the system centre of mass, body (B) components");
-  w.Doubles("/w_NB_B", {n, 3}, Flatten(t.w_NB_B), "rad/s",
-            "angular velocity of B in N, B components");
-  w.Doubles("/q_NB", {n, 4}, FlattenWxyz(t.q_NB), "1",
-            "attitude quaternion q_NB (v_N = q_NB v_B), Hamilton, scalar first (w, x, y, z)");
-  w.Doubles("/J_B", {n, 3, 3}, FlattenRowMajor(t.J_B), "kg m^2",
-            "inertia tensor about the system centre of mass, B components; J_B[n][i][j]");
-  w.Doubles("/principal_moments", {n, 3}, Flatten(t.principal_moments), "kg m^2",
-            "eigenvalues of J_B, ascending");
-  w.Doubles("/h_rel_B", {n, 3}, Flatten(t.h_rel_B), "kg m^2/s",
-            "momentum of the panels' motion relative to B, B components");
-  w.Doubles("/h_N", {n, 3}, Flatten(t.h_N), "kg m^2/s",
-            "total angular momentum, inertial (N) components (constant in exact arithmetic)");
-  w.Doubles("/energy", {n}, t.energy, "J",
-            "total kinetic energy about the system centre of mass, 1/2 w.J_B w + w.h_rel_B + "
-            "T_rel (T_rel: kinetic energy of the panels' motion relative to B; h_rel_B and "
-            "T_rel are 0 under quasi-rigid coupling)");
-  w.Doubles("/energy_rigid", {n}, t.energy_rigid, "J",
-            "rigid-body part 1/2 w.J_B w of /energy (equal to it when nothing moves "
-            "relative to B)");
-  w.Doubles("/euler_313", {n, 3}, Flatten(t.euler_313), "rad",
-            "3-1-3 Euler angles (precession, nutation, spin) of B relative to a frame whose "
-            "third axis is h_N");
-  w.Doubles("/spin_axis_angle", {n}, t.spin_axis_angle, "rad",
-            "angle between the initial spin axis (fixed in B) and h_N");
-  const std::size_t panels = HingeColumns(r);
-  if (r.profile.mode == schedule::Mode::kGeometry) {
-    w.Doubles("/hinge_angles", {n, panels}, FlattenRows(t.hinge_angles), "rad",
-              "hinge angle of each panel, in panel order (geometry mode)");
+struct ColumnSpec {
+  const char* path;
+  std::vector<std::size_t> trailing;
+  const char* units;
+  const char* description;
+};
+
+std::vector<ColumnSpec> Columns(std::size_t panels) {
+  return {
+      {"/time", {}, "s", "output grid"},
+      {"/H_B",
+       {3},
+       "kg m^2/s",
+       "total angular momentum about the system centre of mass, body (B) components"},
+      {"/w_NB_B", {3}, "rad/s", "angular velocity of B in N, B components"},
+      {"/q_NB",
+       {4},
+       "1",
+       "attitude quaternion q_NB (v_N = q_NB v_B), Hamilton, scalar first (w, x, y, z)"},
+      {"/J_B",
+       {3, 3},
+       "kg m^2",
+       "inertia tensor about the system centre of mass, B components; J_B[n][i][j]"},
+      {"/principal_moments", {3}, "kg m^2", "eigenvalues of J_B, ascending"},
+      {"/h_rel_B", {3}, "kg m^2/s", "momentum of the panels' motion relative to B, B components"},
+      {"/h_N",
+       {3},
+       "kg m^2/s",
+       "total angular momentum, inertial (N) components (constant in exact arithmetic)"},
+      {"/energy",
+       {},
+       "J",
+       "total kinetic energy about the system centre of mass, 1/2 w.J_B w + w.h_rel_B + "
+       "T_rel (T_rel: kinetic energy of the panels' motion relative to B; h_rel_B and "
+       "T_rel are 0 under quasi-rigid coupling)"},
+      {"/energy_rigid",
+       {},
+       "J",
+       "rigid-body part 1/2 w.J_B w of /energy (equal to it when nothing moves "
+       "relative to B)"},
+      {"/euler_313",
+       {3},
+       "rad",
+       "3-1-3 Euler angles (precession, nutation, spin) of B relative to a frame whose "
+       "third axis is h_N"},
+      {"/spin_axis_angle", {}, "rad", "angle between the initial spin axis (fixed in B) and h_N"},
+      {"/hinge_angles",
+       {panels},
+       "rad",
+       "hinge angle of each panel, in panel order (geometry mode)"},
+  };
+}
+
+/// Column c of the samples of t, flattened row-major.
+std::vector<double> Flat(const Trajectory& t, std::size_t c) {
+  switch (c) {
+    case kTime:
+      return t.time;
+    case kHB:
+      return Flatten(t.H_B);
+    case kW:
+      return Flatten(t.w_NB_B);
+    case kQ:
+      return FlattenWxyz(t.q_NB);
+    case kJ:
+      return FlattenRowMajor(t.J_B);
+    case kMoments:
+      return Flatten(t.principal_moments);
+    case kHRel:
+      return Flatten(t.h_rel_B);
+    case kHN:
+      return Flatten(t.h_N);
+    case kEnergy:
+      return t.energy;
+    case kEnergyRigid:
+      return t.energy_rigid;
+    case kEuler:
+      return Flatten(t.euler_313);
+    case kSpinAngle:
+      return t.spin_axis_angle;
+    default:
+      return FlattenRows(t.hinge_angles);
   }
+}
 
+/// Everything but the per-sample datasets: events, stages, danger windows, attributes.
+void WriteAnalysis(Hdf5Writer& w, const analysis::MissionResult& r) {
   w.Doubles("/events/flip_time", {r.flip_times.size()}, r.flip_times, "s",
             "located flips: sign changes of H_B along the tracked spin axis while it is the "
             "intermediate principal axis (docs/file_formats.md, Flips)");
@@ -542,11 +613,86 @@ TrajectoryFile ReadContents(const std::string& path) {
 
 }  // namespace
 
+struct TrajectoryFileWriter::Impl {
+  Impl(const std::string& p, const schedule::Profile& profile)
+      : path(p),
+        geometry(profile.mode == schedule::Mode::kGeometry),
+        panels(geometry ? profile.model.hinged.panels.size() : 0),
+        writer(p) {
+    const std::vector<ColumnSpec> columns = Columns(panels);
+    const std::size_t used = geometry ? kColumns : kHinge;
+    for (std::size_t c = 0; c < used; ++c) {
+      handles.push_back(writer.GrowingDoubles(columns[c].path, columns[c].trailing,
+                                              columns[c].units, columns[c].description));
+    }
+  }
+  std::string path;
+  bool geometry;
+  std::size_t panels;
+  Hdf5Writer writer;
+  std::vector<std::size_t> handles;
+  bool finished = false;
+};
+
+TrajectoryFileWriter::TrajectoryFileWriter(const std::string& path,
+                                           const schedule::Profile& profile)
+    : impl_(std::make_unique<Impl>(path, profile)) {}
+
+TrajectoryFileWriter::~TrajectoryFileWriter() = default;
+
+void TrajectoryFileWriter::Append(const Trajectory& block) {
+  if (impl_->finished) throw std::logic_error(impl_->path + ": Append after Finish");
+  CheckSamples(impl_->path, block, impl_->geometry, impl_->panels);
+  for (std::size_t c = 0; c < impl_->handles.size(); ++c) {
+    impl_->writer.AppendRows(impl_->handles[c], Flat(block, c), block.size());
+  }
+}
+
+void TrajectoryFileWriter::Finish(const analysis::MissionResult& r) {
+  CheckAnalysis(impl_->path, r);
+  WriteAnalysis(impl_->writer, r);
+  impl_->writer.Close();
+  impl_->finished = true;
+}
+
+void TrajectoryFileWriter::Commit() {
+  if (!impl_->finished) throw std::logic_error(impl_->path + ": Commit before Finish");
+  impl_->writer.Commit();
+}
+
 void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult& r) {
-  CheckConsistent(path, r);
-  Hdf5Writer w(path);  // atomic: nothing is left at `path` unless Commit() succeeds
-  WriteContents(w, r);
+  CheckSamples(path, r.trajectory, r.profile.mode == schedule::Mode::kGeometry, HingeColumns(r));
+  CheckAnalysis(path, r);
+  TrajectoryFileWriter w(path, r.profile);  // atomic: nothing is left at `path` unless Commit()
+  w.Append(r.trajectory);
+  w.Finish(r);
   w.Commit();
+}
+
+TrajectoryOutputs::TrajectoryOutputs(const std::string& h5_path,
+                                     const std::string& csv_path,
+                                     const schedule::Profile& profile)
+    : h5_(h5_path, profile) {
+  if (!csv_path.empty()) {
+    csv_.emplace(csv_path, profile.mode == schedule::Mode::kGeometry
+                               ? profile.model.hinged.panels.size()
+                               : std::size_t{0});
+  }
+}
+
+void TrajectoryOutputs::Append(const Trajectory& block) {
+  h5_.Append(block);
+  if (csv_) csv_->Append(block);
+}
+
+void TrajectoryOutputs::Finish(const analysis::MissionResult& r) {
+  h5_.Finish(r);
+  if (csv_) csv_->Finish();
+}
+
+void TrajectoryOutputs::Commit() {
+  h5_.Commit();
+  if (csv_) csv_->Commit();
 }
 
 TrajectoryFile ReadTrajectoryFile(const std::string& path) {

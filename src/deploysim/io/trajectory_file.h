@@ -10,7 +10,10 @@
 /// `description`; text as variable-length UTF-8 strings. Quaternions scalar first (w, x, y, z);
 /// J_B[n][i][j] = J_B(i, j) at time n.
 
+#include <cstddef>
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,8 +70,78 @@ struct TrajectoryFile {
 /// per-stage analysis, danger windows) to `path`. Throws std::invalid_argument if the
 /// trajectory's arrays do not all have one entry per output time (hinge angles: in
 /// geometry mode, one per panel) or r.stages does not have one report per profile stage,
-/// and std::runtime_error naming `path` for I/O failures.
+/// and std::runtime_error naming `path` for I/O failures. The same file as a
+/// TrajectoryFileWriter fed r.trajectory (it is one).
 void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult& r);
+
+/// A trajectory file written while the mission runs (memory bounded by the block size
+/// whatever the horizon): the per-sample datasets grow block by block, the rest is
+/// written by Finish; then Commit() puts the file at `path` (atomically: until then, and
+/// if anything fails, nothing is left at `path` and an older file there is kept).
+/// The file is the same as WriteTrajectoryFile's for readers (the per-sample datasets
+/// are stored in chunks, extendable along time; names, shapes, types and attributes are
+/// unchanged).
+class TrajectoryFileWriter final : public analysis::SampleSink {
+ public:
+  /// Starts the temporary and the per-sample datasets for `profile` (hinge angles in
+  /// geometry mode). Throws std::runtime_error naming `path`.
+  TrajectoryFileWriter(const std::string& path, const schedule::Profile& profile);
+  ~TrajectoryFileWriter() override;
+  TrajectoryFileWriter(const TrajectoryFileWriter&) = delete;
+  TrajectoryFileWriter& operator=(const TrajectoryFileWriter&) = delete;
+
+  /// Appends the samples of `block` (checked as WriteTrajectoryFile checks a trajectory).
+  void Append(const analysis::Trajectory& block) override;
+  /// Writes events, stages, danger windows and attributes from r (r.trajectory is not
+  /// used: the samples are those appended) and completes the temporary.
+  void Finish(const analysis::MissionResult& r);
+  /// After Finish: renames the complete file onto `path`.
+  void Commit();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The CSV of WriteTrajectoryCsv, written while the mission runs; atomic as
+/// TrajectoryFileWriter (Finish completes the temporary, Commit renames it).
+class TrajectoryCsvWriter final : public analysis::SampleSink {
+ public:
+  /// `hinge_columns`: hinge angles per sample (0: none).
+  TrajectoryCsvWriter(const std::string& path, std::size_t hinge_columns);
+  ~TrajectoryCsvWriter() override;
+  TrajectoryCsvWriter(const TrajectoryCsvWriter&) = delete;
+  TrajectoryCsvWriter& operator=(const TrajectoryCsvWriter&) = delete;
+
+  void Append(const analysis::Trajectory& block) override;
+  void Finish();
+  void Commit();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The outputs of `deploysim simulate`: the HDF5 file and, if `csv_path` is not empty,
+/// its CSV, streamed side by side. Guarantee: both temporaries are written completely
+/// and flushed to disk (Finish) before either replaces anything (Commit); a failure up
+/// to then (disk full, file size limit, a signal, an exception) leaves both targets as
+/// they were and no temporary. Commit() renames the HDF5 file, then the CSV: only a
+/// failure of that last rename (the CSV's target turned into a folder after the
+/// checks, a read-only remount in between) can leave the new HDF5 beside an old CSV.
+class TrajectoryOutputs final : public analysis::SampleSink {
+ public:
+  TrajectoryOutputs(const std::string& h5_path,
+                    const std::string& csv_path,
+                    const schedule::Profile& profile);
+  void Append(const analysis::Trajectory& block) override;
+  void Finish(const analysis::MissionResult& r);
+  void Commit();
+
+ private:
+  TrajectoryFileWriter h5_;
+  std::optional<TrajectoryCsvWriter> csv_;
+};
 
 /// Reads a file written by WriteTrajectoryFile. Throws std::runtime_error naming `path`
 /// and the dataset for unreadable files, missing datasets, wrong shapes or another

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 
 #include "deploysim/analysis/free_body_solution.h"
@@ -273,14 +274,66 @@ std::string CsvNumber(double x) { return FormatNumber(x); }
 
 }  // namespace
 
+namespace {
+
+/// Writes the CSV table into the temporary of `out` (complete, not yet committed).
+void WriteCsvTemporary(io::AtomicFile& out,
+                       const std::string& path,
+                       const std::vector<Column>& cols,
+                       const std::vector<CaseOutcome>& outcomes) {
+  std::string text;
+  for (const Column& c : cols) text += c.name + " [" + c.units + "],";
+  text += "run_time [s]\n";
+  for (std::size_t r = 0; r < outcomes.size(); ++r) {
+    for (const Column& c : cols) {
+      switch (c.type) {
+        case ColumnType::kDouble:
+          text += CsvNumber(c.d[r]);
+          break;
+        case ColumnType::kInt:
+          text += std::to_string(c.i[r]);
+          break;
+        case ColumnType::kText:
+          text += c.s[r];
+          break;
+      }
+      text += ',';
+    }
+    text += CsvNumber(outcomes[r].run_time) + '\n';
+  }
+  std::ofstream f(out.temporary_path());
+  out.Reserve(text.size());  // a full disk or the size limit, reported by name
+  f.write(text.data(), static_cast<std::streamsize>(text.size()));
+  f.close();
+  if (!f) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+  out.ReleaseReserve();
+}
+
+}  // namespace
+
 void WriteSweepResults(const std::string& path,
+                       const SweepSpec& spec,
+                       const std::vector<CaseOutcome>& outcomes,
+                       const RunInfo& info) {
+  WriteSweepOutputs(path, "", spec, outcomes, info);
+}
+
+void WriteSweepOutputs(const std::string& path,
+                       const std::string& csv_path,
                        const SweepSpec& spec,
                        const std::vector<CaseOutcome>& outcomes,
                        const RunInfo& info) {
   const std::vector<Column> cols = BuildColumns(spec, outcomes);
   io::Hdf5Writer out(path);  // atomic: nothing at `path` unless Commit() succeeds
   WriteContents(out, spec, cols, outcomes, info);
+  out.Close();
+  std::optional<io::AtomicFile> csv;
+  if (!csv_path.empty()) {
+    csv.emplace(csv_path);
+    WriteCsvTemporary(*csv, csv_path, cols, outcomes);
+  }
   out.Commit();
+  if (csv) csv->Commit();
 }
 
 void WriteSweepCsv(const std::string& path,
@@ -288,30 +341,7 @@ void WriteSweepCsv(const std::string& path,
                    const std::vector<CaseOutcome>& outcomes) {
   const std::vector<Column> cols = BuildColumns(spec, outcomes);
   io::AtomicFile out(path);
-  {
-    std::ofstream f(out.temporary_path());
-    for (const Column& c : cols) f << c.name << " [" << c.units << "],";
-    f << "run_time [s]\n";
-    for (std::size_t r = 0; r < outcomes.size(); ++r) {
-      for (const Column& c : cols) {
-        switch (c.type) {
-          case ColumnType::kDouble:
-            f << CsvNumber(c.d[r]);
-            break;
-          case ColumnType::kInt:
-            f << c.i[r];
-            break;
-          case ColumnType::kText:
-            f << c.s[r];
-            break;
-        }
-        f << ',';
-      }
-      f << CsvNumber(outcomes[r].run_time) << '\n';
-    }
-    f.close();
-    if (!f) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
-  }
+  WriteCsvTemporary(out, path, cols, outcomes);
   out.Commit();
 }
 

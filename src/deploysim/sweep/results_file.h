@@ -49,6 +49,17 @@ void WriteSweepCsv(const std::string& path,
                    const SweepSpec& spec,
                    const std::vector<CaseOutcome>& outcomes);
 
+/// The outputs of a finished sweep: the results file and, if `csv_path` is not empty,
+/// its CSV. Both temporaries are written completely and flushed before either replaces
+/// anything: a failure until then (disk full, size limit, signal) leaves both targets as
+/// they were and no temporary; only a failure of the CSV's rename, after the results
+/// file's, can leave the new results beside an old CSV.
+void WriteSweepOutputs(const std::string& path,
+                       const std::string& csv_path,
+                       const SweepSpec& spec,
+                       const std::vector<CaseOutcome>& outcomes,
+                       const RunInfo& info);
+
 /// A results file as read back (for tests, tools and comparisons).
 struct SweepTable {
   std::vector<std::string> columns;                       ///< /cases columns, in order.

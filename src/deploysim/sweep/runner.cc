@@ -251,8 +251,8 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
     info.wall_seconds = summary.wall_seconds;
     info.resumed_cases = summary.resumed;
     info.computed_cases = n - summary.resumed;
-    WriteSweepResults(options.output, spec, outcomes, info);
-    if (options.csv) WriteSweepCsv(options.output + ".csv", spec, outcomes);
+    WriteSweepOutputs(options.output, options.csv ? options.output + ".csv" : "", spec, outcomes,
+                      info);
     // Only now that the results are safe: the journals go.
     for (const std::string& j : ExistingJournals(options.output)) fs::remove(j);
   }
