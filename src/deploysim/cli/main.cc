@@ -134,15 +134,20 @@ void RefuseOutputOver(const std::string& output, const std::vector<std::string>&
   }
 }
 
-// Runs f(); an error whose message does not start with `file` (e.g. a root solver's or
-// FreeBodySolution's, which know no file) is rethrown as "<file>: <message>".
+// Runs f(); an error whose message does not start with `file` or one of `outputs` (e.g. a
+// root solver's or FreeBodySolution's, which know no file) is rethrown as
+// "<file>: <message>". Errors about an output (streamed while the run goes) name it already.
 template <class F>
-auto NamingFile(const std::string& file, F&& f) -> decltype(f()) {
+auto NamingFile(const std::string& file, F&& f, const std::vector<std::string>& outputs = {})
+    -> decltype(f()) {
   try {
     return f();
   } catch (const std::exception& e) {
     const std::string m = e.what();
     if (m.rfind(file, 0) == 0) throw;
+    for (const std::string& o : outputs) {
+      if (!o.empty() && m.rfind(o + ":", 0) == 0) throw;
+    }
     if (dynamic_cast<const std::invalid_argument*>(&e) != nullptr) {
       throw std::invalid_argument(file + ": " + m);
     }
@@ -321,9 +326,10 @@ int main(int argc, char** argv) {
       // (io::TrajectoryOutputs). SIGINT/SIGTERM/SIGHUP remove named temporaries.
       deploysim::io::RemoveTemporariesOnSignals();
       deploysim::io::TrajectoryOutputs outputs(out_path, csv ? out_path + ".csv" : "", profile);
-      const MissionResult r = NamingFile(profile_path, [&] {
-        return deploysim::analysis::RunMission(profile, outputs, Progress(quiet));
-      });
+      const MissionResult r = NamingFile(
+          profile_path,
+          [&] { return deploysim::analysis::RunMission(profile, outputs, Progress(quiet)); },
+          {out_path, out_path + ".csv"});
       if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
         std::cerr << "deploysim: error: " << profile_path << ": integration " << r.message << "\n";
         return 3;
