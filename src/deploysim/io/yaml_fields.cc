@@ -222,6 +222,7 @@ class GuardHandler : public YAML::EventHandler {
     last_start_ = mark;
     ++documents_;
     root_ = Size{};
+    anchors_.clear();  // yaml-cpp numbers the anchors of each document from 1
   }
   void OnDocumentEnd() override {}
 
