@@ -22,6 +22,12 @@ namespace deploysim::sweep {
 /// starts cannot fail on bad input half-way. SweepSpec::source = path.
 SweepSpec LoadSweep(const std::string& path);
 
+/// LoadSweep without ValidateCases: the file and its base profile are read and checked,
+/// the cases are not built (that takes time proportional to the number of cases, up to
+/// kMaxCases). For tools that check many files quickly (the fuzz targets); a sweep that
+/// is to be run is loaded with LoadSweep.
+SweepSpec ReadSweep(const std::string& path);
+
 /// Builds every case once (BuildCase) and throws the first case's error. LoadSweep calls
 /// it; specs made in code can call it too.
 void ValidateCases(const SweepSpec& spec);
