@@ -157,7 +157,8 @@ TEST_F(HostileInputTest, LongValuesAreNotEchoedWhole) {
                         "... (1000000 bytes): unknown key");
   ExpectSimulateRefused(Write("path.yaml", Profile(std::string(1000000, 'm'))),
                         "path.yaml: model = mmmm");
-  ExpectSimulateRefused(Write("stage.yaml", Profile(WingNutModel(), mb)), "stages[0].name = \"xxxx");
+  ExpectSimulateRefused(Write("stage.yaml", Profile(WingNutModel(), mb)),
+                        "stages[0].name = \"xxxx");
 }
 
 TEST_F(HostileInputTest, InvalidUtf8IsRefused) {

@@ -94,6 +94,9 @@ TEST_P(BadInputsTest, RejectedWithOneLineNamingTheFile) {
   EXPECT_EQ(message.rfind(path + ": ", 0), 0u)
       << "message does not start with the file: " << message;
   EXPECT_EQ(message.find('\n'), std::string::npos) << "message is not one line: " << message;
+  EXPECT_EQ(message.find('\r'), std::string::npos) << "message holds a CR: " << message;
+  // Values are cut in messages (issue 10): no message echoes a long value whole.
+  EXPECT_LE(message.size(), path.size() + 400) << message.substr(0, 1000);
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, BadInputsTest, ::testing::ValuesIn(CorpusFiles()), TestName);

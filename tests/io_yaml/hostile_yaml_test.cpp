@@ -295,6 +295,25 @@ TEST_F(HostileFileTest, FilesOverTheLimitAreRefused) {
                                    "have at most 1048576 bytes, 1 MiB)");
 }
 
+// A regular file whose size is not what stat says (it grows while read; /proc files have
+// st_size 0): at most kMaxFileBytes + 1 bytes are read, then the file is refused.
+TEST_F(HostileFileTest, ReadingIsBoundedWhateverStatSays) {
+  const std::string proc = "/proc/kallsyms";  // several MB, st_size 0
+  struct stat st {};
+  std::ifstream probe(proc);
+  std::string head(kMaxFileBytes + 1, '\0');
+  probe.read(head.data(), static_cast<std::streamsize>(head.size()));
+  if (::stat(proc.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_size != 0 ||
+      static_cast<std::size_t>(probe.gcount()) <= kMaxFileBytes) {
+    GTEST_SKIP() << proc << " is not a large regular file with st_size 0 here";
+  }
+  EXPECT_EQ(ReadMessage(proc), proc +
+                                   ": cannot read: the file has more than 1048576 bytes "
+                                   "(input files have at most 1048576 bytes, 1 MiB)");
+  // A small one reads whole.
+  EXPECT_FALSE(yaml::ReadTextFile("/proc/self/stat").empty());
+}
+
 TEST_F(HostileFileTest, ModelThatIsADeviceOrAFifoIsRefused) {
   ASSERT_EQ(::mkfifo(Path("fifo.yaml").c_str(), 0600), 0);
   const std::string profile_text =

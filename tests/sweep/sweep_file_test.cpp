@@ -8,7 +8,9 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <fstream>
 #include <ostream>
+#include <regex>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -377,6 +379,39 @@ TEST_F(SweepDirTest, ManyStageNamesAreCutInMessages) {
     EXPECT_NE(m.find("no stage of that name in"), std::string::npos) << m.substr(0, 300);
     EXPECT_NE(m.find(", ... (500 in all))"), std::string::npos) << m.substr(0, 2000);
   }
+}
+
+// ReadSweep checks the file and the base but builds no case (LoadSweep builds every one:
+// time proportional to the number of cases, up to kMaxCases).
+TEST_F(SweepDirTest, ReadSweepBuildsNoCase) {
+  const std::string path =
+      Write("s.yaml", Header() + "grid:\n  - {parameter: law, values: [minimum-jerk, step]}\n");
+  const SweepSpec spec = ReadSweep(path);
+  EXPECT_EQ(spec.case_count(), 2u);
+  EXPECT_THROW((void)LoadSweep(path), std::invalid_argument);  // case 1 {law=step}
+  EXPECT_THROW(ValidateCases(spec), std::invalid_argument);
+}
+
+// The cases are validated without copying the base's texts each time (a base padded to
+// 1 MiB made validating each case copy megabytes): the error is the same.
+TEST_F(SweepDirTest, ValidationOfAPaddedBaseNamesTheCase) {
+  std::ifstream in(SmallsatProfile());
+  std::string profile((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  profile = std::regex_replace(profile, std::regex("model: \\.\\./models/"),
+                               "model: " + std::string(DEPLOYSIM_SOURCE_DIR) + "/models/");
+  while (profile.size() < 1000000) profile += "#" + std::string(99, 'p') + "\n";
+  const std::string base = Write("base.yaml", profile);
+  const std::string path =
+      Write("s.yaml", "name: s\nbase: " + base +
+                          "\ngrid:\n  - {parameter: law, values: [minimum-jerk, step]}\n");
+  try {
+    (void)LoadSweep(path);
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("s.yaml: case 1 {law=step}: "), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(ReadSweep(path).base.text.size(), profile.size());
 }
 
 // A FIFO as base: refused at once (opening it to probe would block).

@@ -222,6 +222,7 @@ class GuardHandler : public YAML::EventHandler {
     last_start_ = mark;
     ++documents_;
     root_ = Size{};
+    anchors_.clear();  // yaml-cpp numbers the anchors of each document from 1
   }
   void OnDocumentEnd() override {}
 
@@ -357,7 +358,7 @@ YAML::Node ParseOneDocument(const std::string& path, const std::string& text) {
   } catch (const ParseLimit& e) {
     throw std::invalid_argument(where(e.mark) + e.rule);
   } catch (const YAML::Exception& e) {
-    throw std::invalid_argument(where(e.mark) + "YAML syntax error: " + e.msg);
+    throw std::invalid_argument(where(e.mark) + "YAML syntax error: " + ShortValue(e.msg, 200));
   }
   if (guard.documents() > 1) {
     throw std::invalid_argument(path + ": " + std::to_string(guard.documents()) +
@@ -366,7 +367,7 @@ YAML::Node ParseOneDocument(const std::string& path, const std::string& text) {
   try {
     return YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    throw std::invalid_argument(where(e.mark) + "YAML syntax error: " + e.msg);
+    throw std::invalid_argument(where(e.mark) + "YAML syntax error: " + ShortValue(e.msg, 200));
   }
 }
 
@@ -455,6 +456,32 @@ std::string ShortValue(const std::string& value, std::size_t max_bytes) {
          std::to_string(value.size()) + " bytes)";
 }
 
+std::string ShortList(const std::vector<std::string>& names) {
+  constexpr std::size_t kMaxListed = 10;
+  std::string s;
+  for (std::size_t i = 0; i < names.size() && i < kMaxListed; ++i) {
+    s += (i ? ", " : "") + ShortValue(names[i]);
+  }
+  if (names.size() > kMaxListed) s += ", ... (" + std::to_string(names.size()) + " in all)";
+  return s;
+}
+
+std::string NameProblem(const std::string& name) {
+  if (name.empty()) return "must not be empty";
+  if (name.size() > kMaxNameBytes) {
+    return "a name has at most " + std::to_string(kMaxNameBytes) + " bytes (this one has " +
+           std::to_string(name.size()) + ")";
+  }
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const auto c = static_cast<unsigned char>(name[i]);
+    const bool nel = c == 0xC2 && i + 1 < name.size() && name[i + 1] == '\x85';
+    if (c < 0x20 || c == 0x7F || nel) {
+      return "a name must not contain control characters (tab, line breaks)";
+    }
+  }
+  return "";
+}
+
 std::string Render(const YamlNode& value) {
   std::string s;
   RenderInto(Y(value), 0, s);
@@ -503,7 +530,7 @@ void YamlDocument::Fail(const std::string& key, const std::string& rule) const {
 }
 
 std::string JoinKey(const std::string& parent, const std::string& key) {
-  const std::string shown = key.size() > kMaxShownBytes ? ShortValue(key) : key;
+  const std::string shown = ShortValue(key);  // keys from files may be long or hold a '\n'
   return parent.empty() ? shown : parent + "." + shown;
 }
 
@@ -648,11 +675,7 @@ std::string Fields::Text(const std::string& key) const {
 
 std::string Fields::Name(const std::string& key) const {
   std::string name = Text(key);
-  if (name.empty()) Fail(key, "must not be empty");
-  if (name.size() > kMaxNameBytes) {
-    Fail(key, "a name has at most " + std::to_string(kMaxNameBytes) + " bytes (this one has " +
-                  std::to_string(name.size()) + ")");
-  }
+  if (const std::string problem = NameProblem(name); !problem.empty()) Fail(key, problem);
   return name;
 }
 

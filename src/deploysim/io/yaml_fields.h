@@ -85,6 +85,15 @@ std::string ReadTextFile(const std::string& path);
 /// then "... (N bytes)"), newlines and other control characters shown as escapes.
 std::string ShortValue(const std::string& value, std::size_t max_bytes = kMaxShownBytes);
 
+/// Names for a message: "a, b, c", each as ShortValue, at most 10 of them, then
+/// ", ... (N in all)".
+std::string ShortList(const std::vector<std::string>& names);
+
+/// "" if `name` may be a name (of a model, profile, sweep, configuration, panel or stage),
+/// else the rule it breaks: 1 to kMaxNameBytes bytes, no control characters (tab, line
+/// breaks).
+std::string NameProblem(const std::string& name);
+
 /// A node as written, for messages (flow style, at most ~80 characters; long scalars as
 /// ShortValue). The work is bounded whatever the node (nested aliases included).
 std::string Render(const YamlNode& node);
@@ -173,7 +182,7 @@ class Fields {
   double Number(const std::string& key) const;
   std::optional<double> OptionalNumber(const std::string& key) const;
   std::string Text(const std::string& key) const;
-  /// A name: a string of 1 to kMaxNameBytes bytes.
+  /// A name: a string that passes NameProblem.
   std::string Name(const std::string& key) const;
   std::optional<std::string> OptionalText(const std::string& key) const;
   std::optional<bool> OptionalBool(const std::string& key) const;

@@ -83,7 +83,7 @@ std::vector<model::Panel> ReadPanels(const Fields& top) {
 model::Configuration ReadTensorConfiguration(const YamlDocument& doc,
                                              const std::string& name,
                                              const YamlNode& node) {
-  const Fields f(doc, node, "configurations." + name, {"principal_moments", "tensor"});
+  const Fields f(doc, node, yaml::JoinKey("configurations", name), {"principal_moments", "tensor"});
   f.RequireExactlyOne("principal_moments", "tensor");
   model::Configuration c;
   c.name = name;
@@ -103,7 +103,7 @@ model::Configuration ReadHingedConfiguration(const YamlDocument& doc,
                                              const std::string& name,
                                              const YamlNode& node,
                                              std::size_t panels) {
-  const Fields f(doc, node, "configurations." + name, {"hinge_angles_deg"});
+  const Fields f(doc, node, yaml::JoinKey("configurations", name), {"hinge_angles_deg"});
   const YamlNode& angles = f.Get("hinge_angles_deg");
   const Eigen::VectorXd deg = yaml::ReadNumbers(doc, angles, f.Key("hinge_angles_deg"), -1);
   if (static_cast<std::size_t>(deg.size()) != panels) {
@@ -147,10 +147,8 @@ model::Model LoadModel(const std::string& path) {
   const auto entries = yaml::MappingEntries(doc, top.Get("configurations"), "configurations");
   if (entries.empty()) top.Fail("configurations", "at least one configuration is required");
   for (const auto& [name, node] : entries) {
-    if (name.size() > yaml::kMaxNameBytes) {
-      doc.Fail(yaml::JoinKey("configurations", name),
-               "a configuration name has at most " + std::to_string(yaml::kMaxNameBytes) +
-                   " bytes (this one has " + std::to_string(name.size()) + ")");
+    if (const std::string problem = yaml::NameProblem(name); !problem.empty()) {
+      doc.Fail(yaml::JoinKey("configurations", name), "configuration name: " + problem);
     }
     m.configurations.push_back(
         m.kind == model::ModelKind::kTensors

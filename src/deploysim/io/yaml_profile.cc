@@ -87,7 +87,21 @@ schedule::InitialState ReadInitial(const Fields& top) {
   return init;
 }
 
-std::vector<schedule::Stage> ReadStages(const Fields& top) {
+/// Refuses a `hold` / `to` that names no configuration of the model, with a bounded
+/// message (schedule::ValidateProfile would list every configuration).
+void RequireConfiguration(const Fields& f, const std::string& key, const model::Model& m) {
+  const std::string name = f.Text(key);
+  std::vector<std::string> names;
+  for (const model::Configuration& c : m.configurations) {
+    if (c.name == name) return;
+    names.push_back(c.name);
+  }
+  f.doc().Fail(f.Key(key) + " = '" + yaml::ShortValue(name) + "'",
+               "no configuration of that name in model '" + yaml::ShortValue(m.name) +
+                   "' (valid: " + yaml::ShortList(names) + ")");
+}
+
+std::vector<schedule::Stage> ReadStages(const Fields& top, const model::Model& m) {
   const std::vector<YamlNode> nodes =
       yaml::SequenceElements(top.doc(), top.Get("stages"), "stages", "stages");
   if (nodes.empty()) top.Fail("stages", "at least one stage is required");
@@ -105,6 +119,7 @@ std::vector<schedule::Stage> ReadStages(const Fields& top) {
     if (f.Has("hold")) {
       if (f.Has("law")) f.Fail("law", "a hold has no law (law is for `to` stages)");
       s.from = s.to = f.Name("hold");
+      RequireConfiguration(f, "hold", m);
       // The law of a hold is never used; keep the header's default.
     } else {
       if (i == 0) {
@@ -113,6 +128,7 @@ std::vector<schedule::Stage> ReadStages(const Fields& top) {
                "(start with a hold)");
       }
       s.to = f.Name("to");
+      RequireConfiguration(f, "to", m);
       s.from = stages.back().to;
       const std::string law = f.Text("law");
       const std::optional<schedule::Law> l = FindByName(kLaws, law);
@@ -121,7 +137,7 @@ std::vector<schedule::Stage> ReadStages(const Fields& top) {
     }
     if (f.Has("name")) {
       s.name = f.Text("name");
-      if (s.name.size() > yaml::kMaxNameBytes) (void)f.Name("name");  // the length rule
+      if (!s.name.empty()) (void)f.Name("name");  // the name rules (empty: allowed here)
     } else {
       s.name = (s.is_hold() ? "hold " : "to ") + s.to;
     }
@@ -181,7 +197,7 @@ schedule::Profile ReadProfile(const std::string& path) {
   p.mode = ReadMode(top, p.model);
   p.coupling = ReadCoupling(top, p.mode);
   p.initial = ReadInitial(top);
-  p.stages = ReadStages(top);
+  p.stages = ReadStages(top, p.model);
   p.integrator = ReadIntegrator(top);
   p.output = ReadOutput(top);
   schedule::ValidateProfile(p);

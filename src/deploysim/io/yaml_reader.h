@@ -10,6 +10,9 @@
 ///
 /// std::invalid_argument for bad content, std::runtime_error for files that cannot be
 /// read. Degrees in files (`..._deg`) become radians here; nothing downstream sees them.
+/// Every file passes the input limits of yaml_fields.h (regular files of at most 1 MiB,
+/// UTF-8 text, at most 100,000 nodes nested at most 32 deep with aliases expanded, names
+/// of at most 200 bytes); long values are cut in messages.
 ///
 /// Library deploysim::io_yaml: it depends on model and schedule only (not on the
 /// integrators, analysis or HDF5), so a program that only reads models and profiles links

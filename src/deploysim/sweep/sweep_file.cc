@@ -73,16 +73,8 @@ std::string ParameterNames() {
   return s;
 }
 
-/// Names for a message: each as io::yaml::ShortValue, at most 10 of them.
-std::string JoinNames(const std::vector<std::string>& v) {
-  constexpr std::size_t kMaxShown = 10;
-  std::string s;
-  for (std::size_t i = 0; i < v.size() && i < kMaxShown; ++i) {
-    s += (s.empty() ? "" : ", ") + io::yaml::ShortValue(v[i]);
-  }
-  if (v.size() > kMaxShown) s += ", ... (" + std::to_string(v.size()) + " in all)";
-  return s;
-}
+/// Names for a message (bounded: io::yaml::ShortList).
+std::string JoinNames(const std::vector<std::string>& v) { return io::yaml::ShortList(v); }
 
 /// A name from an input file, for a message.
 std::string Short(const std::string& s) { return io::yaml::ShortValue(s); }
@@ -411,16 +403,33 @@ void ReadIntegrator(const Fields& top, schedule::Profile& base) {
 }  // namespace
 
 void ValidateCases(const SweepSpec& spec) {
+  // The cases are built from a copy without the texts and descriptions, which no check
+  // reads: each may have up to 1 MiB (io::yaml::kMaxFileBytes), and every case copies its
+  // base profile.
+  SweepSpec light = spec;
+  light.text.clear();
+  light.description.clear();
+  light.model_text.clear();
+  light.base.text.clear();
+  light.base.description.clear();
+  light.base.model.text.clear();
+  light.base.model.description.clear();
   // Every case once, on all hardware threads (building a case costs ~5% of running it);
   // the error reported is that of the lowest failing case, as a serial loop would
   // (ParallelFor's rule).
   ParallelOptions parallel;
   parallel.chunk = 64;
   ParallelFor(
-      spec.case_count(), [&spec](std::size_t i) { (void)BuildCase(spec, i); }, parallel);
+      light.case_count(), [&light](std::size_t i) { (void)BuildCase(light, i); }, parallel);
 }
 
 SweepSpec LoadSweep(const std::string& path) {
+  SweepSpec spec = ReadSweep(path);
+  ValidateCases(spec);
+  return spec;
+}
+
+SweepSpec ReadSweep(const std::string& path) {
   const YamlDocument doc(path, io::yaml::ReadTextFile(path));
   const Fields top(doc, doc.root(), "",
                    {"name", "description", "base", "integrator", "grid", "monte_carlo", "outcome"});
@@ -504,7 +513,6 @@ SweepSpec LoadSweep(const std::string& path) {
     }
   }
   spec.base_spin_axis_B = BaseSpinAxis(spec.base);
-  ValidateCases(spec);
   return spec;
 }
 

@@ -22,11 +22,20 @@ namespace deploysim::sweep {
 /// starts cannot fail on bad input half-way. SweepSpec::source = path.
 SweepSpec LoadSweep(const std::string& path);
 
+/// LoadSweep without ValidateCases: the file and its base profile are read and checked,
+/// the cases are not built (that takes time proportional to the number of cases, up to
+/// kMaxCases). For tools that check many files quickly (the fuzz targets); a sweep that
+/// is to be run is loaded with LoadSweep.
+SweepSpec ReadSweep(const std::string& path);
+
 /// Builds every case once (BuildCase) and throws the first case's error. LoadSweep calls
 /// it; specs made in code can call it too.
 void ValidateCases(const SweepSpec& spec);
 
-/// Largest number of cases a sweep may have.
+/// Largest number of cases a sweep may have. An axis that takes the product of the axes
+/// before it past this is refused before its values are made; Monte Carlo samples are at
+/// most 1e6 and are never materialised. (The file itself passes io/yaml_fields.h's input
+/// limits: a regular file of at most 1 MiB, 100,000 nodes.)
 inline constexpr double kMaxCases = 1e8;
 
 }  // namespace deploysim::sweep
