@@ -41,7 +41,9 @@ void CopyYamlFiles(const fs::path& from, const fs::path& to) {
 // The exception's text for a report: first 300 bytes, newlines shown as \n.
 std::string Excerpt(const std::string& message) {
   std::string out;
-  for (char c : message.substr(0, 300)) out += c == '\n' ? std::string("\\n") : std::string(1, c);
+  for (char c : message.substr(0, 300)) {
+    out += c == '\n' ? std::string("<LF>") : c == '\r' ? std::string("<CR>") : std::string(1, c);
+  }
   if (message.size() > 300) out += "... (" + std::to_string(message.size()) + " bytes)";
   return out;
 }
@@ -49,7 +51,7 @@ std::string Excerpt(const std::string& message) {
 void CheckMessage(const std::exception& e) {
   const std::string message = e.what();
   if (message.empty()) Fail(std::string("empty message from ") + typeid(e).name());
-  if (message.find('\n') != std::string::npos) {
+  if (message.find_first_of("\n\r") != std::string::npos) {
     Fail("error message of several lines: " + Excerpt(message));
   }
   if (message.size() > kMaxMessageBytes) {

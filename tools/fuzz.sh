@@ -31,7 +31,7 @@ timeout_s=1
 memory_mb=256
 max_len=65536
 
-usage() { sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 
 jobs=2
 keep_going=0
@@ -42,6 +42,7 @@ targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     -j) jobs=$2; shift 2 ;;
+    -j[0-9]*) jobs=${1#-j}; shift ;;
     --keep-going) keep_going=1; shift ;;
     --build) mode=build; shift ;;
     --replay)
@@ -164,6 +165,7 @@ done
 wait
 
 # --- report --------------------------------------------------------------------------------
+set +o pipefail  # a statistic missing from a log is shown as '?'
 total_findings=0
 printf '%-8s %12s %8s %7s %7s %7s %8s %9s  %s\n' target executions exec/s cov ft corpus \
        rss_MB findings status
@@ -184,7 +186,7 @@ for t in "${targets[@]}"; do
   if [ "$keep_going" = 1 ] || [ -z "$rate" ]; then
     # Fork mode prints no final stats of the children: the last status line has them.
     execs=$(echo "$last" | sed -E 's/^#([0-9]+).*/\1/')
-    rate=$(echo "$last" | grep -oE 'exec/s: [0-9]+' | awk '{print $2}')
+    rate=$(echo "$last" | grep -oE 'exec/s:? [0-9]+' | awk '{print $2}')
   fi
   st=ok
   if [ "$findings" -gt 0 ] || [ "$rc" != 0 ]; then
