@@ -103,16 +103,19 @@ if [ "$mode" = replay ]; then
   failed=0
   for t in "${targets[@]}"; do
     log=$build/logs/replay_$t.log
-    if "$build/fuzz/fuzz_$t" "${limits[@]}" -runs=1 "${files[@]}" </dev/null >"$log" 2>&1; then
+    # libFuzzer prints a heap profile before it reports an out-of-memory input, which takes
+    # minutes for millions of small blocks (the yaml-cpp ',' loop): a hard limit of 30 s a file.
+    if timeout -k 5 $((30 * ${#files[@]})) "$build/fuzz/fuzz_$t" "${limits[@]}" -runs=1 \
+         "${files[@]}" </dev/null >"$log" 2>&1; then
       echo "  $t: ${#files[@]} files ok"
       continue
     fi
     # One run stops at the first failure: find every failing file.
     for f in "${files[@]}"; do
-      if ! "$build/fuzz/fuzz_$t" "${limits[@]}" -runs=1 "$f" </dev/null \
+      if ! timeout -k 5 30 "$build/fuzz/fuzz_$t" "${limits[@]}" -runs=1 "$f" </dev/null \
            >"$build/logs/replay_one.log" 2>&1; then
         what=$(grep -m1 -E 'ERROR: libFuzzer|ERROR: AddressSanitizer|runtime error|deploysim fuzz:|ERROR: LeakSanitizer' \
-               "$build/logs/replay_one.log" || echo "exit status non-zero")
+               "$build/logs/replay_one.log" || echo "killed after 30 s or exit status non-zero")
         echo "  $t: FAIL $f: $what"
         failed=1
       fi
