@@ -12,6 +12,7 @@ packages=(
   libsimbody-dev libcli11-dev libfmt-dev
   python3-matplotlib python3-h5py python3-numpy python3-mpmath
   libopenmpi-dev openmpi-bin        # optional MPI sweeps (cmake -DDEPLOYSIM_WITH_MPI=ON)
+  clang libfuzzer-14-dev            # fuzz targets (tools/fuzz.sh, cmake -DDEPLOYSIM_FUZZ=ON)
 )
 
 missing=()
