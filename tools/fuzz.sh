@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzes deploysim's YAML entry points with libFuzzer under ASan+UBSan (fuzz/README.md):
-# fuzz_model (io::LoadModel), fuzz_profile (io::LoadProfile), fuzz_sweep (sweep::LoadSweep).
+# fuzz_model (io::LoadModel), fuzz_profile (io::LoadProfile), fuzz_sweep (sweep::ReadSweep, then
+# ValidateCases for sweeps of at most 64 cases: LoadSweep with its time bounded).
 #
 # Usage:
 #   tools/fuzz.sh [options] SECONDS [TARGET...]   build, seed, fuzz each target SECONDS s
@@ -180,7 +181,7 @@ for t in "${targets[@]}"; do
              ! -name 'slow-unit-*' | wc -l)
   execs=$(grep -oE 'stat::number_of_executed_units: [0-9]+' "$log" | awk '{s += $2} END {print s + 0}')
   rate=$(grep -oE 'stat::average_exec_per_sec: [0-9]+' "$log" | tail -1 | awk '{print $2}')
-  rss=$(grep -oE 'stat::peak_rss_mb: [0-9]+' "$log" | tail -1 | awk '{print $2}')
+  rss=$(grep -oE 'stat::peak_rss_mb: +[0-9]+' "$log" | tail -1 | awk '{print $2}')
   # The last status line: "#N ... cov: C ft: F corp: K/..."
   last=$(grep -E '^#[0-9]+' "$log" | tail -1)
   cov=$(echo "$last" | grep -oE 'cov: [0-9]+' | awk '{print $2}')
