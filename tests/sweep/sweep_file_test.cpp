@@ -360,8 +360,9 @@ INSTANTIATE_TEST_SUITE_P(
 
 // A base profile with many long stage names: the list of names in the message is cut.
 TEST_F(SweepDirTest, ManyStageNamesAreCutInMessages) {
-  std::string profile = "name: p\nmodel: " + std::string(DEPLOYSIM_SOURCE_DIR) +
-                        "/models/wing_nut.yaml\ninitial: {angular_momentum: [0, 2.1252e-5, 0]}\nstages:\n";
+  std::string profile =
+      "name: p\nmodel: " + std::string(DEPLOYSIM_SOURCE_DIR) +
+      "/models/wing_nut.yaml\ninitial: {angular_momentum: [0, 2.1252e-5, 0]}\nstages:\n";
   for (int i = 1; i <= 500; ++i) {
     profile += "  - {name: " + std::string(190, 'q') + std::to_string(i) +
                ", hold: default, until: " + std::to_string(i) + "}\n";
