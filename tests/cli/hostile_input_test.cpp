@@ -15,6 +15,7 @@
 #include <fstream>
 #include <string>
 
+#include "sanitizer_support.h"
 #include "temp_dir_test.h"
 
 namespace deploysim {
@@ -29,11 +30,11 @@ struct CliRun {
 
 class HostileInputTest : public testing::TempDirTest {
  protected:
-  /// Runs `deploysim ARGS [< stdin_from]` under `ulimit -v` (2 GiB) and `timeout` (a
-  /// safety net that turns a hang into a failure: exit 124), capturing stderr.
+  /// Runs `deploysim ARGS [< stdin_from]` with its memory bounded to 2 GiB (MemoryLimitPrefix) and
+  /// `timeout` (a safety net that turns a hang into a failure: exit 124), capturing stderr.
   CliRun Run(const std::string& args, const std::string& stdin_from = "/dev/null") const {
     const std::string err = Path("stderr.txt");
-    const std::string cmd = "ulimit -v 2097152; timeout -s KILL 120 '" +
+    const std::string cmd = deploysim::testing::MemoryLimitPrefix(2048) + "timeout -s KILL 120 '" +
                             std::string(DEPLOYSIM_CLI) + "' " + args + " <'" + stdin_from +
                             "' 2>'" + err + "' >/dev/null";
     const int status = std::system(cmd.c_str());

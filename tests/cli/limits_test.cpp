@@ -11,6 +11,7 @@
 #include <fstream>
 #include <string>
 
+#include "sanitizer_support.h"
 #include "temp_dir_test.h"
 
 namespace deploysim {
@@ -195,6 +196,9 @@ TEST_F(LimitsTest, OptionErrorsAreOneLine) {
 // journal stays consistent and --resume finishes the sweep.
 TEST_F(LimitsTest, ThreadsThatCannotStartAreAnErrorAndResumeWorks) {
   if (!Has("sweep")) GTEST_SKIP() << "built without the sweep";
+  if (deploysim::testing::kAddressSanitizer) {
+    GTEST_SKIP() << "needs ulimit -v, under which AddressSanitizer cannot start";
+  }
   const std::string sweep =
       "'" + kSrc + "/sweeps/smallsat_duration_spin.yaml' -q -o '" + Path("map.h5") + "'";
   // 256 threads of 8 MiB stacks need 2 GiB of address space: more than the 1 GiB allowed.
