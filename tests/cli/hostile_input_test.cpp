@@ -15,6 +15,7 @@
 #include <fstream>
 #include <string>
 
+#include "cli_run.h"
 #include "sanitizer_support.h"
 #include "temp_dir_test.h"
 
@@ -23,26 +24,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string err;
-};
+using testing::CliRun;
 
 class HostileInputTest : public testing::TempDirTest {
  protected:
   /// Runs `deploysim ARGS [< stdin_from]` with its memory bounded to 2 GiB (MemoryLimitPrefix) and
   /// `timeout` (a safety net that turns a hang into a failure: exit 124), capturing stderr.
   CliRun Run(const std::string& args, const std::string& stdin_from = "/dev/null") const {
-    const std::string err = Path("stderr.txt");
-    const std::string cmd = deploysim::testing::MemoryLimitPrefix(2048) + "timeout -s KILL 120 '" +
-                            std::string(DEPLOYSIM_CLI) + "' " + args + " <'" + stdin_from +
-                            "' 2>'" + err + "' >/dev/null";
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream f(err);
-    r.err.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-    return r;
+    return testing::RunCliInShell(testing::MemoryLimitPrefix(2048) + "timeout -s KILL 120 ", args,
+                                  Path("stderr.txt"), stdin_from);
   }
 
   /// `simulate FILE -o out.h5`: refused with one short line containing `part`.

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <string>
 
+#include "cli_run.h"
 #include "sanitizer_support.h"
 #include "temp_dir_test.h"
 
@@ -22,24 +23,13 @@ namespace fs = std::filesystem;
 const std::string kSrc = DEPLOYSIM_SOURCE_DIR;
 constexpr int kTimeoutExit = 124;  // timeout(1) when the limit is hit
 
-struct CliRun {
-  int exit_code = -1;
-  std::string err;
-};
+using testing::CliRun;
 
 class LimitsTest : public testing::TempDirTest {
  protected:
-  // Runs `prefix deploysim args` under timeout 60 in a shell; prefix may set ulimits.
+  // Runs `prefix deploysim args` under timeout 30 in a shell; prefix may set ulimits.
   CliRun Run(const std::string& args, const std::string& prefix = "") const {
-    const std::string err = Path("stderr.txt");
-    const std::string cmd =
-        prefix + "timeout 30 '" + DEPLOYSIM_CLI + "' " + args + " >/dev/null 2>'" + err + "'";
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream f(err);
-    r.err.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-    return r;
+    return testing::RunCliInShell(prefix + "timeout 30 ", args, Path("stderr.txt"));
   }
 
   // A wing-nut profile (tensors model) with the given stage end, method, output dt and
