@@ -26,15 +26,26 @@ struct Hub {
   math::Vec3 com_B = math::Vec3::Zero();  ///< [m] CoM of the hub in B.
 };
 
-/// A panel on a revolute hinge fixed in the hub (DESIGN.md 2.5, panel k).
-/// At hinge angle theta the panel's orientation in B is Rot(a_k, theta) (its theta = 0
-/// orientation), and its CoM is at p_k + Rot(a_k, theta) r_k.
+/// A panel on a revolute hinge (DESIGN.md 2.5, 2.7). Panels form a tree: a panel's
+/// parent is the hub or another panel (multi-segment arrays fold panel on panel).
+/// The hinge point p_k and axis a_k are fixed in the parent's frame; at hinge angle 0 a
+/// panel's axes equal its parent's, so with every hinge angle 0 all axes are B's and every
+/// vector below is given in B axes. In B, R_Bk = R_B,parent(k) Rot(a_k, theta_k); the hinge
+/// point is o_parent + R_B,parent p_k, where o_parent is the parent's origin: B's origin for
+/// the hub (not its CoM), the parent's own hinge point for a panel; the CoM is
+/// hinge_k + R_Bk r_k. For a child of the hub (parent = -1) this is the single-level
+/// model: hinge point p_k in B, orientation Rot(a_k, theta_k), CoM p_k + Rot(a_k, theta_k) r_k.
 struct Panel {
   std::string name;
-  MassElement body;                               ///< inertia_cm at theta = 0, B axes.
-  math::Vec3 hinge_point_B = math::Vec3::Zero();  ///< p_k [m].
-  math::Vec3 hinge_axis_B = math::Vec3::UnitX();  ///< a_k, unit.
-  math::Vec3 com_offset_B = math::Vec3::Zero();   ///< r_k [m], CoM - hinge point at theta = 0.
+  MassElement body;  ///< inertia_cm in the panel's axes (B's axes when every angle is 0).
+  /// Index of the parent panel in HingedBody::panels, or -1 for the hub. The parents must
+  /// form a tree (no cycle; ValidatedHingedBody checks it); they may come in any order.
+  int parent = -1;
+  /// p_k [m]: from the parent's origin (see above), in the parent's axes.
+  math::Vec3 hinge_point_B = math::Vec3::Zero();
+  math::Vec3 hinge_axis_B = math::Vec3::UnitX();  ///< a_k, unit, in the parent's axes.
+  /// r_k [m], CoM - hinge point at theta_k = 0, in the panel's (= the parent's) axes.
+  math::Vec3 com_offset_B = math::Vec3::Zero();
 };
 
 struct HingedBody {

@@ -10,6 +10,7 @@
 
 #include "deploysim/math/types.h"
 #include "deploysim/model/model.h"
+#include "deploysim/schedule/hinge_plan.h"
 #include "deploysim/schedule/laws.h"
 
 namespace deploysim::schedule {
@@ -49,6 +50,9 @@ struct InitialState {
   /// total angular momentum H_B [kg m^2/s] at t = t_begin of the first stage.
   std::optional<math::Vec3> w_NB_B;
   std::optional<math::Vec3> H_B;
+  /// `hinges:` profiles: the model configuration giving the hinge angles at t0 (required
+  /// there; empty in stage profiles, whose first stage names it).
+  std::string configuration;
 };
 
 struct IntegratorSpec {
@@ -64,6 +68,13 @@ struct OutputSpec {
   bool csv = false;  ///< Also write a CSV next to the HDF5 file.
 };
 
+/// A profile is one of two kinds:
+///  - a stage profile (`stages:`): every panel follows the stages' configurations
+///    together (DESIGN.md 2.6); `hinges` is empty;
+///  - a hinge profile (`hinges:`, issue 9): each panel has its own HingePlan (locked,
+///    prescribed on its own windows, or free), the run goes from `start` to `until`,
+///    mode is geometry and coupling exact; `stages` is empty (the stage table of a run is
+///    made of the phases between the run's events, analysis/mission.h).
 struct Profile {
   std::string name;
   std::string description;
@@ -73,11 +84,16 @@ struct Profile {
   Mode mode = Mode::kTensor;
   Coupling coupling = Coupling::kQuasiRigid;
   InitialState initial;
-  std::vector<Stage> stages;  ///< Contiguous, increasing times.
+  std::vector<Stage> stages;  ///< Contiguous, increasing times (stage profiles only).
+  /// Hinge profiles only: one plan per panel, in the model's panel order.
+  std::vector<HingePlan> hinges;
+  double start = 0.0;  ///< [s] hinge profiles: start time.
+  double until = 0.0;  ///< [s] hinge profiles: end time (> start).
   IntegratorSpec integrator;
   OutputSpec output;
-  double t_begin() const { return stages.front().t_begin; }
-  double t_end() const { return stages.back().t_end; }
+  bool is_hinge_profile() const { return !hinges.empty(); }
+  double t_begin() const { return is_hinge_profile() ? start : stages.front().t_begin; }
+  double t_end() const { return is_hinge_profile() ? until : stages.back().t_end; }
 };
 
 /// Shortest stage allowed, as a fraction of the profile's time scale

@@ -1,0 +1,21 @@
+#include "deploysim/analysis/hinge_events.h"
+
+namespace deploysim::analysis {
+
+std::string ToString(HingeEvent::Kind kind) {
+  switch (kind) {
+    case HingeEvent::Kind::kRelease:
+      return "release";
+    case HingeEvent::Kind::kLatch:
+      return "latch";
+    case HingeEvent::Kind::kJam:
+      return "jam";
+    case HingeEvent::Kind::kStop:
+      return "stop";
+    case HingeEvent::Kind::kRest:
+      return "rest";
+  }
+  return "unknown";
+}
+
+}  // namespace deploysim::analysis

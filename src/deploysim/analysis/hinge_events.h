@@ -1,0 +1,40 @@
+#pragma once
+
+/// Events that change a free-hinge system (issue 9, DESIGN.md 2.7): releases, latches,
+/// stop impacts, a panel coming to rest on a stop, a jam. Each is located on the dense
+/// output, applied as an impulse on the hinge's conjugate momentum p_k (H_B and every
+/// other p_j unchanged) and reported with what a mission analyst needs: the impulse, the
+/// hub's angular-velocity jump (the latch shock) and the energy dissipated.
+
+#include <string>
+#include <vector>
+
+#include "deploysim/math/types.h"
+
+namespace deploysim::analysis {
+
+struct HingeEvent {
+  enum class Kind {
+    kRelease,  ///< The hinge starts to move (no impulse).
+    kLatch,    ///< Plastic impulse at the latch angle, then locked.
+    kJam,      ///< Plastic impulse part-way (failure mode, schedule::Latch), then locked.
+    kStop,     ///< Impact on a hard stop with restitution: theta'+ = -e theta'-.
+    kRest,     ///< Came to rest on a stop (rebound slower than schedule::kRestSpeed): locked.
+  };
+  Kind kind = Kind::kRelease;
+  double t = 0.0;            ///< [s]
+  int panel = 0;             ///< Panel (hinge) index in the model.
+  double angle = 0.0;        ///< [rad] hinge angle at the event.
+  double rate_before = 0.0;  ///< [rad/s] theta'_k just before.
+  double rate_after = 0.0;   ///< [rad/s] just after.
+  /// [N m s] the jump lambda of p_k: the angular impulse of the torque pair at the hinge.
+  double impulse = 0.0;
+  math::Vec3 w_jump_B = math::Vec3::Zero();  ///< [rad/s] hub w_NB_B+ - w_NB_B-.
+  /// [J] kinetic energy lost: (M^-1)_kk lambda^2 / 2 (DESIGN.md 2.7); 0 for a release.
+  double energy_dissipated = 0.0;
+};
+
+/// "release", "latch", "jam", "stop", "rest".
+std::string ToString(HingeEvent::Kind kind);
+
+}  // namespace deploysim::analysis
