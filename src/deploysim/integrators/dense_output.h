@@ -32,13 +32,10 @@ inline DenseKind ChooseDenseKind(const ButcherTableau& tableau) {
 
 constexpr int kMaxRkStages = 16;
 
-template <int N>
-VecN<N> HermiteCubic(double th,
-                     double h,
-                     const VecN<N>& y0,
-                     const VecN<N>& f0,
-                     const VecN<N>& y1,
-                     const VecN<N>& f1) {
+/// The interpolants for any Eigen column-vector type V (fixed or dynamic size); the
+/// VecN<N> forms below forward to them.
+template <class V>
+V HermiteCubicV(double th, double h, const V& y0, const V& f0, const V& y1, const V& f1) {
   const double th2 = th * th;
   const double th3 = th2 * th;
   const double h00 = 2.0 * th3 - 3.0 * th2 + 1.0;
@@ -54,10 +51,9 @@ constexpr int kMaxHermiteNodes = 6;
 /// x_{n-1} = 1) with values y_j and derivatives f_j (d/dt; times h for d/dtheta):
 /// degree 2n - 1, error O(h^{2n}) (local). Basis with the Lagrange polynomials L_j:
 /// H_j = (1 - 2 L_j'(x_j)(x - x_j)) L_j^2, K_j = (x - x_j) L_j^2.
-template <int N>
-VecN<N> HermiteNodes(
-    double th, double h, int n, const double* x, const VecN<N>* y, const VecN<N>* f) {
-  VecN<N> out = VecN<N>::Zero();
+template <class V>
+V HermiteNodesV(double th, double h, int n, const double* x, const V* y, const V* f) {
+  V out = V::Zero(y[0].size());
   for (int j = 0; j < n; ++j) {
     double L = 1.0;
     double dL = 0.0;  // L_j'(x_j)
@@ -73,12 +69,8 @@ VecN<N> HermiteNodes(
   return out;
 }
 
-template <int N>
-VecN<N> DopriDense(double th,
-                   double h,
-                   const VecN<N>& y0,
-                   const VecN<N>& y1,
-                   const std::array<VecN<N>, kMaxRkStages>& k) {
+template <class V>
+V DopriDenseV(double th, double h, const V& y0, const V& y1, const std::array<V, kMaxRkStages>& k) {
   // Hairer's DOPRI5 (dopri5.f, CONTD5): the fifth-order solution's dense output.
   constexpr double d1 = -12715105075.0 / 11282082432.0;
   constexpr double d3 = 87487479700.0 / 32700410799.0;
@@ -86,12 +78,37 @@ VecN<N> DopriDense(double th,
   constexpr double d5 = 701980252875.0 / 199316789632.0;
   constexpr double d6 = -1453857185.0 / 822651844.0;
   constexpr double d7 = 69997945.0 / 29380423.0;
-  const VecN<N> ydiff = y1 - y0;
-  const VecN<N> bspl = h * k[0] - ydiff;
-  const VecN<N> r4 = ydiff - h * k[6] - bspl;
-  const VecN<N> r5 = h * (d1 * k[0] + d3 * k[2] + d4 * k[3] + d5 * k[4] + d6 * k[5] + d7 * k[6]);
+  const V ydiff = y1 - y0;
+  const V bspl = h * k[0] - ydiff;
+  const V r4 = ydiff - h * k[6] - bspl;
+  const V r5 = h * (d1 * k[0] + d3 * k[2] + d4 * k[3] + d5 * k[4] + d6 * k[5] + d7 * k[6]);
   const double th1 = 1.0 - th;
   return y0 + th * (ydiff + th1 * (bspl + th * (r4 + th1 * r5)));
+}
+
+template <int N>
+VecN<N> HermiteCubic(double th,
+                     double h,
+                     const VecN<N>& y0,
+                     const VecN<N>& f0,
+                     const VecN<N>& y1,
+                     const VecN<N>& f1) {
+  return HermiteCubicV<VecN<N>>(th, h, y0, f0, y1, f1);
+}
+
+template <int N>
+VecN<N> HermiteNodes(
+    double th, double h, int n, const double* x, const VecN<N>* y, const VecN<N>* f) {
+  return HermiteNodesV<VecN<N>>(th, h, n, x, y, f);
+}
+
+template <int N>
+VecN<N> DopriDense(double th,
+                   double h,
+                   const VecN<N>& y0,
+                   const VecN<N>& y1,
+                   const std::array<VecN<N>, kMaxRkStages>& k) {
+  return DopriDenseV<VecN<N>>(th, h, y0, y1, k);
 }
 
 }  // namespace deploysim::integrators

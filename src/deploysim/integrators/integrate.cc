@@ -1,7 +1,6 @@
 #include "deploysim/integrators/integrate.h"
 
 #include <algorithm>
-#include <boost/math/tools/toms748_solve.hpp>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -9,25 +8,17 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "deploysim/integrators/driver_support.h"
 #include "deploysim/math/quaternion.h"
 
 namespace deploysim::integrators {
 
 namespace {
 
-// Step-size controller constants (Hairer, Norsett, Wanner I, sec. II.4).
-constexpr double kSafety = 0.9;
-constexpr double kMinShrink = 0.2;
-constexpr double kMaxGrow = 5.0;
-// Fraction of the step to which an event is located.
-constexpr double kEventRelTolerance = 1e-13;
-// Half-width, as a fraction of the step, of the bracket around the root on the
-// continuous extension in which an event is finished on exact partial steps (the
-// interpolants are accurate to far better than this, dense_output.h).
-constexpr double kEventDenseBracket = 1e-6;
-constexpr std::uintmax_t kMaxEventIterations = 100;
-// Two times closer than this fraction of the segment length are the same time.
-constexpr double kTimeEps = 1e-14;
+using driver::kMaxGrow;
+using driver::kMinShrink;
+using driver::kSafety;
+using driver::kTimeEps;
 
 void Require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument(what);
@@ -66,42 +57,6 @@ void ValidateSettings(const StepperInfo& info, const IntegratorSettings& s) {
 
 bool Finite(const State& s) {
   return std::isfinite(s.t) && s.H_B.allFinite() && s.q_NB.coeffs().allFinite();
-}
-
-// The time of the sign change of fn.g over the step [y0, y1] (g0, g1 of opposite signs,
-// g1 != 0): bracketed on the continuous extension (no right-hand sides), then, unless
-// the stepper's dense output is exact, finished on exact partial steps inside a narrow
-// bracket around that root (so the located time has the accuracy of the steps, not of
-// the interpolant); if the narrow bracket holds no sign change, on the whole step.
-template <class Dense, class Exact>
-double LocateEvent(const EventFunction& fn,
-                   const State& y0,
-                   const State& y1,
-                   double g0,
-                   double g1,
-                   Dense&& dense_at,
-                   Exact&& exact_at,
-                   bool dense_is_exact) {
-  const double tol_t = kEventRelTolerance * (y1.t - y0.t);
-  auto term = [tol_t](double lo, double hi) { return hi - lo <= tol_t; };
-  auto solve = [&](auto&& g, double a, double b, double ga, double gb) {
-    std::uintmax_t iters = kMaxEventIterations;
-    const auto bracket = boost::math::tools::toms748_solve(g, a, b, ga, gb, term, iters);
-    return 0.5 * (bracket.first + bracket.second);
-  };
-  auto g_dense = [&](double t) { return fn.g(dense_at(y0, y1, t)); };
-  const double t_dense = solve(g_dense, y0.t, y1.t, g0, g1);
-  if (dense_is_exact) return t_dense;
-  auto g_exact = [&](double t) { return fn.g(exact_at(y0, y1, t)); };
-  const double delta = kEventDenseBracket * (y1.t - y0.t);
-  const double a = std::max(y0.t, t_dense - delta);
-  const double b = std::min(y1.t, t_dense + delta);
-  const double ga = a == y0.t ? g0 : g_exact(a);
-  const double gb = b == y1.t ? g1 : g_exact(b);
-  if (ga == 0.0) return a;
-  if (gb == 0.0) return b;
-  if ((ga < 0.0) != (gb < 0.0)) return solve(g_exact, a, b, ga, gb);
-  return solve(g_exact, y0.t, y1.t, g0, g1);
 }
 
 }  // namespace
@@ -332,8 +287,12 @@ IntegrationResult Integrate(const Stepper& stepper,
           if ((g0 < 0.0 && g1 >= 0.0) || (g0 > 0.0 && g1 <= 0.0)) {
             const EventFunction& fn = events[e];
             double t_ev = y1.t;
-            if (g1 != 0.0)
-              t_ev = LocateEvent(fn, y, y1, g0, g1, dense_at, exact_at, stepper.DenseIsExact(ws));
+            if (g1 != 0.0) {
+              const State& y0 = y;
+              t_ev = driver::LocateEvent(
+                  y0.t, y1.t, g0, g1, [&](double t) { return fn.g(dense_at(y0, y1, t)); },
+                  [&](double t) { return fn.g(exact_at(y0, y1, t)); }, stepper.DenseIsExact(ws));
+            }
             Event ev;
             ev.t = t_ev;
             ev.index = static_cast<int>(e);

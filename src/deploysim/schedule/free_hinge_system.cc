@@ -1,0 +1,249 @@
+#include "deploysim/schedule/free_hinge_system.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "deploysim/model/mass_properties.h"
+
+namespace deploysim::schedule {
+
+using math::Mat3;
+using math::Vec3;
+
+FreeHingeSystem::FreeHingeSystem(const model::HingedBody& body,
+                                 const std::vector<HingePlan>& plans,
+                                 const Eigen::VectorXd& initial_angles)
+    : body_(body), tree_(body), plans_(plans), angles_(initial_angles) {
+  const int n = tree_.size();
+  if (static_cast<int>(plans_.size()) != n || initial_angles.size() != n) {
+    throw std::invalid_argument("FreeHingeSystem: " + std::to_string(plans_.size()) +
+                                " hinge plans and " + std::to_string(initial_angles.size()) +
+                                " angles for " + std::to_string(n) +
+                                " panels (rule: one of each per panel)");
+  }
+  prescribed_.resize(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    const HingePlan& p = plans_[static_cast<std::size_t>(k)];
+    if (p.kind == HingePlan::Kind::kPrescribed) {
+      prescribed_[static_cast<std::size_t>(k)] = PrescribedHinge(p.moves, initial_angles[k]);
+    }
+  }
+  is_free_.assign(static_cast<std::size_t>(n), 0);
+  theta_.resize(n);
+  theta_dot_.resize(n);
+}
+
+bool FreeHingeSystem::IsFree(int k) const { return is_free_[static_cast<std::size_t>(k)] != 0; }
+
+void FreeHingeSystem::Lock(int k, double angle) {
+  if (plans_[static_cast<std::size_t>(k)].kind == HingePlan::Kind::kPrescribed) {
+    throw std::logic_error("FreeHingeSystem::Lock: hinge " + std::to_string(k) + " is prescribed");
+  }
+  angles_[k] = angle;
+  if (IsFree(k)) {
+    is_free_[static_cast<std::size_t>(k)] = 0;
+    for (std::size_t a = 0; a < free_.size(); ++a) {
+      if (free_[a] == k) {
+        free_.erase(free_.begin() + static_cast<std::ptrdiff_t>(a));
+        break;
+      }
+    }
+  }
+}
+
+void FreeHingeSystem::Free(int k) {
+  if (plans_[static_cast<std::size_t>(k)].kind != HingePlan::Kind::kFree || IsFree(k)) {
+    throw std::logic_error("FreeHingeSystem::Free: hinge " + std::to_string(k) +
+                           " is not a locked free hinge");
+  }
+  is_free_[static_cast<std::size_t>(k)] = 1;
+  free_.push_back(k);
+}
+
+void FreeHingeSystem::Setup(double t, const Eigen::VectorXd& x, dynamics::Side side) const {
+  const int n = tree_.size();
+  const int m = free_count();
+  moving_.clear();
+  for (int k = 0; k < n; ++k) {
+    theta_dot_[k] = 0.0;
+    const HingePlan& p = plans_[static_cast<std::size_t>(k)];
+    if (p.kind == HingePlan::Kind::kPrescribed) {
+      const HingeKinematics hk = prescribed_[static_cast<std::size_t>(k)].At(t, side);
+      theta_[k] = hk.angle;
+      theta_dot_[k] = hk.rate;
+      if (hk.rate != 0.0) moving_.push_back(k);
+    } else if (!IsFree(k)) {
+      theta_[k] = angles_[k];
+    }
+  }
+  for (int a = 0; a < m; ++a) theta_[free_[static_cast<std::size_t>(a)]] = x[a];
+  cols_.assign(free_.begin(), free_.end());
+  cols_.insert(cols_.end(), moving_.begin(), moving_.end());
+  model::ComputePose(body_, tree_, theta_, pose_);
+}
+
+void FreeHingeSystem::Solve(const Vec3& H_B, const Eigen::VectorXd& x) const {
+  const int m = free_count();
+  const int q = static_cast<int>(moving_.size());
+  model::ComputeMassMatrix(body_, tree_, pose_, cols_, M_);
+  const int u = 3 + m;
+  rhs_.resize(u);
+  rhs_.head<3>() = H_B;
+  if (m > 0) rhs_.tail(m) = x.segment(m, m);
+  if (q > 0) {
+    rates_.resize(q);
+    for (int b = 0; b < q; ++b) rates_[b] = theta_dot_[moving_[static_cast<std::size_t>(b)]];
+    rhs_.noalias() -= M_.block(0, u, u, q) * rates_;
+  }
+  A_ = M_.topLeftCorner(u, u);
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(A_);
+  if (llt.info() != Eigen::Success) {
+    throw std::runtime_error("FreeHingeSystem: the mass matrix is not positive definite");
+  }
+  sol_ = llt.solve(rhs_);
+  w_ = sol_.head<3>();
+  for (int a = 0; a < m; ++a) theta_dot_[free_[static_cast<std::size_t>(a)]] = sol_[3 + a];
+}
+
+void FreeHingeSystem::Evaluate(double t,
+                               const Vec3& H_B,
+                               const Eigen::VectorXd& x,
+                               dynamics::Side side,
+                               Vec3& w_NB_B,
+                               Eigen::VectorXd& x_dot) const {
+  const int m = free_count();
+  Setup(t, x, side);
+  Solve(H_B, x);
+  model::ComputeVelocity(body_, tree_, pose_, w_, theta_dot_, vel_);
+  model::KineticEnergyGradient(tree_, pose_, vel_, free_, grad_);
+  x_dot.resize(2 * m);
+  for (int a = 0; a < m; ++a) {
+    const int k = free_[static_cast<std::size_t>(a)];
+    const double rate = theta_dot_[k];
+    x_dot[a] = rate;
+    x_dot[m + a] = grad_[a] + DriveTorque(plans_[static_cast<std::size_t>(k)].drive, x[a], rate);
+  }
+  w_NB_B = w_;
+}
+
+std::vector<double> FreeHingeSystem::Breakpoints(double t0, double t1) const {
+  std::vector<double> out;
+  for (const PrescribedHinge& p : prescribed_) {
+    for (double b : p.Breakpoints(t0, t1)) out.push_back(b);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+dynamics::InertiaSample FreeHingeSystem::Evaluate(double t, dynamics::Side side) const {
+  if (!free_.empty()) {
+    throw std::logic_error("FreeHingeSystem: evaluated as an inertia source with free hinges");
+  }
+  Setup(t, Eigen::VectorXd(), side);
+  const model::MassProperties mp = model::ComputeMassProperties(body_, theta_, theta_dot_);
+  dynamics::InertiaSample s;
+  s.J_B = mp.J_B;
+  s.Jdot_B = mp.Jdot_B;
+  s.h_rel_B = mp.h_rel_B;
+  s.J_inv_B = mp.J_B.inverse();
+  s.relative_kinetic_energy = mp.relative_kinetic_energy;
+  return s;
+}
+
+bool FreeHingeSystem::IsRigidOn(double t0, double t1) const {
+  if (!free_.empty()) return false;
+  for (const PrescribedHinge& p : prescribed_) {
+    if (!p.IsAtRestOn(t0, t1)) return false;
+  }
+  return true;
+}
+
+FreeHingeSystem::Snapshot FreeHingeSystem::Snap(double t,
+                                                const Vec3& H_B,
+                                                const Eigen::VectorXd& x,
+                                                dynamics::Side side) const {
+  const int m = free_count();
+  Setup(t, x, side);
+  Solve(H_B, x);
+  Snapshot s;
+  s.w_NB_B = w_;
+  s.theta = theta_;
+  s.theta_dot = theta_dot_;
+  s.J_B = M_.block<3, 3>(0, 0);
+  Eigen::VectorXd rates(static_cast<Eigen::Index>(cols_.size()));
+  for (std::size_t b = 0; b < cols_.size(); ++b) {
+    rates[static_cast<Eigen::Index>(b)] = theta_dot_[cols_[b]];
+  }
+  s.h_rel_B = M_.block(0, 3, 3, rates.size()) * rates;
+  Eigen::VectorXd v(3 + rates.size());
+  v << w_, rates;
+  s.kinetic_energy = 0.5 * v.dot(M_ * v);
+  for (int a = 0; a < m; ++a) {
+    const int k = free_[static_cast<std::size_t>(a)];
+    const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
+    s.spring_energy += SpringEnergy(d, theta_[k]);
+    s.power += NonConservativeTorque(d, theta_dot_[k]) * theta_dot_[k];
+  }
+  return s;
+}
+
+Eigen::VectorXd FreeHingeSystem::ShapeState(double t,
+                                            const Vec3& H_B,
+                                            const Eigen::VectorXd& theta,
+                                            const Eigen::VectorXd& theta_dot,
+                                            dynamics::Side side) const {
+  const int m = free_count();
+  Eigen::VectorXd x(2 * m);
+  for (int a = 0; a < m; ++a) {
+    x[a] = theta[free_[static_cast<std::size_t>(a)]];
+    x[m + a] = 0.0;
+  }
+  Setup(t, x, side);
+  // Full velocity vector over (w, cols_): the free hinges' rates as given, the
+  // prescribed ones from their moves; w from H_B = J w + B theta'.
+  model::ComputeMassMatrix(body_, tree_, pose_, cols_, M_);
+  const int c = static_cast<int>(cols_.size());
+  Eigen::VectorXd rates(c);
+  for (int b = 0; b < c; ++b) {
+    const int k = cols_[static_cast<std::size_t>(b)];
+    rates[b] = IsFree(k) ? theta_dot[k] : theta_dot_[k];
+  }
+  const Mat3 J = M_.block<3, 3>(0, 0);
+  const Vec3 w = J.llt().solve(H_B - M_.block(0, 3, 3, c) * rates);
+  for (int a = 0; a < m; ++a) {
+    x[m + a] = (M_.block<1, 3>(3 + a, 0) * w)(0) + M_.row(3 + a).tail(c).dot(rates);
+  }
+  return x;
+}
+
+FreeHingeSystem::Impulse FreeHingeSystem::ApplyImpulse(
+    double t, const Vec3& H_B, Eigen::VectorXd& x, int a, double rate_after) const {
+  const int m = free_count();
+  Setup(t, x, dynamics::Side::kRight);
+  Solve(H_B, x);
+  const int u = 3 + m;
+  // Column a of the inverse of the unknowns' block: the response of (w, theta'_f) to a
+  // unit jump of p_a.
+  A_ = M_.topLeftCorner(u, u);
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(A_);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(u);
+  e[3 + a] = 1.0;
+  const Eigen::VectorXd col = llt.solve(e);
+  Impulse out;
+  const int k = free_[static_cast<std::size_t>(a)];
+  out.rate_before = theta_dot_[k];
+  out.rate_after = rate_after;
+  out.lambda = (rate_after - out.rate_before) / col[3 + a];
+  out.w_jump_B = out.lambda * col.head<3>();
+  // The work of the impulse pair at the hinge, lambda times the mean of the rates before
+  // and after (the rate changes linearly with lambda); without moving prescribed hinges it
+  // is the change of the kinetic energy, for a plastic latch -theta'^2 / (2 (A^-1)_aa).
+  out.energy_dissipated =
+      -(out.lambda * out.rate_before + 0.5 * out.lambda * out.lambda * col[3 + a]);
+  x[m + a] += out.lambda;
+  return out;
+}
+
+}  // namespace deploysim::schedule

@@ -1,0 +1,133 @@
+#pragma once
+
+/// The hub + panel tree of a hinge profile as a dynamical system (DESIGN.md 2.7): each
+/// hinge is, at any moment, locked (held before its release, latched, jammed, resting on
+/// a stop, or a `locked` plan), prescribed (its moves) or free (state). The hybrid driver
+/// (analysis/hinge_run.h) changes the set at events; between events this class is the
+/// dynamics::ShapeSystem of the free hinges, or (no hinge free) a dynamics::InertiaSource.
+///
+/// Evaluation at (t, H_B, x = (theta_f, p_f)): theta of every hinge (locked: its angle;
+/// prescribed: PrescribedHinge::At(t); free: theta_f), the mass matrix M over
+/// (w, theta'_f, theta'_p) (model/mass_matrix.h; p: the prescribed hinges moving at t),
+/// the SPD solve
+///   [J_B  B_f ] [w       ]   [H_B - B_p theta'_p    ]
+///   [B_f' M_ff] [theta'_f] = [p_f - M_fp theta'_p  ]
+/// and p'_f = dT/dtheta_f (at fixed velocities) + Q_f (schedule::DriveTorque).
+/// Not thread-safe (scratch space): one object per run.
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <vector>
+
+#include "deploysim/dynamics/inertia_source.h"
+#include "deploysim/dynamics/shape_system.h"
+#include "deploysim/model/mass_matrix.h"
+#include "deploysim/model/model.h"
+#include "deploysim/schedule/hinge_motion.h"
+#include "deploysim/schedule/hinge_plan.h"
+
+namespace deploysim::schedule {
+
+class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::InertiaSource {
+ public:
+  /// `body` valid (model::ValidatedHingedBody: unit axes), one plan per panel, the angles
+  /// at the start. Every non-prescribed hinge starts locked at its initial angle.
+  FreeHingeSystem(const model::HingedBody& body,
+                  const std::vector<HingePlan>& plans,
+                  const Eigen::VectorXd& initial_angles);
+
+  const model::HingedBody& body() const { return body_; }
+  const std::vector<HingePlan>& plans() const { return plans_; }
+  int panel_count() const { return static_cast<int>(plans_.size()); }
+
+  /// Locks hinge k (not prescribed) at `angle` [rad]; a free hinge leaves the free set
+  /// (the shape state loses its entries: the caller rebuilds x).
+  void Lock(int k, double angle);
+  /// Frees hinge k (kFree plan, now locked): it joins the end of the free set.
+  void Free(int k);
+  /// The free hinges in shape-state order.
+  const std::vector<int>& free_hinges() const { return free_; }
+  bool IsFree(int k) const;
+  /// The angle of a locked hinge [rad].
+  double locked_angle(int k) const { return angles_[k]; }
+
+  // dynamics::ShapeSystem
+  int free_count() const override { return static_cast<int>(free_.size()); }
+  void Evaluate(double t,
+                const math::Vec3& H_B,
+                const Eigen::VectorXd& x,
+                dynamics::Side side,
+                math::Vec3& w_NB_B,
+                Eigen::VectorXd& x_dot) const override;
+  /// Window boundaries of the prescribed hinges in (t0, t1) (both interfaces).
+  std::vector<double> Breakpoints(double t0, double t1) const override;
+
+  // dynamics::InertiaSource, valid while no hinge is free (throws std::logic_error
+  // otherwise): J_B, dJ_B/dt, h_rel_B, T_rel of the locked and prescribed hinges at t.
+  dynamics::InertiaSample Evaluate(double t,
+                                   dynamics::Side side = dynamics::Side::kRight) const override;
+  bool IsRigidOn(double t0, double t1) const override;
+
+  /// Everything at one state (outputs, events, impulses).
+  struct Snapshot {
+    math::Vec3 w_NB_B = math::Vec3::Zero();   ///< [rad/s]
+    Eigen::VectorXd theta;                    ///< [rad] every hinge
+    Eigen::VectorXd theta_dot;                ///< [rad/s] every hinge
+    math::Mat3 J_B = math::Mat3::Zero();      ///< [kg m^2] about the system CoM
+    math::Vec3 h_rel_B = math::Vec3::Zero();  ///< [kg m^2/s] = B theta'
+    double kinetic_energy = 0.0;              ///< [J] 1/2 v^T M v
+    double spring_energy = 0.0;               ///< [J] sum of the free hinges' springs V
+    /// [W] sum over free hinges of NonConservativeTorque theta': dE/dt along the flow.
+    double power = 0.0;
+  };
+  Snapshot Snap(double t,
+                const math::Vec3& H_B,
+                const Eigen::VectorXd& x,
+                dynamics::Side side = dynamics::Side::kRight) const;
+
+  /// The shape state for the current free set from the hub momentum and every hinge's
+  /// angle and rate (theta_f, p_f = (Bm^T w + M theta')_f with w solved from H_B): used
+  /// after Free() (a released hinge starts with theta' = 0) and to start a run.
+  Eigen::VectorXd ShapeState(double t,
+                             const math::Vec3& H_B,
+                             const Eigen::VectorXd& theta,
+                             const Eigen::VectorXd& theta_dot,
+                             dynamics::Side side = dynamics::Side::kRight) const;
+
+  /// The impulse at free hinge free_hinges()[a] that sets its rate to `rate_after`
+  /// (DESIGN.md 2.7: only p_k changes, by lambda = (rate_after - rate_before) /
+  /// (M^-1)_kk with M over the unknowns (w, theta'_f)). Updates x.
+  struct Impulse {
+    double lambda = 0.0;                         ///< [N m s]
+    double rate_before = 0.0, rate_after = 0.0;  ///< [rad/s]
+    math::Vec3 w_jump_B = math::Vec3::Zero();    ///< [rad/s]
+    double energy_dissipated = 0.0;              ///< [J] -(work of the impulse)
+  };
+  Impulse ApplyImpulse(
+      double t, const math::Vec3& H_B, Eigen::VectorXd& x, int a, double rate_after) const;
+
+ private:
+  /// theta and the known rates at t; cols_ = free then moving prescribed.
+  void Setup(double t, const Eigen::VectorXd& x, dynamics::Side side) const;
+  /// Mass matrix over cols_ and the solve for (w, theta'_f) into w_, theta_dot_.
+  void Solve(const math::Vec3& H_B, const Eigen::VectorXd& x) const;
+
+  model::HingedBody body_;
+  model::PanelTree tree_;
+  std::vector<HingePlan> plans_;
+  std::vector<PrescribedHinge> prescribed_;  // per panel (empty moves unless prescribed)
+  std::vector<int> free_;
+  std::vector<char> is_free_;
+  Eigen::VectorXd angles_;  // locked angles (every hinge; free/prescribed: last known)
+
+  // Scratch.
+  mutable model::TreePose pose_;
+  mutable model::TreeVelocity vel_;
+  mutable Eigen::VectorXd theta_, theta_dot_;
+  mutable std::vector<int> cols_, moving_;
+  mutable Eigen::MatrixXd M_, A_;
+  mutable Eigen::VectorXd rhs_, sol_, grad_, rates_;
+  mutable math::Vec3 w_ = math::Vec3::Zero();
+};
+
+}  // namespace deploysim::schedule

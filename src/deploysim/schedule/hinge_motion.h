@@ -1,0 +1,56 @@
+#pragma once
+
+/// The motion and the drive of single hinges of a hinge profile (hinge_plan.h):
+/// prescribed angles along a hinge's moves, the generalized force of a free hinge's
+/// drive and its stored energy.
+
+#include <vector>
+
+#include "deploysim/dynamics/inertia_source.h"
+#include "deploysim/schedule/hinge_plan.h"
+
+namespace deploysim::schedule {
+
+/// Angle [rad], rate [rad/s] and acceleration [rad/s^2] of a hinge at one time.
+struct HingeKinematics {
+  double angle = 0.0;
+  double rate = 0.0;
+  double acceleration = 0.0;
+};
+
+/// A prescribed hinge: its moves from its angle at the run's start. Between and before
+/// the moves it holds its angle; after the last one it holds the last angle. A kTo move
+/// goes from the angle at its t_begin to its target along its law (theta = theta_b + s(tau)
+/// (target - theta_b), tau = (t - t_begin) / (t_end - t_begin)); a kRate move turns at
+/// its rate. At a window boundary Side::kLeft takes the motion before it and
+/// Side::kRight the motion after it.
+class PrescribedHinge {
+ public:
+  PrescribedHinge() = default;
+  /// `moves` ascending and not overlapping (ValidateProfile checks it).
+  PrescribedHinge(std::vector<HingeMove> moves, double initial_angle);
+  HingeKinematics At(double t, dynamics::Side side = dynamics::Side::kRight) const;
+  /// Window boundaries strictly inside (t0, t1), ascending.
+  std::vector<double> Breakpoints(double t0, double t1) const;
+  /// True when the hinge does not move anywhere in (t0, t1).
+  bool IsAtRestOn(double t0, double t1) const;
+
+ private:
+  std::vector<HingeMove> moves_;
+  std::vector<double> start_angles_;  // angle at each move's t_begin
+  double initial_angle_ = 0.0;
+};
+
+/// The generalized force of a free hinge's drive Q(theta, theta') [N m] (hinge_plan.h):
+/// spring, damper, motor and regularized friction (not the stops or the latch, which act
+/// by impulses).
+double DriveTorque(const FreeDrive& drive, double theta, double theta_dot);
+
+/// The part of DriveTorque that dissipates or supplies energy, i.e. all but the spring:
+/// dE/dt = sum_k NonConservativeTorque_k theta'_k along the flow (E = T + V).
+double NonConservativeTorque(const FreeDrive& drive, double theta_dot);
+
+/// The spring's stored energy V(theta) = 1/2 k (theta - rest)^2 - preload (theta - rest) [J].
+double SpringEnergy(const FreeDrive& drive, double theta);
+
+}  // namespace deploysim::schedule
