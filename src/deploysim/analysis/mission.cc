@@ -56,8 +56,10 @@ void Clear(Trajectory& t) {
   t.J_B.clear();
   t.energy.clear();
   t.energy_rigid.clear();
+  t.energy_spring.clear();
   t.spin_axis_angle.clear();
   t.hinge_angles.clear();
+  t.hinge_rates.clear();
 }
 
 void Reserve(Trajectory& t, std::size_t n) {
@@ -70,6 +72,7 @@ void Reserve(Trajectory& t, std::size_t n) {
   t.J_B.reserve(n);
   t.energy.reserve(n);
   t.energy_rigid.reserve(n);
+  t.energy_spring.reserve(n);
   t.spin_axis_angle.reserve(n);
 }
 
@@ -127,6 +130,8 @@ class CollectSink final : public SampleSink {
     add(t_.h_N, b.h_N);
     add(t_.energy, b.energy);
     add(t_.energy_rigid, b.energy_rigid);
+    add(t_.energy_spring, b.energy_spring);
+    add(t_.hinge_rates, b.hinge_rates);
     add(t_.euler_313, b.euler_313);
     add(t_.spin_axis_angle, b.spin_axis_angle);
     add(t_.hinge_angles, b.hinge_angles);
@@ -147,9 +152,39 @@ MissionResult RunMission(const schedule::Profile& profile,
   return out;
 }
 
+void SetRigidBodyCaveat(StageReport& report, bool dissipative) {
+  switch (report.spin_axis_end) {
+    case AxisRole::kMinor:
+      report.rigid_body_only = true;
+      report.caveat =
+          dissipative
+              ? "minor-axis spin with energy dissipation in this stage: not stable, the spin "
+                "drifts towards the major axis (major-axis rule)"
+              : "minor-axis spin: stable only for a perfectly rigid body; any energy "
+                "dissipation (flexible panels, dampers, fuel) drives it into a flat spin about "
+                "the major axis (Explorer 1, 1958)";
+      break;
+    case AxisRole::kMajor:
+      report.rigid_body_only = false;
+      report.caveat = "major-axis spin: stable, also with energy dissipation";
+      break;
+    case AxisRole::kIntermediate:
+      report.rigid_body_only = false;
+      report.caveat = "intermediate-axis spin: unstable (flips), with or without dissipation";
+      break;
+    case AxisRole::kDegenerate:
+      report.rigid_body_only = true;
+      report.caveat =
+          "two principal moments are equal: neutral for a rigid body; small asymmetries and "
+          "energy dissipation decide where the spin goes";
+      break;
+  }
+}
+
 MissionResult RunMission(const schedule::Profile& profile,
                          SampleSink& sink,
                          const std::function<void(double)>& progress) {
+  if (profile.is_hinge_profile()) return RunHingeMission(profile, sink, progress);
   const auto wall0 = std::chrono::steady_clock::now();
   const schedule::DeploymentSchedule sched(profile);
   const double t0 = profile.t_begin();
@@ -267,10 +302,14 @@ MissionResult RunMission(const schedule::Profile& profile,
     block.h_N.push_back(h_N);
     block.energy.push_back(dynamics::TotalKineticEnergy(js, s.H_B));
     block.energy_rigid.push_back(dynamics::KineticEnergy(js, s.H_B));
+    block.energy_spring.push_back(0.0);
     block.euler_313.push_back(Euler313RelativeToMomentum(s.q_NB, h_N));
     block.spin_axis_angle.push_back(
         std::acos(std::clamp(spin_axis_B.dot(s.H_B) / s.H_B.norm(), -1.0, 1.0)));
-    if (geometry) block.hinge_angles.push_back(sched.HingeAngles(t));
+    if (geometry) {
+      block.hinge_angles.push_back(sched.HingeAngles(t));
+      block.hinge_rates.push_back(sched.HingeRates(t));
+    }
     out.max_h_N_drift = std::max(out.max_h_N_drift, (h_N - h_N0).norm() / M);
     // Danger windows: the body spin axis is the intermediate principal axis of J(t).
     const bool danger = LocateSpinAxis(principal, spin_axis_B).role == AxisRole::kIntermediate;
@@ -367,6 +406,7 @@ MissionResult RunMission(const schedule::Profile& profile,
         }
       }
     }
+    SetRigidBodyCaveat(rep, /*dissipative=*/false);
     out.stages.push_back(rep);
   }
 

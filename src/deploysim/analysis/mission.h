@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "deploysim/analysis/flip_rule.h"
+#include "deploysim/analysis/hinge_events.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/math/types.h"
 #include "deploysim/schedule/profile.h"
@@ -27,9 +28,14 @@ struct Trajectory {
   std::vector<math::Vec3> h_N;                ///< [kg m^2/s]
   std::vector<double> energy;                 ///< [J] total kinetic energy (TotalKineticEnergy)
   std::vector<double> energy_rigid;           ///< [J] its rigid-body part 1/2 w.J w
+  /// [J] energy stored in the free hinges' springs (hinge profiles; 0 otherwise), every
+  /// hinge with a free plan counted, held and latched ones included (their springs still
+  /// hold energy), so that energy + energy_spring is continuous at releases.
+  std::vector<double> energy_spring;
   std::vector<math::Vec3> euler_313;          ///< [rad] precession, nutation, spin w.r.t. h_N
   std::vector<double> spin_axis_angle;        ///< [rad] initial body spin axis vs h_N
   std::vector<Eigen::VectorXd> hinge_angles;  ///< [rad] geometry mode only (else empty)
+  std::vector<Eigen::VectorXd> hinge_rates;   ///< [rad/s] geometry mode only (else empty)
   std::size_t size() const { return time.size(); }
 };
 
@@ -56,7 +62,19 @@ struct StageReport {
   std::vector<double> predicted_flips;      ///< [s] analytic flip times within the stage.
   std::vector<double> observed_flips;       ///< [s] located by the integrator within the stage.
   double max_flip_time_difference = 0.0;    ///< [s] |observed - predicted| where both exist.
+  /// What the stage's stability verdict assumes (RigidBodyCaveat): e.g. that a minor-axis
+  /// spin is stable only for a perfectly rigid body.
+  std::string caveat;
+  /// True when the verdict about the spin axis holds only without energy dissipation
+  /// (a minor-axis spin; a dissipative stage, where the spin drifts to the major axis).
+  bool rigid_body_only = false;
 };
+
+/// The caveat of a stage's verdict: which of its conclusions hold only for a perfectly
+/// rigid body (DESIGN.md 2.7, the major-axis rule). `dissipative`: energy is dissipated in
+/// the stage (a damper, friction, a latch); `role`: the spin axis's role at its end.
+/// Sets report.caveat and report.rigid_body_only.
+void SetRigidBodyCaveat(StageReport& report, bool dissipative);
 
 /// A time interval in which the spin is about the intermediate axis (flips possible).
 struct DangerWindow {
@@ -77,6 +95,14 @@ struct MissionResult {
   std::string message;
   double max_h_N_drift = 0.0;  ///< max |h_N(t) - h_N(0)| / |h_N(0)| over the output grid.
   double wall_seconds = 0.0;
+  /// Hinge profiles: releases, latches, stops, jams in time order (hinge_events.h).
+  std::vector<HingeEvent> hinge_events;
+  /// Hinge profiles: per panel, the time of its latch (or jam, or coming to rest on a
+  /// stop) [s]; NaN if it never locked.
+  std::vector<double> latch_times;
+  /// [s] times at which the angle between the spin axis and h_N first exceeds 45 degrees
+  /// and every later crossing of 45 degrees (both directions), located on the dense output.
+  std::vector<double> spin_axis_45_crossings;
 };
 
 /// Receives the trajectory of a run as it is computed, in blocks of consecutive samples
@@ -101,6 +127,12 @@ inline constexpr std::size_t kSampleBlock = 4096;
 MissionResult RunMission(const schedule::Profile& profile,
                          SampleSink& sink,
                          const std::function<void(double)>& progress = {});
+
+/// RunMission for a hinge profile (schedule::Profile::is_hinge_profile(), issue 9): the
+/// hybrid run of analysis/hinge_mission.cc (RunMission calls it).
+MissionResult RunHingeMission(const schedule::Profile& profile,
+                              SampleSink& sink,
+                              const std::function<void(double)>& progress = {});
 
 /// The same run with the trajectory collected in the result (by a sink that appends).
 MissionResult RunMission(const schedule::Profile& profile,

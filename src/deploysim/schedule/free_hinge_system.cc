@@ -180,10 +180,13 @@ FreeHingeSystem::Snapshot FreeHingeSystem::Snap(double t,
   Eigen::VectorXd v(3 + rates.size());
   v << w_, rates;
   s.kinetic_energy = 0.5 * v.dot(M_ * v);
+  for (int k = 0; k < tree_.size(); ++k) {
+    const HingePlan& p = plans_[static_cast<std::size_t>(k)];
+    if (p.kind == HingePlan::Kind::kFree) s.spring_energy += SpringEnergy(p.drive, theta_[k]);
+  }
   for (int a = 0; a < m; ++a) {
     const int k = free_[static_cast<std::size_t>(a)];
     const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
-    s.spring_energy += SpringEnergy(d, theta_[k]);
     s.power += NonConservativeTorque(d, theta_dot_[k]) * theta_dot_[k];
   }
   return s;

@@ -1,0 +1,520 @@
+#include "deploysim/integrators/shape_integrate.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "deploysim/integrators/butcher_tableau.h"
+#include "deploysim/integrators/dense_output.h"
+#include "deploysim/integrators/driver_support.h"
+#include "deploysim/integrators/lie_anchor.h"
+#include "deploysim/math/quaternion.h"
+#include "deploysim/math/so3.h"
+
+namespace deploysim::integrators {
+
+namespace {
+
+using Vec = Eigen::VectorXd;
+using lie::Anchor;
+
+constexpr int kHermiteNodes = 5;
+
+bool SameBits(const ShapeState& a, const ShapeState& b) {
+  auto same = [](const double* p, const double* q, std::size_t n) {
+    return std::memcmp(p, q, n * sizeof(double)) == 0;
+  };
+  return a.x.size() == b.x.size() && same(&a.t, &b.t, 1) && same(a.H_B.data(), b.H_B.data(), 3) &&
+         same(a.q_NB.coeffs().data(), b.q_NB.coeffs().data(), 4) &&
+         same(a.x.data(), b.x.data(), static_cast<std::size_t>(a.x.size()));
+}
+
+/// The Lie-group RKMK method on SO(3) x R^(2m) for one run (one shape system, one thread).
+class ShapeStepper {
+ public:
+  ShapeStepper(const ButcherTableau& tableau, const dynamics::ShapeSystem& system)
+      : tab_(tableau), sys_(system) {
+    dense_ = ChooseDenseKind(tableau);
+  }
+  bool adaptive() const { return !tab_.b_hat.empty(); }
+  int order() const {
+    return tab_.b_hat.empty() ? tab_.order : std::min(tab_.order, tab_.embedded_order);
+  }
+  long evaluations() const { return evaluations_; }
+  long dense_steps() const { return dense_steps_; }
+  void SetSegmentEnd(double t) { segment_end_ = t; }
+
+  /// One step of size h from y; error_norm (adaptive methods) by the weighted max norm.
+  ShapeState Step(const ShapeState& y, double h, const Tolerances& tol, double* error_norm) {
+    Anchor a0;
+    if (have_committed_ && SameBits(y, committed_key_)) {
+      a0 = committed_anchor_;
+    } else if (have_proposal_ && SameBits(y, proposal_key_)) {
+      a0 = proposal_anchor_;
+    } else {
+      a0.q_ref = y.q_NB;
+      a0.H_ref = y.H_B;
+    }
+    const int s = tab_.stages();
+    const int nx = static_cast<int>(y.x.size());
+    const int dim = 3 + nx;
+    const double t_end = y.t + h;
+    const math::Vec3 H0 = lie::MomentumOf(a0);
+    math::Vec3 w0;
+    Rate(y.t, H0, y.x, &w0, xdot_);
+    const double H0_2 = H0.squaredNorm();
+    const double sigma = H0_2 > 0.0 ? w0.dot(H0) / H0_2 : 0.0;
+    auto& k = last_.stages;
+    for (int i = 0; i < s; ++i) k[static_cast<std::size_t>(i)].resize(dim);
+    k[0].head<3>() = w0 - sigma * H0;
+    k[0].tail(nx) = xdot_;
+    Vec& Y = scratch_;
+    Y.resize(dim);
+    for (int i = 1; i < s; ++i) {
+      Y.setZero();
+      for (int j = 0; j < i; ++j) {
+        const double aij = tab_.a[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+        if (aij != 0.0) Y += (h * aij) * k[static_cast<std::size_t>(j)];
+      }
+      const double ci = tab_.c[static_cast<std::size_t>(i)];
+      const double ti = ci == 1.0 ? t_end : y.t + ci * h;
+      AlgebraRate(ti, Y, H0, sigma, y.x, k[static_cast<std::size_t>(i)]);
+    }
+    Vec& Y1 = last_.Y1;
+    Y1.setZero(dim);
+    for (int i = 0; i < s; ++i) {
+      if (tab_.b[static_cast<std::size_t>(i)] != 0.0) {
+        Y1 += (h * tab_.b[static_cast<std::size_t>(i)]) * k[static_cast<std::size_t>(i)];
+      }
+    }
+    const Anchor a1 = lie::Compose(a0, (sigma * h) * a0.H_ref, Y1.head<3>());
+    ShapeState out;
+    out.t = t_end;
+    out.q_NB = (a1.q_ref * a1.dq).normalized();
+    out.H_B = lie::MomentumOf(a1);
+    out.x = y.x + Y1.tail(nx);
+    if (error_norm != nullptr) {
+      *error_norm = 0.0;
+      if (adaptive()) {
+        Vec& err = scratch_;
+        err.setZero(dim);
+        for (int i = 0; i < s; ++i) {
+          const double d =
+              tab_.b[static_cast<std::size_t>(i)] - tab_.b_hat[static_cast<std::size_t>(i)];
+          if (d != 0.0) err += (h * d) * k[static_cast<std::size_t>(i)];
+        }
+        const math::Vec3 H1 = a1.dq.conjugate() * a1.H_ref;
+        const math::Vec3 dH = H1.cross(err.head<3>());
+        const double scale = std::sqrt(H0_2);
+        double norm = 0.0;
+        for (int i = 0; i < 3; ++i) {
+          const double ref = std::max(std::abs(H0[i]), std::abs(H1[i]));
+          norm = std::max(norm, std::abs(dH[i]) / (tol.atol * scale + tol.rtol * ref));
+        }
+        const int m = nx / 2;
+        for (int i = 0; i < nx; ++i) {
+          const double ref = std::max(std::abs(y.x[i]), std::abs(out.x[i]));
+          const double abs_tol = i < m ? tol.atol : tol.atol * scale;
+          norm = std::max(norm, std::abs(err[3 + i]) / (abs_tol + tol.rtol * ref));
+        }
+        *error_norm = norm;
+      }
+    }
+    last_.a0 = a0;
+    last_.sigma = sigma;
+    last_.H0 = H0;
+    last_.x0 = y.x;
+    proposal_key_ = out;
+    proposal_anchor_ = a1;
+    have_proposal_ = true;
+    return out;
+  }
+
+  /// The driver accepts the last step (from y0) as y1.
+  void Accept(const ShapeState& y0, const ShapeState& y1) {
+    committed_key_ = y1;
+    committed_anchor_ = proposal_anchor_;
+    have_committed_ = true;
+    acc_ = last_;
+    acc_.t0 = y0.t;
+    acc_.t1 = y1.t;
+    acc_.y0 = y0;
+    acc_.y1 = y1;
+    have_f1_ = false;
+    have_nodes_ = false;
+  }
+
+  /// The continuous extension of the accepted step at t.
+  ShapeState Dense(double t, const Tolerances& tol) {
+    if (t <= acc_.t0) return acc_.y0;
+    if (t >= acc_.t1) return acc_.y1;
+    const double h = acc_.t1 - acc_.t0;
+    const double tau = t - acc_.t0;
+    const double th = tau / h;
+    const int dim = static_cast<int>(acc_.Y1.size());
+    const Vec zero = Vec::Zero(dim);
+    Vec Y;
+    if (dense_ == DenseKind::kDopri) {
+      Y = DopriDenseV<Vec>(th, h, zero, acc_.Y1, acc_.stages);
+    } else {
+      if (!have_f1_) {
+        const double t_save = segment_end_;
+        AlgebraRate(acc_.t1, acc_.Y1, acc_.H0, acc_.sigma, acc_.x0, f1_);
+        segment_end_ = t_save;
+        have_f1_ = true;
+      }
+      if (dense_ == DenseKind::kHermiteCubic) {
+        Y = HermiteCubicV<Vec>(th, h, zero, acc_.stages[0], acc_.Y1, f1_);
+      } else {
+        if (!have_nodes_) {
+          const ShapeState begin = acc_.y0;
+          for (int j = 0; j < kHermiteNodes; ++j) {
+            nodes_x_[static_cast<std::size_t>(j)] = static_cast<double>(j) / (kHermiteNodes - 1);
+            if (j == 0) {
+              nodes_y_[0] = zero;
+              nodes_f_[0] = acc_.stages[0];
+            } else if (j == kHermiteNodes - 1) {
+              nodes_y_[static_cast<std::size_t>(j)] = acc_.Y1;
+              nodes_f_[static_cast<std::size_t>(j)] = f1_;
+            } else {
+              const double xj = nodes_x_[static_cast<std::size_t>(j)];
+              Step(begin, xj * h, tol, nullptr);
+              ++dense_steps_;
+              nodes_y_[static_cast<std::size_t>(j)] = last_.Y1;
+              AlgebraRate(begin.t + xj * h, last_.Y1, acc_.H0, acc_.sigma, acc_.x0,
+                          nodes_f_[static_cast<std::size_t>(j)]);
+            }
+          }
+          have_nodes_ = true;
+        }
+        Y = HermiteNodesV<Vec>(th, h, kHermiteNodes, nodes_x_.data(), nodes_y_.data(),
+                               nodes_f_.data());
+      }
+    }
+    const Anchor a =
+        lie::ComposeForOutput(acc_.a0, (acc_.sigma * tau) * acc_.a0.H_ref, Y.head<3>());
+    ShapeState out;
+    out.t = t;
+    out.q_NB = (a.q_ref * a.dq).normalized();
+    out.H_B = lie::MomentumOf(a);
+    out.x = acc_.x0 + Y.tail(dim - 3);
+    return out;
+  }
+
+ private:
+  struct StepData {
+    Anchor a0;
+    double sigma = 0.0;
+    math::Vec3 H0 = math::Vec3::Zero();
+    Vec x0, Y1;
+    std::array<Vec, kMaxRkStages> stages;
+    double t0 = 0.0, t1 = 0.0;
+    ShapeState y0, y1;
+  };
+
+  void Rate(double t, const math::Vec3& H, const Vec& x, math::Vec3* w, Vec& xdot) {
+    ++evaluations_;
+    const dynamics::Side side = t >= segment_end_ ? dynamics::Side::kLeft : dynamics::Side::kRight;
+    sys_.Evaluate(t, H, x, side, *w, xdot);
+  }
+
+  /// F(Y) = (J_r^-1(u) (w - sigma H), x') at x = x0 + Y_x, H = Exp(-u) H0.
+  void AlgebraRate(
+      double t, const Vec& Y, const math::Vec3& H0, double sigma, const Vec& x0, Vec& out) {
+    const int nx = static_cast<int>(x0.size());
+    const math::Vec3 u = Y.head<3>();
+    const math::Vec3 H = math::ExpQuat(-u) * H0;
+    xs_ = x0 + Y.tail(nx);
+    math::Vec3 w;
+    Rate(t, H, xs_, &w, xdot_);
+    out.resize(3 + nx);
+    out.head<3>() = math::DexpInv(u, w - sigma * H);
+    out.tail(nx) = xdot_;
+  }
+
+  const ButcherTableau& tab_;
+  const dynamics::ShapeSystem& sys_;
+  DenseKind dense_;
+  double segment_end_ = std::numeric_limits<double>::infinity();
+  long evaluations_ = 0;
+  long dense_steps_ = 0;
+  StepData last_, acc_;
+  bool have_proposal_ = false, have_committed_ = false;
+  ShapeState proposal_key_, committed_key_;
+  Anchor proposal_anchor_, committed_anchor_;
+  bool have_f1_ = false, have_nodes_ = false;
+  Vec f1_, scratch_, xdot_, xs_;
+  std::array<double, kMaxHermiteNodes> nodes_x_{};
+  std::array<Vec, kMaxHermiteNodes> nodes_y_, nodes_f_;
+};
+
+const ButcherTableau& TableauOf(const std::string& method) {
+  if (method == "rkmk4") return ClassicRk4();
+  if (method == "rkmk-dopri5") return DormandPrince54();
+  if (method == "rkmk-rkf78") return Fehlberg78();
+  std::string list;
+  for (const std::string& n : ShapeMethodNames()) list += (list.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("integrator '" + method +
+                              "' cannot integrate free hinges (rule: a Lie-group method: " + list +
+                              ", or exact)");
+}
+
+bool Finite(const ShapeState& s) {
+  return std::isfinite(s.t) && s.H_B.allFinite() && s.q_NB.coeffs().allFinite() && s.x.allFinite();
+}
+
+}  // namespace
+
+std::vector<std::string> ShapeMethodNames() { return {"rkmk4", "rkmk-dopri5", "rkmk-rkf78"}; }
+
+bool IsShapeMethod(const std::string& name) {
+  for (const std::string& n : ShapeMethodNames()) {
+    if (n == name) return true;
+  }
+  return false;
+}
+
+ShapeIntegrationResult IntegrateShape(const std::string& method,
+                                      const IntegratorSettings& settings,
+                                      const dynamics::ShapeSystem& system,
+                                      const ShapeState& initial,
+                                      double t_end,
+                                      const OutputTimes& output_times,
+                                      std::size_t* next_output,
+                                      const std::vector<ShapeEventFunction>& events,
+                                      const std::function<void(const ShapeState&)>& samples,
+                                      const std::function<void(const ShapeState&)>& observer) {
+  const ButcherTableau& tab = TableauOf(method);
+  if (!(t_end > initial.t) || !std::isfinite(t_end)) {
+    throw std::invalid_argument("IntegrateShape: end time must be finite and > start time");
+  }
+  if (initial.x.size() != 2 * system.free_count()) {
+    throw std::invalid_argument("IntegrateShape: the shape state has " +
+                                std::to_string(initial.x.size()) + " entries for " +
+                                std::to_string(system.free_count()) + " free hinges");
+  }
+  ShapeStepper stepper(tab, system);
+  const Tolerances& tol = settings.tolerances;
+  const bool adaptive = stepper.adaptive();
+  if (!adaptive && !(settings.step > 0.0)) {
+    throw std::invalid_argument("integrator " + method +
+                                ": step = 0 (rule: a fixed-step method needs a finite step > 0)");
+  }
+  const int q = stepper.order();
+
+  ShapeIntegrationResult result;
+  ShapeState y = initial;
+  std::size_t& next_out = *next_output;
+  auto emit_until = [&](double t_stop, bool inclusive, const ShapeState& y0, const ShapeState& y1,
+                        bool dense) {
+    while (next_out < output_times.size()) {
+      const double t_out = output_times.at(next_out);
+      if (t_out > t_stop || (!inclusive && t_out == t_stop)) break;
+      ShapeState s = !dense || t_out <= y0.t ? y0 : t_out >= y1.t ? y1 : stepper.Dense(t_out, tol);
+      s.t = t_out;
+      if (samples) samples(s);
+      ++next_out;
+    }
+  };
+  // Samples at or before the start: the initial state.
+  emit_until(y.t, true, y, y, false);
+
+  std::vector<double> g_prev(events.size());
+  for (std::size_t e = 0; e < events.size(); ++e) g_prev[e] = events[e].g(y);
+  // Terminal functions at exactly 0 at the start, not yet left.
+  std::vector<char> leaving(events.size(), 0);
+  for (std::size_t e = 0; e < events.size(); ++e) {
+    leaving[e] = events[e].terminal && events[e].direction != 0 && g_prev[e] == 0.0;
+  }
+
+  std::vector<double> bounds{y.t};
+  for (double b : system.Breakpoints(y.t, t_end)) bounds.push_back(b);
+  bounds.push_back(t_end);
+
+  double h_adapt = settings.step;
+  long attempts = 0;
+  auto finish = [&](Termination why, const std::string& message) {
+    result.termination = why;
+    result.message = message;
+    result.final_state = y;
+    result.stats.evaluations = stepper.evaluations();
+    result.stats.dense_steps = stepper.dense_steps();
+    result.next_step = h_adapt;
+    return result;
+  };
+
+  for (std::size_t seg = 0; seg + 1 < bounds.size(); ++seg) {
+    const double a = bounds[seg];
+    const double b = bounds[seg + 1];
+    stepper.SetSegmentEnd(b);
+    const double eps = driver::kTimeEps * std::max(b - a, std::abs(b));
+    const double n_fixed =
+        adaptive ? 0.0 : std::max(1.0, std::ceil((b - a) / settings.step * (1.0 - 1e-12)));
+    double k_fixed = 0.0;
+    if (adaptive && h_adapt <= 0.0) {
+      // Automatic first step: a small fraction of the rotation time scale.
+      const double rate = std::max(1.0, 1.0 / (b - a));
+      h_adapt = 0.01 * std::pow(tol.rtol, 1.0 / (q + 1)) / rate;
+    }
+    while (y.t < b - eps) {
+      if (++attempts > settings.max_steps) {
+        return finish(Termination::kMaxSteps, "max_steps reached at t = " + std::to_string(y.t));
+      }
+      double h;
+      bool last = false;
+      if (adaptive) {
+        h = std::min(h_adapt, settings.max_step);
+        if (y.t + h >= b - eps) {
+          h = b - y.t;
+          last = true;
+        }
+      } else {
+        k_fixed += 1.0;
+        last = k_fixed >= n_fixed;
+        h = (last ? b : a + (b - a) * (k_fixed / n_fixed)) - y.t;
+      }
+      double err = 0.0;
+      ShapeState y1 = stepper.Step(y, h, tol, &err);
+      if (adaptive) {
+        if (!std::isfinite(err) || err > 1.0) {
+          ++result.stats.rejected;
+          const double shrink =
+              std::isfinite(err)
+                  ? std::max(driver::kMinShrink, driver::kSafety * std::pow(err, -1.0 / (q + 1)))
+                  : driver::kMinShrink;
+          h_adapt = h * shrink;
+          if (h_adapt < 1e-14 * std::max(1.0, std::abs(y.t))) {
+            return finish(Termination::kStepSizeUnderflow,
+                          "step size underflow at t = " + std::to_string(y.t));
+          }
+          continue;
+        }
+        const double grow =
+            err == 0.0 ? driver::kMaxGrow
+                       : std::min(driver::kMaxGrow,
+                                  std::max(driver::kMinShrink,
+                                           driver::kSafety * std::pow(err, -1.0 / (q + 1))));
+        if (!last || grow * h > h_adapt) h_adapt = h * grow;
+      }
+      // A step that crosses a terminal zero it started on, without leaving it first.
+      bool beyond = false;
+      int stuck_event = -1;
+      for (std::size_t e = 0; e < events.size(); ++e) {
+        if (!leaving[e]) continue;
+        // Not strictly on the side it left to (g1 == 0: the excursion is below the
+        // angle's rounding) counts as not having left.
+        const double g1 = events[e].g(y1);
+        if (events[e].direction * g1 >= 0.0) {
+          beyond = true;
+          stuck_event = static_cast<int>(e);
+        }
+      }
+      if (beyond) {
+        const double h_min = kMinLeaveStep * std::max(1.0, std::abs(y.t));
+        if (!adaptive || h <= h_min) {
+          ShapeEvent ev;
+          ev.t = y.t;
+          ev.index = stuck_event;
+          ev.direction = events[static_cast<std::size_t>(stuck_event)].direction;
+          ev.state = y;
+          result.events.push_back(ev);
+          result.stopped_at_event = true;
+          result.stuck = true;
+          return finish(
+              Termination::kReachedEnd,
+              "stuck at event '" + events[static_cast<std::size_t>(stuck_event)].name + "'");
+        }
+        ++result.stats.rejected;
+        h_adapt = std::max(h_min, h * 0.1);
+        continue;
+      }
+      if (last) y1.t = b;
+      if (!Finite(y1)) {
+        return finish(Termination::kNonFinite,
+                      "state became non-finite at t = " + std::to_string(y.t));
+      }
+      ++result.stats.steps;
+      stepper.Accept(y, y1);
+
+      // Events over the step.
+      double t_stop = std::numeric_limits<double>::infinity();
+      int terminal = -1;
+      std::vector<ShapeEvent> found;
+      std::vector<double> g_new(events.size());
+      for (std::size_t e = 0; e < events.size(); ++e) {
+        const double g1 = events[e].g(y1);
+        g_new[e] = g1;
+        const double g0 = g_prev[e];
+        const bool rising = g0 < 0.0 && g1 >= 0.0;
+        const bool falling = g0 > 0.0 && g1 <= 0.0;
+        const int dir = events[e].direction;
+        if (!((rising && dir >= 0) || (falling && dir <= 0))) continue;
+        const ShapeEventFunction& fn = events[e];
+        const ShapeState y0 = y;
+        auto exact_at = [&](double t) {
+          if (t <= y0.t) return y0;
+          if (t >= y1.t) return y1;
+          ShapeState s = stepper.Step(y0, t - y0.t, tol, nullptr);
+          return s;
+        };
+        double t_ev = y1.t;
+        if (g1 != 0.0) {
+          t_ev = driver::LocateEvent(
+              y0.t, y1.t, g0, g1, [&](double t) { return fn.g(stepper.Dense(t, tol)); },
+              [&](double t) { return fn.g(exact_at(t)); }, false);
+        }
+        ShapeEvent ev;
+        ev.t = t_ev;
+        ev.index = static_cast<int>(e);
+        ev.direction = rising ? 1 : -1;
+        ev.state = exact_at(t_ev);
+        ev.state.t = t_ev;
+        found.push_back(ev);
+        if (fn.terminal && t_ev < t_stop) {
+          t_stop = t_ev;
+          terminal = static_cast<int>(found.size()) - 1;
+        }
+      }
+      std::sort(found.begin(), found.end(),
+                [](const ShapeEvent& l, const ShapeEvent& r) { return l.t < r.t; });
+      if (terminal >= 0) {
+        // Keep the events up to the terminal one (the earliest terminal; ties: the first).
+        ShapeEvent term;
+        std::vector<ShapeEvent> kept;
+        bool have_term = false;
+        for (const ShapeEvent& ev : found) {
+          if (!have_term && events[static_cast<std::size_t>(ev.index)].terminal && ev.t == t_stop) {
+            term = ev;
+            have_term = true;
+            continue;
+          }
+          if (ev.t < t_stop) kept.push_back(ev);
+        }
+        result.events.insert(result.events.end(), kept.begin(), kept.end());
+        result.events.push_back(term);
+        emit_until(t_stop, false, y, y1, true);
+        y = term.state;
+        result.stopped_at_event = true;
+        if (observer) observer(y);
+        return finish(
+            Termination::kReachedEnd,
+            "stopped at event '" + events[static_cast<std::size_t>(term.index)].name + "'");
+      }
+      result.events.insert(result.events.end(), found.begin(), found.end());
+      for (std::size_t e = 0; e < events.size(); ++e) {
+        if (leaving[e]) leaving[e] = 0;  // the accepted step left the zero
+      }
+      g_prev = g_new;
+      emit_until(y1.t, true, y, y1, true);
+      y = y1;
+      if (observer) observer(y);
+    }
+  }
+  return finish(Termination::kReachedEnd, ToString(Termination::kReachedEnd));
+}
+
+}  // namespace deploysim::integrators
