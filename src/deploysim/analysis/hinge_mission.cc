@@ -103,7 +103,8 @@ bool Dissipates(const schedule::FreeDrive& d) { return d.damping > 0.0 || d.fric
 
 MissionResult RunHingeMission(const schedule::Profile& profile,
                               SampleSink& sink,
-                              const std::function<void(double)>& progress) {
+                              const std::function<void(double)>& progress,
+                              const HingeRunOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
   // MERGE(hingeyaml): schedule::ValidateProfile(profile);
   const std::string where = profile.source.empty() ? profile.name : profile.source;
@@ -173,8 +174,18 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
   settings.max_step = profile.integrator.max_step;
   const auto rigid_stepper = MakeStepper(method);
 
-  const integrators::UniformGridTimes grid(t0, t1, profile.output.dt);
+  const integrators::UniformGridTimes full_grid(t0, t1, profile.output.dt);
+  const WindowTimes no_samples(full_grid, 0, 0);
+  const integrators::OutputTimes& grid =
+      options.sample_trajectory ? static_cast<const integrators::OutputTimes&>(full_grid)
+                                : no_samples;
   std::size_t next_out = 0;
+  // The largest spin-axis angle: min of s . H_B / |H| over the segment ends and the
+  // located extrema (zeros of its rate s . (H_B x w)).
+  double min_cos = spin_axis_B.dot(y.H_B) / M;
+  auto track_angle = [&](const Vec3& H_B) {
+    min_cos = std::min(min_cos, spin_axis_B.dot(H_B) / H_B.norm());
+  };
 
   // ---- Output -------------------------------------------------------------------------
   Trajectory block;
@@ -367,7 +378,9 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
       }
     }
     if (first_phase || changed) {
-      open_phase(current_sample(dynamics::Side::kRight));
+      const Sample start = current_sample(dynamics::Side::kRight);
+      if (first_phase) out.energy_initial = start.kinetic + start.spring;
+      open_phase(start);
       first_phase = false;
     }
     if (!(t < t1)) break;
@@ -444,6 +457,13 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
                           return kCos45 - spin_axis_B.dot(s.H_B) / s.H_B.norm();
                         },
                         0, false});
+      // The extremum only for its value: located on the dense output alone.
+      events.push_back({"spin axis extremum",
+                        [&](const integrators::ShapeState& s) {
+                          const Vec3 w = sys.Snap(s.t, s.H_B, s.x).w_NB_B;
+                          return spin_axis_B.dot(s.H_B.cross(w)) / M;
+                        },
+                        0, false, false});
 
       integrators::ShapeState ys;
       ys.t = t;
@@ -464,6 +484,8 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
           record_flip(e.t, sys.Snap(e.t, e.state.H_B, e.state.x).J_B, e.state.H_B);
         } else if (static_cast<std::size_t>(e.index) == first_free_event + 1) {
           out.spin_axis_45_crossings.push_back(e.t);
+        } else if (static_cast<std::size_t>(e.index) == first_free_event + 2) {
+          track_angle(e.state.H_B);
         }
       }
       if (r.termination != integrators::Termination::kReachedEnd) {
@@ -471,6 +493,7 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
         message = r.message;
         break;
       }
+      track_angle(r.final_state.H_B);
       t = r.final_state.t;
       state.t = t;
       state.H_B = r.final_state.H_B;
@@ -551,8 +574,13 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
       integrators::EventFunction cross45{"spin axis 45 deg", [&](const integrators::State& s) {
                                            return kCos45 - spin_axis_B.dot(s.H_B) / s.H_B.norm();
                                          }};
+      integrators::EventFunction extremum{"spin axis extremum", [&](const integrators::State& s) {
+                                            const dynamics::InertiaSample js = sys.Evaluate(s.t);
+                                            const Vec3 w = js.J_inv_B * (s.H_B - js.h_rel_B);
+                                            return spin_axis_B.dot(s.H_B.cross(w)) / M;
+                                          }};
       const integrators::IntegrationResult r = integrators::Integrate(
-          *rigid_stepper, settings, sys, state, t_next, times, {flip, cross45},
+          *rigid_stepper, settings, sys, state, t_next, times, {flip, cross45, extremum},
           [&](const integrators::State& s) { report(s.t); },
           [&](const integrators::State& s) {
             add_sample(
@@ -566,8 +594,10 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
       for (const integrators::Event& e : r.events) {
         if (e.index == 0) {
           record_flip(e.t, sys.Evaluate(e.t).J_B, e.state.H_B);
-        } else {
+        } else if (e.index == 1) {
           out.spin_axis_45_crossings.push_back(e.t);
+        } else {
+          track_angle(e.state.H_B);
         }
       }
       if (r.termination != integrators::Termination::kReachedEnd) {
@@ -578,6 +608,7 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
       t = t_next;
       state = r.final_state;
       state.t = t;
+      track_angle(state.H_B);
     }
     // A prescribed window boundary or a release time: a phase boundary.
     if (t < t1) {
@@ -590,7 +621,7 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
     }
   }
   // A run that stopped early: the remaining times get its last state.
-  if (termination != integrators::Termination::kReachedEnd) {
+  if (termination != integrators::Termination::kReachedEnd && options.sample_trajectory) {
     const Sample last = current_sample(dynamics::Side::kRight);
     while (next_out < grid.size()) {
       Sample s = last;
@@ -599,7 +630,15 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
     }
   }
   if (!block.time.empty()) sink.Append(block);
-  close_phase(current_sample(dynamics::Side::kLeft));
+  const Sample final_sample = current_sample(dynamics::Side::kLeft);
+  close_phase(final_sample);
+  out.final_state = state;
+  out.final_J_B = final_sample.J_B;
+  out.energy_final = final_sample.kinetic + final_sample.spring;
+  out.max_spin_axis_angle = std::acos(std::clamp(min_cos, -1.0, 1.0));
+  if (!options.sample_trajectory) {
+    out.max_h_N_drift = ((state.q_NB * state.H_B) - h_N0).norm() / M;
+  }
   out.stats = stats;
   out.termination = termination;
   out.message = message;

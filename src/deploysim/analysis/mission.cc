@@ -184,7 +184,7 @@ void SetRigidBodyCaveat(StageReport& report, bool dissipative) {
 MissionResult RunMission(const schedule::Profile& profile,
                          SampleSink& sink,
                          const std::function<void(double)>& progress) {
-  if (profile.is_hinge_profile()) return RunHingeMission(profile, sink, progress);
+  if (profile.is_hinge_profile()) return RunHingeMission(profile, sink, progress, {});
   const auto wall0 = std::chrono::steady_clock::now();
   const schedule::DeploymentSchedule sched(profile);
   const double t0 = profile.t_begin();
@@ -344,6 +344,14 @@ MissionResult RunMission(const schedule::Profile& profile,
   // A run that stopped early: the remaining times get its last sample (as before
   // streaming: the trajectory always has one sample per grid time).
   while (delivered < times.size()) on_sample(integrators::State(last_sample));
+  out.final_state = run.final_state;
+  {
+    const dynamics::InertiaSample s1 = sched.Evaluate(run.final_state.t, dynamics::Side::kLeft);
+    out.final_J_B = s1.J_B;
+    out.energy_initial = dynamics::TotalKineticEnergy(s0, y0.H_B);
+    out.energy_final = dynamics::TotalKineticEnergy(s1, run.final_state.H_B);
+  }
+  out.max_spin_axis_angle = std::numeric_limits<double>::quiet_NaN();
   if (!block.time.empty()) sink.Append(block);
   Clear(block);
 

@@ -103,6 +103,22 @@ struct MissionResult {
   /// [s] times at which the angle between the spin axis and h_N first exceeds 45 degrees
   /// and every later crossing of 45 degrees (both directions), located on the dense output.
   std::vector<double> spin_axis_45_crossings;
+  /// The state at the end of the run (t_end, or where the integration stopped), J_B
+  /// there (left limit) and the total energy T + V at the start and the end [J].
+  integrators::State final_state;
+  math::Mat3 final_J_B = math::Mat3::Zero();
+  double energy_initial = 0.0;
+  double energy_final = 0.0;
+  /// Hinge profiles: [rad] the largest angle between the spin axis and h_N over the run,
+  /// located exactly (extrema of s . H_B as events); stage profiles: NaN.
+  double max_spin_axis_angle = 0.0;
+};
+
+/// Options of RunHingeMission.
+struct HingeRunOptions {
+  /// false: the outcome-only run of a sweep case: no output samples (the sink receives
+  /// nothing; danger windows and max_h_N_drift are not computed), everything else is.
+  bool sample_trajectory = true;
 };
 
 /// Receives the trajectory of a run as it is computed, in blocks of consecutive samples
@@ -132,7 +148,8 @@ MissionResult RunMission(const schedule::Profile& profile,
 /// hybrid run of analysis/hinge_mission.cc (RunMission calls it).
 MissionResult RunHingeMission(const schedule::Profile& profile,
                               SampleSink& sink,
-                              const std::function<void(double)>& progress = {});
+                              const std::function<void(double)>& progress = {},
+                              const HingeRunOptions& options = {});
 
 /// The same run with the trajectory collected in the result (by a sink that appends).
 MissionResult RunMission(const schedule::Profile& profile,

@@ -325,6 +325,24 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
 
   std::vector<double> g_prev(events.size());
   for (std::size_t e = 0; e < events.size(); ++e) g_prev[e] = events[e].g(y);
+  // A terminal function already past its zero at the start (crossed within the location
+  // tolerance of the event the previous run stopped at, e.g. two symmetric panels
+  // latching together): the event happens now.
+  for (std::size_t e = 0; e < events.size(); ++e) {
+    if (events[e].terminal && events[e].direction * g_prev[e] > 0.0) {
+      ShapeEvent ev;
+      ev.t = y.t;
+      ev.index = static_cast<int>(e);
+      ev.direction = events[e].direction;
+      ev.state = y;
+      result.events.push_back(ev);
+      result.stopped_at_event = true;
+      result.final_state = y;
+      result.next_step = settings.step;
+      result.message = "stopped at event '" + events[e].name + "' (already past at the start)";
+      return result;
+    }
+  }
   // Terminal functions at exactly 0 at the start, not yet left.
   std::vector<char> leaving(events.size(), 0);
   for (std::size_t e = 0; e < events.size(); ++e) {
@@ -465,13 +483,13 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
         if (g1 != 0.0) {
           t_ev = driver::LocateEvent(
               y0.t, y1.t, g0, g1, [&](double t) { return fn.g(stepper.Dense(t, tol)); },
-              [&](double t) { return fn.g(exact_at(t)); }, false);
+              [&](double t) { return fn.g(exact_at(t)); }, !fn.refine);
         }
         ShapeEvent ev;
         ev.t = t_ev;
         ev.index = static_cast<int>(e);
         ev.direction = rising ? 1 : -1;
-        ev.state = exact_at(t_ev);
+        ev.state = fn.refine ? exact_at(t_ev) : stepper.Dense(t_ev, tol);
         ev.state.t = t_ev;
         found.push_back(ev);
         if (fn.terminal && t_ev < t_stop) {

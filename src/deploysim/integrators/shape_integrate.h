@@ -53,6 +53,10 @@ struct ShapeEventFunction {
   int direction = 0;
   /// Stop the integration at the first located terminal event.
   bool terminal = false;
+  /// Finish the location on partial steps of the stepper (the event time to the steps'
+  /// accuracy); false: on the dense output only (its own error, far below the steps'
+  /// tolerance for the degree-9 Hermite and Dormand-Prince extensions; no extra steps).
+  bool refine = true;
 };
 
 struct ShapeEvent {

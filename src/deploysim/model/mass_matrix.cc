@@ -1,5 +1,6 @@
 #include "deploysim/model/mass_matrix.h"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -133,8 +134,17 @@ void ComputeMassMatrix(const HingedBody& /*body*/,
   M.setZero();
   const Vec3& c = pose.com_B;
   Mat3 J = pose.hub.I_B + pose.hub.mass * PointInertia(pose.hub.com_B - c);
-  // g_k = sum_{i in D(k)} m_i j_ik, for the CoM-shift term of M_tt.
-  Eigen::Matrix<double, 3, Eigen::Dynamic> g = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, m);
+  // g_k = sum_{i in D(k)} m_i j_ik, for the CoM-shift term of M_tt (on the stack for the
+  // usual few columns: this runs at every Runge-Kutta stage).
+  constexpr int kStackColumns = 16;
+  std::array<Vec3, kStackColumns> g_stack;
+  std::vector<Vec3> g_heap;
+  Vec3* g = g_stack.data();
+  if (m > kStackColumns) {
+    g_heap.resize(static_cast<std::size_t>(m));
+    g = g_heap.data();
+  }
+  for (int a = 0; a < m; ++a) g[a].setZero();
   for (int i = 0; i < tree.size(); ++i) {
     const TreePose::Part& body_i = pose.panels[static_cast<std::size_t>(i)];
     const double mi = body_i.mass;
@@ -147,7 +157,7 @@ void ComputeMassMatrix(const HingedBody& /*body*/,
       const Vec3 jk = hk.axis_B.cross(body_i.com_B - hk.origin_B);
       const Vec3 Ia = body_i.I_B * hk.axis_B;
       M.block<3, 1>(0, 3 + a) += mi * rho.cross(jk) + Ia;
-      g.col(a) += mi * jk;
+      g[a] += mi * jk;
       for (int b = a; b < m; ++b) {
         const int l = columns[static_cast<std::size_t>(b)];
         if (!tree.Moves(l, i)) continue;
@@ -159,7 +169,7 @@ void ComputeMassMatrix(const HingedBody& /*body*/,
   }
   for (int a = 0; a < m; ++a) {
     for (int b = a; b < m; ++b) {
-      M(3 + a, 3 + b) -= g.col(a).dot(g.col(b)) / pose.mass;
+      M(3 + a, 3 + b) -= g[a].dot(g[b]) / pose.mass;
       M(3 + b, 3 + a) = M(3 + a, 3 + b);
     }
     M.block<1, 3>(3 + a, 0) = M.block<3, 1>(0, 3 + a).transpose();

@@ -112,6 +112,7 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   /// Mass matrix over cols_ and the solve for (w, theta'_f) into w_, theta_dot_.
   void Solve(const math::Vec3& H_B, const Eigen::VectorXd& x) const;
 
+
   model::HingedBody body_;
   model::PanelTree tree_;
   std::vector<HingePlan> plans_;
