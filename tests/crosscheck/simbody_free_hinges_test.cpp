@@ -453,6 +453,45 @@ TEST(SimbodyFreeHingesTest, SkewChainLatchesTwice) {
   EXPECT_NEAR(r.trajectory.hinge_angles.back()[1], 0.0, 1e-12);
 }
 
+/// A branched tree with skew axes, listed child first: panels[1] (root) on the hub,
+/// panels[0] and panels[2] on panels[1]'s far edge and on its side.
+model::Model SkewTree() {
+  const math::Vec3 plate(0.8, 1.0, 0.02);
+  Eigen::VectorXd angles0(3);
+  angles0 << -120 * kDeg, 80 * kDeg, 60 * kDeg;
+  return MakeModel("skew_tree", 85.0, math::Vec3(0.6, 1.0, 0.8),
+                   {MakePanel("tip", 1, math::Vec3(0.8, 0, 0), math::Vec3(0.2, 1, 0),
+                              math::Vec3(0.4, 0, -0.01), 4.0, plate),
+                    MakePanel("root", -1, math::Vec3(0.3, 0, 0.4), math::Vec3(0, 1, 0.25),
+                              math::Vec3(0.4, 0, 0.01), 5.0, plate),
+                    MakePanel("side", 1, math::Vec3(0.4, 0.5, 0), math::Vec3(1, 0, 0.3),
+                              math::Vec3(0, 0.3, 0), 2.0, math::Vec3(0.6, 0.6, 0.02))},
+                   angles0);
+}
+
+TEST(SimbodyFreeHingesTest, BranchedTreeLatchesEveryHinge) {
+  const schedule::Profile p =
+      HingeProfile(SkewTree(),
+                   {WithLatch(Free(0.5, 20 * kDeg), 0.0), WithLatch(Free(0.8, -20 * kDeg), 0.0),
+                    WithLatch(Free(0.3, -20 * kDeg), 0.0)},
+                   SmallSatSpin(), 10.0);
+  const model::HingedBody body = model::ValidatedHingedBody(p.model.hinged, "test");
+  const SimbodyFreeHingeRun r =
+      RunSimbodyFreeHinges(p, Grid(0, 10, 0.1), math::Vec3::UnitY(), Accuracy(1e-14));
+  ASSERT_EQ(EventsOf(r, HingeEvent::Kind::kLatch).size(), 3u);
+  const double dissipated = CheckPlasticEvents(r, body, false);
+  const double E0 = r.total_energy.front();
+  const double bookkeeping = std::abs(r.total_energy.back() - (E0 - dissipated)) / E0;
+  std::printf(
+      "branched tree: latches at %.6f, %.6f, %.6f s; energy bookkeeping %.2e, h_N "
+      "%.2e (%ld steps, %.2f s)\n",
+      r.latch_times[0], r.latch_times[1], r.latch_times[2], bookkeeping, r.max_momentum_drift,
+      r.stats.steps, r.stats.wall_seconds);
+  EXPECT_LE(bookkeeping, kBookkeepingTolerance);
+  EXPECT_LE(r.max_momentum_drift, kMomentumTolerance);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.trajectory.hinge_angles.back()[k], 0.0, 1e-12);
+}
+
 // ---- motors ------------------------------------------------------------------------------
 
 TEST(SimbodyFreeHingesTest, ConstantMotorsDoTheirWorkAndLatch) {
