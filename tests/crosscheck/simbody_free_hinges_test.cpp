@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "crosscheck/free_hinge_fixtures.h"
 #include "deploysim/analysis/flip_rule.h"
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/math/inertia.h"
@@ -27,107 +28,9 @@ namespace {
 
 using analysis::HingeEvent;
 using schedule::HingePlan;
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+using namespace free_hinge_fixtures;  // NOLINT: the shared test builders
 
 // ---- models and profiles ---------------------------------------------------------------
-
-model::Panel MakePanel(const std::string& name,
-                       int parent,
-                       const math::Vec3& hinge_point,
-                       const math::Vec3& axis,
-                       const math::Vec3& com_offset,
-                       double mass,
-                       const math::Vec3& box) {
-  model::Panel p;
-  p.name = name;
-  p.parent = parent;
-  p.body.mass = mass;
-  p.body.inertia_cm = model::BoxInertia(mass, box);
-  p.hinge_point_B = hinge_point;
-  p.hinge_axis_B = axis.normalized();
-  p.com_offset_B = com_offset;
-  return p;
-}
-
-/// A hinged model whose only configuration, "initial", has the hinge angles `angles0`.
-model::Model MakeModel(const std::string& name,
-                       double hub_mass,
-                       const math::Vec3& hub_box,
-                       std::vector<model::Panel> panels,
-                       const Eigen::VectorXd& angles0) {
-  model::Model m;
-  m.name = name;
-  m.source = name + " (C++)";
-  m.kind = model::ModelKind::kHinged;
-  m.hinged.hub.body.mass = hub_mass;
-  m.hinged.hub.body.inertia_cm = model::BoxInertia(hub_mass, hub_box);
-  m.hinged.panels = std::move(panels);
-  model::Configuration c;
-  c.name = "initial";
-  c.hinge_angles = angles0;
-  m.configurations.push_back(c);
-  return m;
-}
-
-/// The small satellite of models/smallsat.yaml (85 kg hub, two 6 kg wings hinged about y,
-/// theta = 90 deg stowed, 0 deployed), at `angle` (default stowed).
-model::Model SmallSat(double angle = 90 * kDeg) {
-  const math::Vec3 wing(0.8, 1.0, 0.02);
-  return MakeModel("smallsat", 85.0, math::Vec3(0.6, 1.0, 0.8),
-                   {MakePanel("wing_plus_x", -1, math::Vec3(0.3, 0, 0.4), math::Vec3::UnitY(),
-                              math::Vec3(0.4, 0, 0.01), 6.0, wing),
-                    MakePanel("wing_minus_x", -1, math::Vec3(-0.3, 0, -0.4), math::Vec3::UnitY(),
-                              math::Vec3(-0.4, 0, -0.01), 6.0, wing)},
-                   Eigen::Vector2d(angle, angle));
-}
-
-/// Spin about the small satellite's y axis (5 rpm) with a small nutation [rad/s].
-math::Vec3 SmallSatSpin() { return math::Vec3(0.0091, 0.5235988, 0.0091); }
-
-schedule::Profile HingeProfile(const model::Model& m,
-                               std::vector<HingePlan> plans,
-                               const math::Vec3& w0_B,
-                               double until) {
-  schedule::Profile p;
-  p.name = m.name + "_test";
-  p.source = p.name + " (C++)";
-  p.model = m;
-  p.mode = schedule::Mode::kGeometry;
-  p.coupling = schedule::Coupling::kExact;
-  p.initial.configuration = "initial";
-  p.initial.w_NB_B = w0_B;
-  p.hinges = std::move(plans);
-  p.start = 0.0;
-  p.until = until;
-  return p;
-}
-
-HingePlan Locked() { return HingePlan{}; }
-
-HingePlan Free(double stiffness, double rest_angle, double damping = 0.0) {
-  HingePlan h;
-  h.kind = HingePlan::Kind::kFree;
-  h.drive.spring.stiffness = stiffness;
-  h.drive.spring.rest_angle = rest_angle;
-  h.drive.damping = damping;
-  return h;
-}
-
-HingePlan WithLatch(HingePlan h, double angle, double jam_fraction = 0.0) {
-  h.drive.latch.enabled = true;
-  h.drive.latch.angle = angle;
-  h.drive.latch.jam_fraction = jam_fraction;
-  return h;
-}
-
-std::vector<double> Grid(double t0, double t1, double dt) {
-  std::vector<double> g;
-  const long n = std::lround((t1 - t0) / dt);
-  for (long i = 0; i <= n; ++i) g.push_back(t0 + static_cast<double>(i) * dt);
-  return g;
-}
 
 SimbodyFreeHingeOptions Accuracy(double accuracy) {
   SimbodyFreeHingeOptions o;
@@ -417,20 +320,6 @@ TEST(SimbodyFreeHingesTest, LatchTimesAreLocatedToTheIntegrationError) {
   }
 }
 
-/// A two-segment chain with skew hinge axes (a child's axis in its parent's axes): panel A
-/// on the hub, panel B on A's far edge, folded, both spring-driven to latches.
-model::Model SkewChain() {
-  const math::Vec3 plate(0.8, 1.0, 0.02);
-  Eigen::VectorXd angles0(2);
-  angles0 << 80 * kDeg, -120 * kDeg;
-  return MakeModel("skew_chain", 85.0, math::Vec3(0.6, 1.0, 0.8),
-                   {MakePanel("segment_a", -1, math::Vec3(0.3, 0, 0.4), math::Vec3(0, 1, 0.25),
-                              math::Vec3(0.4, 0, 0.01), 5.0, plate),
-                    MakePanel("segment_b", 0, math::Vec3(0.8, 0, 0), math::Vec3(0.2, 1, 0),
-                              math::Vec3(0.4, 0, -0.01), 4.0, plate)},
-                   angles0);
-}
-
 TEST(SimbodyFreeHingesTest, SkewChainLatchesTwice) {
   const schedule::Profile p = HingeProfile(
       SkewChain(), {WithLatch(Free(0.8, -20 * kDeg), 0.0), WithLatch(Free(0.5, 20 * kDeg), 0.0)},
@@ -451,22 +340,6 @@ TEST(SimbodyFreeHingesTest, SkewChainLatchesTwice) {
   EXPECT_LE(r.max_momentum_drift, kMomentumTolerance);
   EXPECT_NEAR(r.trajectory.hinge_angles.back()[0], 0.0, 1e-12);
   EXPECT_NEAR(r.trajectory.hinge_angles.back()[1], 0.0, 1e-12);
-}
-
-/// A branched tree with skew axes, listed child first: panels[1] (root) on the hub,
-/// panels[0] and panels[2] on panels[1]'s far edge and on its side.
-model::Model SkewTree() {
-  const math::Vec3 plate(0.8, 1.0, 0.02);
-  Eigen::VectorXd angles0(3);
-  angles0 << -120 * kDeg, 80 * kDeg, 60 * kDeg;
-  return MakeModel("skew_tree", 85.0, math::Vec3(0.6, 1.0, 0.8),
-                   {MakePanel("tip", 1, math::Vec3(0.8, 0, 0), math::Vec3(0.2, 1, 0),
-                              math::Vec3(0.4, 0, -0.01), 4.0, plate),
-                    MakePanel("root", -1, math::Vec3(0.3, 0, 0.4), math::Vec3(0, 1, 0.25),
-                              math::Vec3(0.4, 0, 0.01), 5.0, plate),
-                    MakePanel("side", 1, math::Vec3(0.4, 0.5, 0), math::Vec3(1, 0, 0.3),
-                              math::Vec3(0, 0.3, 0), 2.0, math::Vec3(0.6, 0.6, 0.02))},
-                   angles0);
 }
 
 TEST(SimbodyFreeHingesTest, BranchedTreeLatchesEveryHinge) {
@@ -734,15 +607,6 @@ TEST(SimbodyFreeHingesTest, StiffStopConvergesToThePlasticLatch) {
 }
 
 // ---- the major-axis rule -------------------------------------------------------------------
-
-/// A minor-axis spinner: a 30 kg hub long along z spinning about z, with a pendulum damper
-/// (a 10 kg block on an arm hinged about y at the +x face, soft spring, damper).
-model::Model PendulumDamperSpinner() {
-  return MakeModel("pendulum_damper", 30.0, math::Vec3(0.6, 0.8, 1.6),
-                   {MakePanel("damper", -1, math::Vec3(0.3, 0, 0), math::Vec3::UnitY(),
-                              math::Vec3(0.5, 0, 0), 10.0, math::Vec3(0.1, 0.1, 0.1))},
-                   Eigen::VectorXd::Zero(1));
-}
 
 /// The located 45-degree crossing: the angle there on a run that ends at that time
 /// (another step sequence; measured 3.6e-15 rad), and the crossing time at accuracy 1e-14
