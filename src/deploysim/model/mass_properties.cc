@@ -214,12 +214,15 @@ struct PanelMotion {
 };
 
 /// PanelMotion of panel k, built from its own hinge up through its ancestors without
-/// storage (no allocation; the cost is the number of ancestors). At each level the motion
-/// is expressed in the axes of the current panel j's parent, from the parent's origin
-/// (for the hub: from the hub CoM c_h); going from j to its parent P, with
-/// Q = Rot(a_j, theta_j) and d the CoM from j's hinge in j's axes:
+/// storage (no allocation; the cost is the number of ancestors). While walking up, the
+/// fields hold panel k's motion relative to the frame of the panel j reached so far: R its
+/// orientation, y (= d below) its CoM from j's hinge point, y_dot its rate and w_rel its
+/// angular velocity, all in j's axes. Lifting them into j's parent's frame, with
+/// Q = Rot(a_j, theta_j) (j turns on its hinge p_j, fixed in the parent's frame):
 ///   d <- p_j + Q d,   d' <- Q d' + theta_j' a_j x (Q d),
-///   w <- theta_j' a_j + Q w,   R <- Q R.
+///   w <- theta_j' a_j + Q w,   R <- Q R,
+/// starting from R = I, d = r_k, d' = 0, w = 0 at j = k; for the hub the origin is the hub
+/// CoM c_h instead of B's origin (p_j - c_h in place of p_j).
 /// A child of the hub takes one step: R = Rot(a_k, theta_k), y = (p_k - c_h) + R r_k,
 /// y' = theta_k' a_k x (R r_k), written exactly so (the same bits as before trees).
 /// Throws std::invalid_argument for a parent index out of range or a cycle (the body was
