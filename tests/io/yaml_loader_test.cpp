@@ -161,6 +161,64 @@ TEST_F(YamlLoaderTest, LoadsHingedModel) {
   EXPECT_EQ(m.configurations[2].hinge_angles, Eigen::Vector2d(0, 0));
 }
 
+// Panel trees: `parent: <panel name>` (default: the hub); a parent may come after its
+// children.
+const char* const kTreeModel = R"(name: tree
+kind: hinged
+hub: {mass: 80.0, box: [0.6, 0.6, 0.8]}
+panels:
+  - {name: tip, parent: mid, mass: 1.0, box: [0.4, 0.02, 0.5], hinge_point: [0.4, 0, 0], hinge_axis: [0, 0, 1], com_offset: [0.2, 0, 0]}
+  - {name: root, mass: 2.0, box: [0.4, 0.02, 0.5], hinge_point: [0.3, 0, 0], hinge_axis: [0, 1, 0], com_offset: [0.2, 0, 0]}
+  - {name: mid, parent: root, mass: 1.5, box: [0.4, 0.02, 0.5], hinge_point: [0.4, 0, 0], hinge_axis: [0, 1, 1], com_offset: [0.2, 0, 0]}
+  - {name: side, parent: root, mass: 1.0, box: [0.4, 0.02, 0.5], hinge_point: [0.2, 0, 0.25], hinge_axis: [1, 0, 0], com_offset: [0, 0, 0.2]}
+configurations:
+  closed: {hinge_angles_deg: [0, 0, 0, 0]}
+)";
+
+TEST_F(YamlLoaderTest, LoadsPanelTrees) {
+  const model::Model m = LoadModel(Write("tree.yaml", kTreeModel));
+  ASSERT_EQ(m.hinged.panels.size(), 4u);
+  EXPECT_EQ(m.hinged.panels[0].parent, 2);   // tip on mid
+  EXPECT_EQ(m.hinged.panels[1].parent, -1);  // root on the hub
+  EXPECT_EQ(m.hinged.panels[2].parent, 1);   // mid on root
+  EXPECT_EQ(m.hinged.panels[3].parent, 1);   // side on root
+  EXPECT_LT((m.hinged.panels[2].hinge_axis_B - Vec3(0, 1, 1) / std::sqrt(2.0)).norm(), 1e-16);
+}
+
+TEST(ProjectFilesTest, TwoSegmentWingsAreATree) {
+  const model::Model m =
+      LoadModel(std::string(DEPLOYSIM_SOURCE_DIR) + "/models/smallsat_two_segment.yaml");
+  ASSERT_EQ(m.hinged.panels.size(), 4u);
+  EXPECT_EQ(m.hinged.panels[0].parent, -1);  // inner_plus_x on the hub
+  EXPECT_EQ(m.hinged.panels[1].parent, 0);   // outer_plus_x on inner_plus_x
+  EXPECT_EQ(m.hinged.panels[2].parent, -1);
+  EXPECT_EQ(m.hinged.panels[3].parent, 2);
+}
+
+TEST_F(YamlLoaderTest, RejectsUnknownParentsAndCycles) {
+  const auto load = [&](const std::string& from, const std::string& to) {
+    std::string text = kTreeModel;
+    text.replace(text.find(from), from.size(), to);
+    const std::string path = Write("tree.yaml", text);
+    return ErrorOf([&] { (void)LoadModel(path); });
+  };
+  const std::string where = (dir() / "tree.yaml").string() + ": ";
+  EXPECT_EQ(load("parent: mid,", "parent: middle,"),
+            where +
+                "panels[0].parent = middle: no panel of that name (rule: parent names another "
+                "panel, or is left out for the hub; panels: tip, root, mid, side)");
+  EXPECT_EQ(load("parent: mid,", "parent: tip,"),
+            where +
+                "panels[0] (tip).parent = tip: a panel cannot be its own parent (rule: panels "
+                "form a tree)");
+  EXPECT_EQ(load("{name: root,", "{name: root, parent: tip,"),
+            where +
+                "panels[0] (tip).parent = mid: the panels' parents form a cycle (tip -> mid -> "
+                "root -> tip) (rule: panels form a tree)");
+  EXPECT_EQ(load("parent: mid,", "parent: [mid],"),
+            where + "panels[0].parent = [mid]: expected a string");
+}
+
 TEST_F(YamlLoaderTest, HubComDefaultsToTheOrigin) {
   std::string text = kHingedModel;
   text.erase(text.find("  com: [0.01, 0, 0]\n"), std::string("  com: [0.01, 0, 0]\n").size());
@@ -365,9 +423,11 @@ TEST(ProjectFilesTest, ShippedModelsAndProfilesLoad) {
     ASSERT_TRUE(fs::is_directory(dir)) << dir << " is missing";
     const bool models = std::string(folder) == "models";
     const std::vector<std::string> required =
-        models ? std::vector<std::string>{"wing_nut.yaml", "smallsat.yaml", "asymmetric_sat.yaml"}
+        models ? std::vector<std::string>{"wing_nut.yaml", "smallsat.yaml", "asymmetric_sat.yaml",
+                                          "smallsat_two_segment.yaml"}
                : std::vector<std::string>{"wing_nut.yaml", "smallsat_three_stage.yaml",
-                                          "asymmetric_sat_deploy.yaml"};
+                                          "asymmetric_sat_deploy.yaml",
+                                          "smallsat_two_segment_deploy.yaml"};
     for (const std::string& name : required) {
       EXPECT_TRUE(fs::exists(dir / name)) << (dir / name) << " is missing";
     }

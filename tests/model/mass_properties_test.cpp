@@ -453,6 +453,24 @@ TEST(MassPropertiesTest, DoesNotAllocate) {
   const long after = g_allocations.load();
   EXPECT_EQ(after - before, 0);
   EXPECT_GT(mp.mass, 0.0);
+  // A tree, listed children first: panel 0 on panel 2 on panel 1 on the hub, panel 3 on
+  // panel 1 (each panel's chain is walked, nothing stored).
+  HingedBody tree = b;
+  while (tree.panels.size() < 4) {
+    tree.panels.push_back(tree.panels.front());
+    tree.panels.back().name = "extra" + std::to_string(tree.panels.size());
+  }
+  tree.panels[0].parent = 2;
+  tree.panels[1].parent = -1;
+  tree.panels[2].parent = 1;
+  tree.panels[3].parent = 1;
+  tree = ValidatedHingedBody(tree, "tree");
+  const Eigen::VectorXd t4 = RandomVector(rng, 4, M_PI);
+  const Eigen::VectorXd r4 = RandomVector(rng, 4, 2.0);
+  const long tree_before = g_allocations.load();
+  for (int i = 0; i < 100; ++i) mp = ComputeMassProperties(tree, t4, r4);
+  EXPECT_EQ(g_allocations.load() - tree_before, 0);
+  EXPECT_NE(mp.h_rel_B, Vec3::Zero());
 }
 #endif  // DEPLOYSIM_COUNT_ALLOCATIONS
 
@@ -600,6 +618,99 @@ TEST(ValidatedHingedBodyTest, RejectsHugeMassesAndPositions) {
   const MassProperties mp =
       ComputeMassProperties(ok, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2));
   EXPECT_TRUE(mp.J_B.allFinite());
+}
+
+/// TwoPanelBody with panels seg_a, seg_b, ... appended (each on the hub).
+HingedBody BodyWithSegments(int segments) {
+  HingedBody b = TwoPanelBody();
+  for (int i = 0; i < segments; ++i) {
+    Panel p = b.panels[0];
+    p.name = std::string("seg_") + static_cast<char>('a' + i);
+    b.panels.push_back(p);
+  }
+  return b;
+}
+
+TEST(ValidatedHingedBodyTest, AcceptsTreesInAnyOrder) {
+  HingedBody b = BodyWithSegments(3);  // wing_a, wing_b, seg_a, seg_b, seg_c
+  b.panels[0].parent = 4;              // wing_a on seg_c, listed before it
+  b.panels[4].parent = 1;              // seg_c on wing_b
+  b.panels[3].parent = 1;              // seg_b on wing_b too: a branch
+  const HingedBody v = ValidatedHingedBody(b, "models/test.yaml");
+  EXPECT_EQ(v.panels[0].parent, 4);
+  EXPECT_EQ(v.panels[4].parent, 1);
+  EXPECT_EQ(v.panels[2].parent, -1);
+}
+
+TEST(ValidatedHingedBodyTest, RejectsParentsOutOfRangeAndItself) {
+  HingedBody b = TwoPanelBody();
+  b.panels[1].parent = 2;
+  ExpectRejected(b, {"panels[1] (wing_b).parent = 2: no such panel",
+                     "(rule: parent is -1 for the hub or the index of another panel, 0 to 1)"});
+  b.panels[1].parent = -2;
+  ExpectRejected(b, {"panels[1] (wing_b).parent = -2: no such panel"});
+  b.panels[1].parent = 1;
+  ExpectRejected(b, {"panels[1] (wing_b).parent = wing_b: a panel cannot be its own parent",
+                     "(rule: panels form a tree)"});
+}
+
+TEST(ValidatedHingedBodyTest, RejectsCycles) {
+  // The message of the issue: seg_b and seg_c hang on each other.
+  HingedBody b = BodyWithSegments(3);  // panels[2..4] = seg_a, seg_b, seg_c
+  b.panels[3].parent = 4;
+  b.panels[4].parent = 3;
+  b.panels[2].parent = 3;  // seg_a hangs on the cycle without being on it
+  try {
+    ValidatedHingedBody(b, "models/x.yaml");
+    ADD_FAILURE() << "accepted a cycle";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "models/x.yaml: panels[3] (seg_b).parent = seg_c: the panels' parents form a "
+              "cycle (seg_b -> seg_c -> seg_b) (rule: panels form a tree)");
+  }
+  // A longer cycle is shown from its panel of lowest index; unnamed panels by index.
+  b = BodyWithSegments(3);
+  b.panels[0].parent = 4;  // wing_a -> seg_c -> wing_b -> wing_a
+  b.panels[4].parent = 1;
+  b.panels[1].parent = 0;
+  b.panels[1].name.clear();
+  ExpectRejected(b, {"panels[0] (wing_a).parent = seg_c: the panels' parents form a cycle "
+                     "(wing_a -> seg_c -> panels[1] -> wing_a) (rule: panels form a tree)"});
+}
+
+TEST(ValidatedHingedBodyTest, LimitsTheDepthOfTheTree) {
+  // A chain of kMaxPanelDepth panels is accepted, one more is not.
+  HingedBody b = TwoPanelBody();
+  b.panels.resize(1);
+  for (int k = 1; k < kMaxPanelDepth; ++k) {
+    Panel p = b.panels[0];
+    p.name = "link" + std::to_string(k);
+    p.parent = k - 1;
+    b.panels.push_back(p);
+  }
+  const HingedBody ok = ValidatedHingedBody(b, "models/test.yaml");
+  const auto n = static_cast<Eigen::Index>(ok.panels.size());
+  const MassProperties mp =
+      ComputeMassProperties(ok, Eigen::VectorXd::Constant(n, 0.1), Eigen::VectorXd::Ones(n));
+  EXPECT_TRUE(mp.J_B.allFinite());
+  Panel last = b.panels.back();
+  last.name = "one_too_many";
+  last.parent = kMaxPanelDepth - 1;
+  b.panels.push_back(last);
+  ExpectRejected(b, {"panels[64] (one_too_many).parent = link63: the chain from the hub to "
+                     "one_too_many has 65 panels",
+                     "(rule: a chain of panels from the hub has at most 64)"});
+}
+
+TEST(MassPropertiesTest, RejectsBodiesThatAreNotTrees) {
+  // Not validated: a cycle must not loop for ever, nor an index read out of range.
+  HingedBody b = ValidatedHingedBody(TwoPanelBody(), "models/test.yaml");
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(2);
+  b.panels[0].parent = 1;
+  b.panels[1].parent = 0;
+  EXPECT_THROW(ComputeMassProperties(b, zero, zero), std::invalid_argument);
+  b.panels[1].parent = 7;
+  EXPECT_THROW(ComputeMassProperties(b, zero, zero), std::invalid_argument);
 }
 
 TEST(ValidatedHingedBodyTest, RejectsDuplicatePanelNames) {

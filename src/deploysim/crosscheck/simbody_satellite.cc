@@ -132,18 +132,35 @@ struct Satellite {
 /// How the hinges move.
 enum class Drive { kPrescribed, kSpring };
 
-/// Builds the bodies of a hinged model: Free hub, one Pin per panel (see the header).
+/// Builds the bodies of a hinged model: Free hub, one Pin per panel on its parent's body
+/// (see the header). Simbody needs a parent before its children; sat.pins stays in panel
+/// order.
 void AddHingedBodies(Satellite& sat, const model::HingedBody& body) {
   const model::Hub& h = body.hub;
   sat.hub = SimTK::MobilizedBody::Free(
       sat.matter.Ground(), SimTK::Transform(),
       SimTK::Body::Rigid(AboutOrigin(h.body.mass, h.com_B, h.body.inertia_cm)), SimTK::Transform());
-  for (const model::Panel& p : body.panels) {
-    // F (on the hub, at the hinge point) and M (on the panel, at its origin) have Z = a_k.
-    const SimTK::Rotation R_BF(SimTK::UnitVec3(ToSimTK(p.hinge_axis_B)), SimTK::ZAxis);
-    const SimTK::Body::Rigid panel(AboutOrigin(p.body.mass, p.com_offset_B, p.body.inertia_cm));
-    sat.pins.emplace_back(sat.hub, SimTK::Transform(R_BF, ToSimTK(p.hinge_point_B)), panel,
-                          SimTK::Transform(R_BF, SimTK::Vec3(0)));
+  const std::size_t n = body.panels.size();
+  sat.pins.assign(n, SimTK::MobilizedBody::Pin());
+  std::vector<bool> built(n, false);
+  for (std::size_t added = 0; added < n;) {
+    const std::size_t before = added;
+    for (std::size_t k = 0; k < n; ++k) {
+      const model::Panel& p = body.panels[k];
+      if (built[k] || (p.parent >= 0 && !built[static_cast<std::size_t>(p.parent)])) continue;
+      SimTK::MobilizedBody& parent = p.parent < 0 ? static_cast<SimTK::MobilizedBody&>(sat.hub)
+                                                  : sat.pins[static_cast<std::size_t>(p.parent)];
+      // F (on the parent, at the hinge point, which is given in the parent's frame: from its
+      // origin, in its axes) and M (on the panel, at its origin) have Z = a_k.
+      const SimTK::Rotation R_PF(SimTK::UnitVec3(ToSimTK(p.hinge_axis_B)), SimTK::ZAxis);
+      const SimTK::Body::Rigid panel(AboutOrigin(p.body.mass, p.com_offset_B, p.body.inertia_cm));
+      sat.pins[k] =
+          SimTK::MobilizedBody::Pin(parent, SimTK::Transform(R_PF, ToSimTK(p.hinge_point_B)), panel,
+                                    SimTK::Transform(R_PF, SimTK::Vec3(0)));
+      built[k] = true;
+      ++added;
+    }
+    if (added == before) std::abort();  // a validated body is a tree: broken invariant
   }
 }
 

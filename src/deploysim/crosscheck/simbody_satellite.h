@@ -5,12 +5,16 @@
 ///
 /// Bodies. Ground is the inertial frame N. The hub is a MobilizedBody::Free on Ground
 /// whose body frame is B (origin at B's origin, mass properties: m_h, CoM c_h, inertia
-/// about c_h shifted to the origin). Panel k is a MobilizedBody::Pin on the hub: its body
-/// frame P_k has its origin at the hinge point p_k and the axes of B at hinge angle 0;
-/// the pin's F frame (on the hub, at p_k) and M frame (on the panel, at its origin) are
-/// both rotated so that their common Z axis is a_k. The pin coordinate q is then the hinge
-/// angle theta_k and R_BPk = Rot(a_k, theta_k), the panel's CoM p_k + Rot(a_k, theta_k) r_k,
-/// exactly as model::ComputeMassProperties assumes. No gravity, no other forces.
+/// about c_h shifted to the origin). Panel k is a MobilizedBody::Pin on its parent's body
+/// (the hub, or the parent panel: panel trees, model.h): its body frame P_k has its origin
+/// at its hinge point and the axes of its parent's frame at hinge angle 0 (so the axes of
+/// B when every angle is 0); the pin's F frame (on the parent, at p_k, which is given from
+/// the parent's origin in its axes) and M frame (on the panel, at its origin) are both
+/// rotated so that their common Z axis is a_k. The pin coordinate q is then the hinge
+/// angle theta_k and R_Bk = R_B,parent(k) Rot(a_k, theta_k), the panel's CoM
+/// o_k + R_Bk r_k, exactly as model::ComputeMassProperties assumes. Parents are built
+/// before their children; pins (and hinge angles) stay in panel order. No gravity, no
+/// other forces.
 /// A tensor-mode profile (or a tensors model) is one Free body of mass 1 kg (the mass is
 /// irrelevant to the rotation) with its inertia J_B about its CoM at B's origin; its
 /// inertia must be constant over the run (Simbody fixes mass properties at
@@ -23,7 +27,8 @@
 /// is refitted to the momentum just before (a no-op for C1 laws; for the linear law it is
 /// the hub's response to the rate jump, as in the reduced model where H_B is continuous).
 /// Spring: the pins are free and driven by Force::MobilityLinearSpring and
-/// MobilityLinearDamper, latched at the open angle by a MobilityLinearStop.
+/// MobilityLinearDamper, latched at the open angle by a MobilityLinearStop (in a tree each
+/// acts between a panel and its parent, on the panel's own hinge angle).
 ///
 /// Initial state. Hub attitude R_NB(t0) from the profile; hinge angles and rates at t0;
 /// the hub's six generalized speeds solved (a 6x6 linear system: the system momentum is

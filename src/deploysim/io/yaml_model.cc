@@ -60,9 +60,11 @@ std::vector<model::Panel> ReadPanels(const Fields& top) {
       yaml::SequenceElements(top.doc(), top.Get("panels"), "panels", "panels");
   if (nodes.empty()) top.Fail("panels", "at least one panel is required");
   std::vector<model::Panel> panels;
+  std::vector<Fields> fields;  // of each panel, for the parents' messages
   for (std::size_t k = 0; k < nodes.size(); ++k) {
-    const Fields f(top.doc(), nodes[k], "panels[" + std::to_string(k) + "]",
-                   {"name", "mass", "box", "inertia", "hinge_point", "hinge_axis", "com_offset"});
+    const Fields f(
+        top.doc(), nodes[k], "panels[" + std::to_string(k) + "]",
+        {"name", "mass", "box", "inertia", "hinge_point", "hinge_axis", "com_offset", "parent"});
     model::Panel p;
     p.name = f.Name("name");
     for (const model::Panel& other : panels) {
@@ -76,6 +78,26 @@ std::vector<model::Panel> ReadPanels(const Fields& top) {
       f.Fail("hinge_axis", "must be non-zero (it is normalized on load)");
     p.com_offset_B = f.Vector3("com_offset");
     panels.push_back(p);
+    fields.push_back(f);
+  }
+  // `parent: <panel name>` (default: the hub), resolved once every name is known (a parent
+  // may come after its children). A panel naming itself or a cycle is refused by
+  // model::ValidatedHingedBody.
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const Fields& f = fields[k];
+    if (!f.Has("parent")) continue;
+    const std::string parent = f.Text("parent");
+    for (std::size_t j = 0; j < panels.size(); ++j) {
+      if (panels[j].name == parent) panels[k].parent = static_cast<int>(j);
+    }
+    if (panels[k].parent < 0) {
+      std::vector<std::string> names;
+      for (const model::Panel& p : panels) names.push_back(p.name);
+      f.Fail("parent",
+             "no panel of that name (rule: parent names another panel, or is left out "
+             "for the hub; panels: " +
+                 yaml::ShortList(names) + ")");
+    }
   }
   return panels;
 }
