@@ -17,11 +17,21 @@ namespace {
 
 using namespace free_hinge_fixtures;  // NOLINT: the shared test builders
 
-// Acceptance 2: H_B / |H| and attitude [rad] to 1e-9 over >= 300 s, latch times to 1e-8 s,
-// impulses and hub angular-velocity jumps to 1e-9 relative.
-constexpr double kTrajectoryTolerance = 1e-9;
-constexpr double kLatchTimeTolerance = 1e-8;
-constexpr double kImpulseTolerance = 1e-9;
+// Acceptance 2 asks for H_B / |H| and attitude [rad] within 1e-9 over >= 300 s, latch
+// times within 1e-8 s, impulses and hub angular-velocity jumps within 1e-9 relative. The
+// bounds below sit a few times above the largest measured difference over the six cases
+// (reduced rkmk-rkf78/exact at rtol 1e-13 against Simbody at 1e-14), so that a regression
+// fails long before the acceptance figure: H_B 5.0e-11 and attitude 5.1e-11 rad (the
+// symmetric deployment, which flips: Simbody's own error, 1e-12 against 1e-14, is 5.6e-9
+// there), latch times 7.9e-14 s, impulses 4.2e-14, w jumps 4.4e-14, flips 7.1e-10 s,
+// total energy 1.1e-13 of E(t0).
+constexpr double kTrajectoryTolerance = 2e-10;
+constexpr double kLatchTimeTolerance = 5e-13;
+constexpr double kImpulseTolerance = 2e-13;
+constexpr double kFlipTolerance = 3e-9;
+constexpr double kEnergyTolerance = 5e-13;
+/// Acceptance 5 asks for 1e-6 relative; measured below 1e-14.
+constexpr double kCrossingTolerance = 1e-12;
 
 schedule::Profile Tight(schedule::Profile p) {
   p.integrator.method = "exact";  // closed form once every hinge is locked
@@ -34,13 +44,9 @@ schedule::Profile Tight(schedule::Profile p) {
 FreeHingeCrosscheckResult Check(const schedule::Profile& p, const char* what) {
   FreeHingeCrosscheckOptions o;
   o.accuracy = 1e-14;
-  o.reference_accuracy = 0.0;
+  o.own_error_accuracy = 1e-12;  // Simbody's own error: 1e-12 against 1e-14
   FreeHingeCrosscheckResult r = RunFreeHingeCrosscheck(p, o);
-  // Simbody's own error: 1e-12 against the 1e-14 run.
-  FreeHingeCrosscheckOptions o12 = o;
-  o12.accuracy = 1e-12;
-  o12.reference_accuracy = 1e-14;
-  const FreeHingeCrosscheckResult s = RunFreeHingeCrosscheck(p, o12);
+  const FreeHingeCrosscheckResult& s = r;
   std::printf(
       "%s, %.0f s: H_B %.2e (Simbody 1e-12 vs 1e-14: %.2e), attitude %.2e rad (%.2e), "
       "latch times %.2e s (%.2e), impulses %.2e (%.2e), w jumps %.2e (%.2e), flips %.2e s "
@@ -58,6 +64,8 @@ FreeHingeCrosscheckResult Check(const schedule::Profile& p, const char* what) {
   EXPECT_LE(r.events.max_impulse, kImpulseTolerance) << what;
   EXPECT_LE(r.events.max_w_jump, kImpulseTolerance) << what;
   EXPECT_EQ(r.reduced.flip_times.size(), r.simbody.flip_times.size()) << what;
+  EXPECT_LE(r.max_flip_difference, kFlipTolerance) << what;
+  EXPECT_LE(r.max_energy_difference, kEnergyTolerance) << what;
   return r;
 }
 
@@ -108,7 +116,7 @@ TEST(FreeHingeCrosscheckTest, PendulumDamperMajorAxisRule) {
   ASSERT_FALSE(r.reduced.spin_axis_45_crossings.empty());
   std::printf("pendulum damper: 45-degree crossing at %.12f s (reduced) vs %.12f s (Simbody)\n",
               r.reduced.spin_axis_45_crossings.front(), r.simbody_45_crossings.front());
-  EXPECT_LE(r.max_45_crossing_difference, 1e-6);
+  EXPECT_LE(r.max_45_crossing_difference, kCrossingTolerance);
   // It ends spinning about the major axis of the whole system.
   EXPECT_EQ(analysis::LocateSpinAxis(r.reduced.final_J_B, r.reduced.final_state.H_B).role,
             analysis::AxisRole::kMajor);

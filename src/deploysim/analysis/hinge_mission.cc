@@ -507,7 +507,6 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
         // location tolerance of it).
         x[ei.a] = ei.angle;
         const Sample before = current_sample(dynamics::Side::kRight);
-        close_phase(before);
         HingeEvent ev;
         ev.t = t;
         ev.panel = k;
@@ -536,6 +535,8 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
         }
         ev.kind = kind;
         out.hinge_events.push_back(ev);
+        // A lock ends the phase (the set of free hinges changes); a bounce does not.
+        if (lock) close_phase(before);
         if (lock) {
           // Remove hinge k's entries; the other momenta stay as they are.
           Eigen::VectorXd nx(2 * (m - 1));
@@ -561,7 +562,7 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
             }
           }
         }
-        open_phase(current_sample(dynamics::Side::kRight));
+        if (lock) open_phase(current_sample(dynamics::Side::kRight));
         continue;
       }
     } else {

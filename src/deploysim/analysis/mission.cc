@@ -336,8 +336,14 @@ MissionResult RunMission(const schedule::Profile& profile,
     }
     add_sample(s, t);
   };
-  const integrators::IntegrationResult run =
-      integrators::Integrate(*stepper, settings, sched, y0, t1, times, {flip}, observer, on_sample);
+  // The spin axis passing 45 degrees from h_N (either way).
+  const double M0 = y0.H_B.norm();
+  integrators::EventFunction cross45{"spin axis 45 deg",
+                                     [spin_axis_B, M0](const integrators::State& s) {
+                                       return 0.70710678118654752440 - spin_axis_B.dot(s.H_B) / M0;
+                                     }};
+  const integrators::IntegrationResult run = integrators::Integrate(
+      *stepper, settings, sched, y0, t1, times, {flip, cross45}, observer, on_sample);
   out.stats = run.stats;
   out.termination = run.termination;
   out.message = run.message;
@@ -357,7 +363,11 @@ MissionResult RunMission(const schedule::Profile& profile,
 
   // Flip events: the rule of flip_rule.h.
   for (const integrators::Event& e : run.events) {
-    if (IsFlip(sched.Evaluate(e.t).J_B, spin_axis_B, e.state.H_B)) out.flip_times.push_back(e.t);
+    if (e.index == 1) {
+      out.spin_axis_45_crossings.push_back(e.t);
+    } else if (IsFlip(sched.Evaluate(e.t).J_B, spin_axis_B, e.state.H_B)) {
+      out.flip_times.push_back(e.t);
+    }
   }
 
   // States at the stage boundaries.

@@ -71,8 +71,9 @@ struct StageReport {
 };
 
 /// The caveat of a stage's verdict: which of its conclusions hold only for a perfectly
-/// rigid body (DESIGN.md 2.7, the major-axis rule). `dissipative`: energy is dissipated in
-/// the stage (a damper, friction, a latch); `role`: the spin axis's role at its end.
+/// rigid body (DESIGN.md 2.7, the major-axis rule), from the spin axis's role at the stage
+/// end. `dissipative`: energy is dissipated continuously in the stage (a damper or friction
+/// on a free hinge; a latch's loss is a single impulse, not a drift).
 /// Sets report.caveat and report.rigid_body_only.
 void SetRigidBodyCaveat(StageReport& report, bool dissipative);
 

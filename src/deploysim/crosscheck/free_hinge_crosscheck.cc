@@ -117,9 +117,9 @@ FreeHingeCrosscheckResult RunFreeHingeCrosscheck(const schedule::Profile& profil
     throw std::invalid_argument("crosscheck: accuracy = " + math::FormatNumber(options.accuracy) +
                                 ": must be in (0, 1)");
   }
-  if (!(options.reference_accuracy >= 0.0 && options.reference_accuracy < 1.0)) {
+  if (!(options.own_error_accuracy >= 0.0 && options.own_error_accuracy < 1.0)) {
     throw std::invalid_argument(
-        "crosscheck: reference accuracy = " + math::FormatNumber(options.reference_accuracy) +
+        "crosscheck: own-error accuracy = " + math::FormatNumber(options.own_error_accuracy) +
         ": must be 0 (none) or in (0, 1)");
   }
   schedule::Profile p = profile;
@@ -166,18 +166,18 @@ FreeHingeCrosscheckResult RunFreeHingeCrosscheck(const schedule::Profile& profil
         std::max(r.max_energy_difference,
                  std::abs(tr.energy[i] + tr.energy_spring[i] - r.simbody.total_energy[i]) / E0);
   }
-  if (options.reference_accuracy > 0.0) {
-    SimbodyFreeHingeOptions ro = so;
-    ro.accuracy = options.reference_accuracy;
-    const SimbodyFreeHingeRun ref = RunSimbodyFreeHinges(p, grid, r.reduced.spin_axis_B, ro);
+  if (options.own_error_accuracy > 0.0) {
+    SimbodyFreeHingeOptions lo = so;
+    lo.accuracy = options.own_error_accuracy;
+    const SimbodyFreeHingeRun loose = RunSimbodyFreeHinges(p, grid, r.reduced.spin_axis_B, lo);
     r.has_reference = true;
-    r.reference_accuracy = options.reference_accuracy;
-    r.simbody_self = CompareSimbody(r.simbody.trajectory, ref.trajectory);
-    r.simbody_self_flip_difference = MaxFlipDifference(r.simbody.flip_times, ref.flip_times);
-    r.simbody_self_events = CompareEvents(r.simbody.events, r.simbody.latch_times, ref.events,
-                                          ref.latch_times, p.t_begin());
+    r.own_error_accuracy = options.own_error_accuracy;
+    r.simbody_self = CompareSimbody(loose.trajectory, r.simbody.trajectory);
+    r.simbody_self_flip_difference = MaxFlipDifference(loose.flip_times, r.simbody.flip_times);
+    r.simbody_self_events = CompareEvents(loose.events, loose.latch_times, r.simbody.events,
+                                          r.simbody.latch_times, p.t_begin());
     r.simbody_self_45_crossing_difference =
-        MaxCrossingDifference(r.simbody_45_crossings, Crossings45(ref));
+        MaxCrossingDifference(Crossings45(loose), r.simbody_45_crossings);
   }
   r.profile = std::move(p);
   return r;
@@ -221,7 +221,7 @@ std::string FormatFreeHingeCrosscheckTable(const FreeHingeCrosscheckResult& r) {
     << r.reduced.trajectory.size() << " samples every " << Num(p.output.dt) << " s\n";
   o << "  reduced: " << p.integrator.method << " rtol " << Num(p.integrator.rtol) << " atol "
     << Num(p.integrator.atol) << "; Simbody: RungeKuttaMerson accuracy " << Num(r.accuracy);
-  if (self) o << " (its own error: against accuracy " << Num(r.reference_accuracy) << ")";
+  if (self) o << " (its own error: accuracy " << Num(r.own_error_accuracy) << " against it)";
   o << "\n\n";
   if (self) {
     char buf[200];

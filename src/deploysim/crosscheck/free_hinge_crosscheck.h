@@ -7,9 +7,9 @@
 ///   events, paired in time order (kind and panel must match): time [s], impulse lambda
 ///     and hub angular-velocity jump (relative to the Simbody value), energy dissipated;
 ///   latch times per panel [s]; flips [s]; the spin axis's 45-degree crossings (relative).
-/// Simbody's own error is reported beside them when a reference accuracy is given: Simbody
-/// at `accuracy` against Simbody at `reference_accuracy` (e.g. 1e-12 against 1e-14), the
-/// same quantities.
+/// Simbody's own error is reported beside them when asked: Simbody at a looser accuracy
+/// (`own_error_accuracy`, e.g. 1e-12) against Simbody at `accuracy` (e.g. 1e-14), the same
+/// quantities: an estimate of the error of the looser run, and a bound on the tighter one's.
 
 #include <optional>
 #include <string>
@@ -24,9 +24,9 @@ namespace deploysim::crosscheck {
 
 struct FreeHingeCrosscheckOptions {
   double accuracy = 1e-14;  ///< Simbody's accuracy, in (0, 1).
-  /// Also run Simbody at this (tighter) accuracy and report Simbody at `accuracy` against
-  /// it: Simbody's own error. 0: not run.
-  double reference_accuracy = 0.0;
+  /// Also run Simbody at this (looser) accuracy and report it against the run at
+  /// `accuracy`: Simbody's own error. 0: not run.
+  double own_error_accuracy = 0.0;
   std::optional<double> t_end;      ///< [s] run only to here (default: the profile's end).
   std::optional<double> output_dt;  ///< [s] overrides the profile's output.dt.
 };
@@ -64,9 +64,10 @@ struct FreeHingeCrosscheckResult {
   double max_45_crossing_difference = 0.0;   ///< relative
   double max_energy_difference = 0.0;        ///< |E_reduced - E_simbody| / E(t0), total energy
   std::vector<double> simbody_45_crossings;  ///< [s] Simbody's (increasing and decreasing)
-  /// Simbody's own error (reference_accuracy > 0): Simbody at `accuracy` vs at the reference.
+  /// Simbody's own error (own_error_accuracy > 0): Simbody at own_error_accuracy vs at
+  /// `accuracy`.
   bool has_reference = false;
-  double reference_accuracy = 0.0;
+  double own_error_accuracy = 0.0;
   TrajectoryDifference simbody_self;
   double simbody_self_flip_difference = 0.0;
   EventComparison simbody_self_events;
