@@ -7,11 +7,18 @@ Writes into OUTDIR (default: next to the file, <stem>_plots/):
   momentum.png          H_B components and |H_B| against time (the seed's Fig. 3.1)
   angular_velocity.png  w_NB_B components against time
   spin_axis.png         angle between the body spin axis and h_N (the flip as seen),
-                        with the located flips marked
+                        with the located flips and 45-degree crossings marked
   inertia.png           principal moments of J(t), stages shaded
+  energy.png            kinetic, stored (spring) and total energy, and the change of the
+                        total against the energy dissipated at hinge events
   polhode.png           H_B/|H_B| on the momentum sphere and its three plane
                         projections, with the separatrix of the final inertia
                         (the seed's Figs. 2.3-2.8)
+  hinge_angles.png      hinge angles [deg] and rates [deg/s] per panel, with the hinge
+                        events marked (only when the file has hinge angles: geometry mode)
+On the time plots, hinge events (free-hinge profiles) are marked: releases, latches, jams
+and rests as labelled vertical lines, stop impacts as ticks at the bottom, a burst of
+bounces with one label.
 Needs Debian's python3-matplotlib, python3-h5py, python3-numpy (run with /usr/bin/python3).
 """
 import argparse
@@ -24,46 +31,220 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 
-STAGE_COLORS = {"hold": "#f2f2f2", "move": "#dde8f5"}
+STAGE_COLORS = {"hold": "#f2f2f2", "move": "#dde8f5", "free": "#e4f2e0"}
+
+# Hinge events: line colour and style of the labelled vertical lines.
+EVENT_STYLE = {
+    "release": dict(color="#1b7837", ls="--", lw=0.9),
+    "latch": dict(color="#b2182b", ls="-", lw=1.0),
+    "jam": dict(color="tab:purple", ls="-", lw=1.2),
+    "rest": dict(color="tab:brown", ls=":", lw=1.1),
+}
+STOP_COLOR = "0.3"
+EVENT_MARKERS = {"release": "^", "latch": "s", "jam": "X", "rest": "D", "stop": "|"}
+
+
+def text(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
 
 
 def read(path):
     with h5py.File(path, "r") as f:
         d = {k: f[k][()] for k in ("time", "H_B", "w_NB_B", "J_B", "principal_moments",
                                    "spin_axis_angle", "h_N", "energy")}
+        n = len(d["time"])
+        d["energy_rigid"] = f["energy_rigid"][()] if "energy_rigid" in f else None
         d["flips"] = f["events/flip_time"][()] if "events/flip_time" in f else np.array([])
+        # Free-hinge outputs (issue 9); files written before have none of them.
+        d["energy_spring"] = f["energy_spring"][()] if "energy_spring" in f else np.zeros(n)
+        d["energy_total"] = (f["energy_total"][()] if "energy_total" in f
+                             else d["energy"] + d["energy_spring"])
+        d["hinge_angles"] = f["hinge_angles"][()] if "hinge_angles" in f else None
+        d["hinge_rates"] = f["hinge_rates"][()] if "hinge_rates" in f else None
+        p = d["hinge_angles"].shape[1] if d["hinge_angles"] is not None else 0
+        d["panel_names"] = ([text(s) for s in f["panel_names"][()]] if "panel_names" in f
+                            else [f"panel {k}" for k in range(p)])
+        d["latch_time"] = f["hinge_latch_time"][()] if "hinge_latch_time" in f else np.array([])
+        d["cross45"] = (f["events/spin_axis_45_time"][()] if "events/spin_axis_45_time" in f
+                        else np.array([]))
+        events = []
+        if "events/hinge/time" in f:
+            g = f["events/hinge"]
+            for i, t in enumerate(g["time"][()]):
+                events.append(dict(t=float(t), panel=int(g["panel"][i]),
+                                   name=text(g["panel_name"][i]), kind=text(g["kind"][i]),
+                                   angle=float(g["angle"][i]),
+                                   dissipated=float(g["energy_dissipated"][i])))
+        d["events"] = sorted(events, key=lambda e: e["t"])
         st = f["stages"]
-        d["stage_begin"] = st["t_begin"][()]
-        d["stage_end"] = st["t_end"][()]
-        d["stage_name"] = [n.decode() if isinstance(n, bytes) else str(n) for n in st["name"][()]]
-        d["stage_law"] = [n.decode() if isinstance(n, bytes) else str(n) for n in st["law"][()]]
-        d["name"] = f.attrs.get("profile_name", os.path.basename(path))
-        if isinstance(d["name"], bytes):
-            d["name"] = d["name"].decode()
+        begin, end = st["t_begin"][()], st["t_end"][()]
+        names = [text(s) for s in st["name"][()]]
+        laws = [text(s) for s in st["law"][()]]
+        d["name"] = text(f.attrs.get("profile_name", os.path.basename(path)))
+    # Consecutive stages with the same name and law are one stretch on the plots (a hinge
+    # profile's phases: every stop bounce starts a new phase of the same hinges).
+    d["stage_begin"], d["stage_end"], d["stage_name"], d["stage_law"] = [], [], [], []
+    for a, b, nm, law in zip(begin, end, names, laws):
+        if d["stage_name"] and d["stage_name"][-1] == nm and d["stage_law"][-1] == law:
+            d["stage_end"][-1] = b
+            continue
+        d["stage_begin"].append(a)
+        d["stage_end"].append(b)
+        d["stage_name"].append(nm)
+        d["stage_law"].append(law)
+    d["stage_begin"] = np.array(d["stage_begin"])
+    d["stage_end"] = np.array(d["stage_end"])
     return d
 
 
+def span(d):
+    return max(d["time"][-1] - d["time"][0], 1e-300)
+
+
 def shade_stages(ax, d, label=True):
+    # A hinge profile's phases are named after the events, which are marked themselves:
+    # shade them without labels.
+    label = label and not d["events"]
     for i, (a, b) in enumerate(zip(d["stage_begin"], d["stage_end"])):
-        moving = d["stage_law"][i] != "hold"
-        ax.axvspan(a, b, color=STAGE_COLORS["move" if moving else "hold"], zorder=0, lw=0)
+        law = d["stage_law"][i]
+        color = STAGE_COLORS["hold" if law == "hold" else "free" if law == "free" else "move"]
+        ax.axvspan(a, b, color=color, zorder=0, lw=0)
         if label and len(d["stage_begin"]) > 1:
             ax.text((a + b) / 2, 0.985, d["stage_name"][i], transform=ax.get_xaxis_transform(),
                     ha="center", va="top", fontsize=7, color="0.3", rotation=90 if
                     (b - a) < 0.08 * (d["stage_end"][-1] - d["stage_begin"][0]) else 0,
                     zorder=5, bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none",
                                         alpha=0.7))
-    for a in d["stage_begin"][1:]:
-        ax.axvline(a, color="0.6", lw=0.6, ls=":", zorder=1)
+    if label:
+        for a in d["stage_begin"][1:]:
+            ax.axvline(a, color="0.6", lw=0.6, ls=":", zorder=1)
+
+
+def stop_bursts(d):
+    """The stop impacts grouped into bursts: a panel's consecutive stops (the bounces
+    between its release and its rest or latch; other panels' events do not split them)."""
+    bursts, open_burst = [], {}
+    for e in d["events"]:
+        p = e["panel"]
+        if e["kind"] == "stop":
+            if p not in open_burst:
+                open_burst[p] = []
+                bursts.append(open_burst[p])
+            open_burst[p].append(e)
+        else:
+            open_burst.pop(p, None)
+    return bursts
+
+
+def mark_events(ax, d, labels=True):
+    """Hinge events on a time axis. Returns legend handles for the kinds shown.
+
+    Releases, latches, jams and rests: a vertical line each. Stop impacts: ticks at the
+    bottom, one label per burst of bounces ('93 stops wing_plus_x'). Labels stand in a
+    band at the top of the plot (reserve_label_bands makes room for it); labels of events
+    closer than 1.8% of the time span are stacked into one block."""
+    evs = d["events"]
+    if not evs:
+        return []
+    handles = {}
+    lines = [e for e in evs if e["kind"] != "stop"]
+    bursts = stop_bursts(d)
+    for e in lines:
+        st = EVENT_STYLE.get(e["kind"], EVENT_STYLE["latch"])
+        ax.axvline(e["t"], zorder=2, alpha=0.85, **st)
+        handles.setdefault(e["kind"], Line2D([], [], **st, label=e["kind"]))
+    tr = ax.get_xaxis_transform()
+    for burst in bursts:
+        for e in burst:
+            ax.plot([e["t"], e["t"]], [0.0, 0.035], transform=tr, color=STOP_COLOR, lw=0.7,
+                    zorder=6)
+    if bursts:
+        handles["stop"] = Line2D([], [], color=STOP_COLOR, lw=0.7, marker="|", ls="none",
+                                 markersize=8, label="stop impact (tick)")
+    if labels:
+        items = [(e["t"], f"{e['kind']} {e['name']}",
+                  EVENT_STYLE.get(e["kind"], {}).get("color", "k")) for e in lines]
+        for b in bursts:
+            n = len(b)
+            items.append((b[0]["t"], f"{n} stops {b[0]['name']}" if n > 1
+                          else f"stop {b[0]['name']}", STOP_COLOR))
+        items.sort(key=lambda x: x[0])
+        t0, dt = d["time"][0], span(d)
+        # A label line is about 13 px thick, 1.8% of the plot's width: the labels of closer
+        # events are stacked side by side in one block (at most 3 lines, then "+N").
+        groups = []
+        for item in items:
+            if groups:
+                g = groups[-1]
+                if item[0] - g[-1][0] < 0.018 * dt * min(len(g), 3):
+                    g.append(item)
+                    continue
+            groups.append([item])
+        for group in groups:
+            label = merge_labels([x[1] for x in group])
+            t = group[0][0]
+            ax.text(t, 0.985, label, transform=tr, rotation=90,
+                    ha="right" if t - t0 > 0.97 * dt else "left", va="top", fontsize=6.5,
+                    linespacing=1.1, zorder=6, clip_on=True,
+                    color=group[0][2] if len({x[2] for x in group}) == 1 else "0.15",
+                    bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8))
+        ax._event_labels = True
+    order = ["release", "latch", "jam", "rest", "stop"]
+    return [handles[k] for k in order if k in handles]
+
+
+def merge_labels(texts):
+    """The label of events close in time, one line each (rotated: side by side); the same
+    kind on several panels on one line: 'latch wing_plus_x, wing_minus_x'."""
+    lines = []
+    for t in texts:
+        kind, _, name = t.partition(" ")
+        if lines and lines[-1][0] == kind and not kind[0].isdigit() and len(lines[-1][1]) < 3:
+            lines[-1][1].append(name)
+        else:
+            lines.append((kind, [name]))
+    shown = [f"{k} {', '.join(n)}" for k, n in lines[:3]]
+    if len(lines) > 3:
+        shown[-1] += f" +{sum(len(n) for _, n in lines[3:])}"
+    return "\n".join(shown)
+
+
+def reserve_label_bands(fig):
+    """Raises the top of every axes with event labels so that the data stays below them."""
+    for ax in fig.axes:
+        if getattr(ax, "_event_labels", False):
+            lo, hi = ax.get_ylim()
+            ax.set_ylim(lo, hi + 0.38 * (hi - lo))
+
+
+def legend(ax, d, event_handles, **kw):
+    """The axes' legend with the hinge events' kinds; with events (whose labels fill the
+    band at the top), outside the plot on the right, so that it hides neither."""
+    handles, labels = ax.get_legend_handles_labels()
+    handles += event_handles
+    labels += [h.get_label() for h in event_handles]
+    if event_handles:
+        kw = dict(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    ax.legend(handles, labels, fontsize=8, framealpha=0.9, **kw)
 
 
 def finish(fig, ax, path, title, d):
     ax.set_xlim(d["time"][0], d["time"][-1])
-    if any(law != "hold" for law in d["stage_law"]):
-        ax.text(1.0, -0.13, "shaded blue: panels moving; grey: constant configuration",
-                transform=ax.transAxes, ha="right", va="top", fontsize=7, color="0.4")
+    laws = set(d["stage_law"])
+    notes = []
+    if laws & {"free"}:
+        notes.append("shaded green: free hinges")
+    if laws - {"hold", "free"}:
+        notes.append("blue: panels moving" if notes else "shaded blue: panels moving")
+    if notes and "hold" in laws:
+        notes.append("grey: constant configuration")
+    if notes:
+        ax.text(1.0, -0.13, "; ".join(notes), transform=ax.transAxes, ha="right", va="top",
+                fontsize=7, color="0.4")
     ax.grid(True, lw=0.3, alpha=0.6)
+    reserve_label_bands(fig)
     fig.suptitle(f"{d['name']}: {title}", fontsize=11)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
@@ -74,12 +255,13 @@ def plot_momentum(d, out):
     t, H = d["time"], d["H_B"]
     fig, ax = plt.subplots(figsize=(10, 4.8))
     shade_stages(ax, d)
+    ev = mark_events(ax, d)
     for i, c in enumerate(("tab:red", "tab:green", "tab:blue")):
         ax.plot(t, H[:, i], color=c, lw=1.0, label=f"$H_{{{i + 1}}}$ (body {'xyz'[i]})")
     ax.plot(t, np.linalg.norm(H, axis=1), color="k", lw=1.2, label=r"$|H_B|$")
     ax.set_xlabel("time [s]")
     ax.set_ylabel(r"angular momentum $H_B$ [kg m$^2$/s]")
-    ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
+    legend(ax, d, ev, loc="upper right")
     finish(fig, ax, os.path.join(out, "momentum.png"), "body-frame angular momentum", d)
 
 
@@ -87,11 +269,12 @@ def plot_angular_velocity(d, out):
     t, w = d["time"], d["w_NB_B"]
     fig, ax = plt.subplots(figsize=(10, 4.8))
     shade_stages(ax, d)
+    ev = mark_events(ax, d)
     for i, c in enumerate(("tab:red", "tab:green", "tab:blue")):
         ax.plot(t, w[:, i], color=c, lw=1.0, label=rf"$\omega_{{{'xyz'[i]}}}$")
     ax.set_xlabel("time [s]")
     ax.set_ylabel(r"angular velocity $\omega_{NB}^B$ [rad/s]")
-    ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
+    legend(ax, d, ev, loc="upper right")
     finish(fig, ax, os.path.join(out, "angular_velocity.png"), "body angular velocity", d)
 
 
@@ -99,15 +282,19 @@ def plot_spin_axis(d, out):
     t = d["time"]
     fig, ax = plt.subplots(figsize=(10, 4.8))
     shade_stages(ax, d)
+    ev = mark_events(ax, d)
     ax.plot(t, np.degrees(d["spin_axis_angle"]), color="tab:purple", lw=1.2,
             label="spin axis to $h_N$")
     for i, tf in enumerate(d["flips"]):
         ax.axvline(tf, color="tab:orange", lw=0.8, ls="--", label="located flip" if i == 0 else None)
+    if len(d["cross45"]):
+        ax.plot(d["cross45"], np.full(len(d["cross45"]), 45.0), "o", color="tab:purple",
+                ms=4, mfc="white", label="45° crossing")
     ax.set_ylim(-5, 185)
     ax.set_yticks([0, 45, 90, 135, 180])
     ax.set_xlabel("time [s]")
     ax.set_ylabel("angle between body spin axis and $h_N$ [deg]")
-    ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
+    legend(ax, d, ev, loc="upper right")
     finish(fig, ax, os.path.join(out, "spin_axis.png"),
            f"the flip as seen ({len(d['flips'])} flips)", d)
 
@@ -116,6 +303,7 @@ def plot_inertia(d, out):
     t, m = d["time"], d["principal_moments"]
     fig, ax = plt.subplots(figsize=(10, 4.8))
     shade_stages(ax, d)
+    ev = mark_events(ax, d)
     for i, (c, n) in enumerate(zip(("tab:blue", "tab:green", "tab:red"),
                                    ("minor", "intermediate", "major"))):
         ax.plot(t, m[:, i], color=c, lw=1.4, label=f"{n} $I_{i + 1}$")
@@ -125,9 +313,127 @@ def plot_inertia(d, out):
                 label=f"$J_{{{'xyz'[i] * 2}}}$ (body {'xyz'[i]})")
     ax.set_xlabel("time [s]")
     ax.set_ylabel(r"moment of inertia [kg m$^2$]")
-    ax.legend(loc="best", fontsize=8, framealpha=0.9, ncol=2)
+    legend(ax, d, ev, loc="best", ncol=2)
     finish(fig, ax, os.path.join(out, "inertia.png"),
            "principal moments of J(t) (solid) and body-axis moments (dashed)", d)
+
+
+def plot_energy(d, out):
+    """Kinetic T, stored spring energy V and the total E = T + V; below, for free-hinge
+    runs, E - E(t0) against minus the energy dissipated at hinge events (the two coincide
+    without dampers, motors and friction: E steps down at each latch, flat between).
+    Runs without springs or hinge events (stage profiles): T and its rigid-body part."""
+    t = d["time"]
+    T, V, E = d["energy"], d["energy_spring"], d["energy_total"]
+    springs = bool(np.any(V != 0.0))
+    if not springs and not d["events"]:
+        fig, ax = plt.subplots(figsize=(10, 4.8))
+        shade_stages(ax, d)
+        ax.plot(t, T, color="tab:blue", lw=1.2, label="kinetic $T$")
+        if d["energy_rigid"] is not None and np.any(d["energy_rigid"] != T):
+            ax.plot(t, d["energy_rigid"], color="tab:blue", lw=0.9, ls="--",
+                    label=r"its rigid part $\frac{1}{2}\,\omega \cdot J_B\,\omega$")
+        handles, labels = ax.get_legend_handles_labels()
+        if any(law not in ("hold", "free") for law in d["stage_law"]):
+            handles.append(Line2D([], [], ls="none"))
+            labels.append("prescribed hinge motion: the drives do work, T is not conserved")
+        ax.legend(handles, labels, fontsize=8, framealpha=0.9, loc="upper right")
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("energy [J]")
+        finish(fig, ax, os.path.join(out, "energy.png"), "kinetic energy (no springs)", d)
+        return
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(10, 6.4), sharex=True,
+                                  gridspec_kw=dict(height_ratios=[2, 1]))
+    for a in (ax, ax2):
+        shade_stages(a, d, label=a is ax)
+    ev = mark_events(ax, d)
+    mark_events(ax2, d, labels=False)
+    ax.plot(t, T, color="tab:blue", lw=1.1, label="kinetic $T$")
+    if springs:
+        ax.plot(t, V, color="tab:orange", lw=1.1, label="stored in springs $V$")
+        ax.plot(t, E, color="k", lw=1.6, label="total $E = T + V$")
+    ax.set_ylabel("energy [J]")
+    legend(ax, d, ev, loc="upper right")
+    ax.grid(True, lw=0.3, alpha=0.6)
+
+    dE = E - E[0]
+    ax2.plot(t, dE, color="k", lw=1.3, label="$E(t) - E(t_0)$")
+    diss = [(e["t"], e["dissipated"]) for e in d["events"] if e["dissipated"] > 0.0]
+    if diss:
+        times = np.array([x[0] for x in diss])
+        lost = np.cumsum([x[1] for x in diss])
+        steps = np.concatenate([[0.0], -lost])
+        ax2.step(np.concatenate([[t[0]], times, [t[-1]]]), np.concatenate([steps, [steps[-1]]]),
+                 where="post", color="tab:red", lw=1.0, ls="--",
+                 label="$-$ energy dissipated at hinge events (cumulative)")
+        k = np.searchsorted(times, t, side="right")
+        resid = np.max(np.abs(dE - steps[k]))
+        note = (f"max |E - E(t0) + dissipated at events| = {resid:.2g} J "
+                "(the rest: dampers, friction, motors, or integration error)")
+    else:
+        worst = np.max(np.abs(dE))
+        note = f"max |E - E(t0)| = {worst:.2g} J ({worst / max(abs(E[0]), 1e-300):.2g} of E(t0))"
+    scale = max(np.max(np.abs(E)), 1e-300)
+    lo, hi = np.min(dE), np.max(dE)
+    if hi - lo < 1e-6 * scale:  # rounding noise only: show it as the flat line it is
+        mid = 0.5 * (hi + lo)
+        ax2.set_ylim(mid - 1e-6 * scale, mid + 1e-6 * scale)
+    handles, labels = ax2.get_legend_handles_labels()
+    handles.append(Line2D([], [], ls="none"))
+    labels.append(note)
+    ax2.set_ylabel("change of $E$ [J]")
+    ax2.set_xlabel("time [s]")
+    ax2.legend(handles, labels, fontsize=7.5, framealpha=0.9, loc="best")
+    title = ("kinetic, stored (spring) and total energy" if springs
+             else "kinetic energy (no springs)")
+    finish(fig, ax2, os.path.join(out, "energy.png"), title, d)
+
+
+def plot_hinge_angles(d, out):
+    th = d["hinge_angles"]
+    t = d["time"]
+    rates = d["hinge_rates"]
+    rows = 2 if rates is not None else 1
+    fig, axes = plt.subplots(rows, 1, figsize=(10, 3.4 + 2.6 * rows), sharex=True,
+                             squeeze=False)
+    axes = axes[:, 0]
+    cmap = plt.get_cmap("tab10")
+    for a in axes:
+        shade_stages(a, d, label=a is axes[0])
+    ev = mark_events(axes[0], d)
+    for a in axes[1:]:
+        mark_events(a, d, labels=False)
+    # Line styles differ too: symmetric panels move alike and their curves coincide.
+    styles = ["-", "--", "-.", ":"]
+    for k in range(th.shape[1]):
+        ls = styles[k % len(styles)]
+        axes[0].plot(t, np.degrees(th[:, k]), color=cmap(k % 10), lw=1.3, ls=ls,
+                     label=d["panel_names"][k])
+        if rates is not None:
+            axes[1].plot(t, np.degrees(rates[:, k]), color=cmap(k % 10), lw=1.0, ls=ls,
+                         label=d["panel_names"][k])
+    # Each event as a marker on its panel's curve (shape by kind, colour by panel).
+    for kind, marker in EVENT_MARKERS.items():
+        sel = [e for e in d["events"] if e["kind"] == kind]
+        if not sel:
+            continue
+        axes[0].scatter([e["t"] for e in sel], [np.degrees(e["angle"]) for e in sel],
+                        marker=marker, s=16 if kind == "stop" else 34,
+                        c=[cmap(e["panel"] % 10) for e in sel],
+                        edgecolors="k" if kind != "stop" else None, linewidths=0.6, zorder=7)
+    axes[0].set_ylabel("hinge angle [deg]")
+    legend(axes[0], d, ev, loc="best")
+    axes[0].grid(True, lw=0.3, alpha=0.6)
+    if rates is not None:
+        axes[1].set_ylabel("hinge rate [deg/s]")
+        axes[1].axhline(0.0, color="0.5", lw=0.5)
+    axes[-1].set_xlabel("time [s]")
+    latched = [f"{d['panel_names'][k]} {lt:.4g} s" for k, lt in enumerate(d["latch_time"])
+               if np.isfinite(lt)]
+    title = "hinge angles" + (" and rates" if rates is not None else "")
+    if latched:
+        title += " (locked: " + ", ".join(latched) + ")"
+    finish(fig, axes[-1], os.path.join(out, "hinge_angles.png"), title, d)
 
 
 def separatrix_circles(J):
@@ -214,9 +520,14 @@ def main(argv):
         print(f"plot_trajectory: {a.trajectory}: not a deploysim trajectory file ({e})",
               file=sys.stderr)
         return 1
-    for f in (plot_momentum, plot_angular_velocity, plot_spin_axis, plot_inertia, plot_polhode):
+    plots = [plot_momentum, plot_angular_velocity, plot_spin_axis, plot_inertia, plot_energy,
+             plot_polhode]
+    if d["hinge_angles"] is not None:
+        plots.append(plot_hinge_angles)
+    for f in plots:
         f(d, out)
-    print(f"plots written to {out}/ (momentum, angular_velocity, spin_axis, inertia, polhode)")
+    names = ", ".join(f.__name__[len("plot_"):] for f in plots)
+    print(f"plots written to {out}/ ({names})")
     return 0
 
 

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/hinge_fixtures.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/quaternion.h"
 #include "temp_dir_test.h"
@@ -54,10 +55,10 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   p.mode = mode;
   p.coupling = mode == schedule::Mode::kGeometry ? schedule::Coupling::kExact
                                                  : schedule::Coupling::kQuasiRigid;
-  if (mode == schedule::Mode::kGeometry) {
-    p.model.kind = model::ModelKind::kHinged;
-    p.model.hinged.panels.resize(kPanels);
-  }
+  p.model.kind = model::ModelKind::kHinged;
+  p.model.hinged.panels.resize(kPanels);
+  p.model.hinged.panels[0].name = "wing_\xce\xb8";  // UTF-8 survives
+  p.model.hinged.panels[1].name = "boom";
   p.integrator.method = "rkmk-rkf78";
   p.integrator.rtol = 1e-11;
   p.integrator.atol = 1e-13;
@@ -90,10 +91,12 @@ MissionResult SyntheticResult(schedule::Mode mode) {
     t.h_N.push_back(vec());
     t.energy.push_back(u(rng));
     t.energy_rigid.push_back(u(rng));
+    t.energy_spring.push_back(u(rng));
     t.euler_313.push_back(vec());
     t.spin_axis_angle.push_back(u(rng));
     if (mode == schedule::Mode::kGeometry) {
       t.hinge_angles.push_back(Eigen::Vector2d(u(rng), u(rng)));
+      t.hinge_rates.push_back(Eigen::Vector2d(u(rng), u(rng)));
     }
   }
   r.flip_times = {0.3, 0.7 + 1e-15, 1.1};
@@ -110,6 +113,8 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   a.predicted_flips = {0.3 + 1e-9, 0.7};
   a.observed_flips = {0.3, 0.7 + 1e-15};
   a.max_flip_time_difference = 1e-9;
+  a.caveat = "intermediate-axis spin: unstable (flips), with or without dissipation";
+  a.rigid_body_only = false;
   analysis::StageReport b;
   b.index = 1;
   b.rigid = false;
@@ -118,7 +123,28 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   b.separatrix_distance = u(rng);
   b.predicted_flip_half_period = std::numeric_limits<double>::infinity();
   b.observed_flips = {1.1};
+  b.caveat = "two principal moments are equal: \xce\xb8 neutral";
+  b.rigid_body_only = true;
   r.stages = {a, b};
+  // Hinge events of every kind, latch times (one never), 45-degree crossings.
+  using Kind = analysis::HingeEvent::Kind;
+  const Kind kinds[] = {Kind::kRelease, Kind::kStop,  Kind::kStop,
+                        Kind::kRest,    Kind::kLatch, Kind::kJam};
+  for (std::size_t i = 0; i < std::size(kinds); ++i) {
+    analysis::HingeEvent e;
+    e.kind = kinds[i];
+    e.t = 0.2 * static_cast<double>(i) + 1e-3 * u(rng);
+    e.panel = static_cast<int>(i % kPanels);
+    e.angle = u(rng);
+    e.rate_before = u(rng);
+    e.rate_after = u(rng);
+    e.impulse = u(rng);
+    e.w_jump_B = vec();
+    e.energy_dissipated = std::abs(u(rng));
+    r.hinge_events.push_back(e);
+  }
+  r.latch_times = {0.8 + 1e-3 * u(rng), std::numeric_limits<double>::quiet_NaN()};
+  r.spin_axis_45_crossings = {0.55 + 1e-3 * u(rng), 1.3};
   r.danger_windows = {{0.0, 0.75}, {1.25, 1.5}};
   r.stats.steps = 123;
   r.stats.rejected = 4;
@@ -140,6 +166,7 @@ void ExpectSameTrajectory(const analysis::Trajectory& a, const analysis::Traject
     EXPECT_EQ(a.h_N[k], b.h_N[k]);
     EXPECT_EQ(a.energy[k], b.energy[k]);
     EXPECT_EQ(a.energy_rigid[k], b.energy_rigid[k]);
+    EXPECT_EQ(a.energy_spring[k], b.energy_spring[k]);
     EXPECT_EQ(a.euler_313[k], b.euler_313[k]);
     EXPECT_EQ(a.spin_axis_angle[k], b.spin_axis_angle[k]);
   }
@@ -147,6 +174,42 @@ void ExpectSameTrajectory(const analysis::Trajectory& a, const analysis::Traject
   for (std::size_t k = 0; k < a.hinge_angles.size(); ++k) {
     EXPECT_EQ(a.hinge_angles[k], b.hinge_angles[k]);
   }
+  ASSERT_EQ(a.hinge_rates.size(), b.hinge_rates.size());
+  for (std::size_t k = 0; k < a.hinge_rates.size(); ++k) {
+    EXPECT_EQ(a.hinge_rates[k], b.hinge_rates[k]);
+  }
+}
+
+/// The hinge events, latch times and 45-degree crossings of r as read back in f, bit for
+/// bit (NaN latch times as NaN).
+void ExpectSameHingeOutputs(const MissionResult& r, const TrajectoryFile& f) {
+  EXPECT_TRUE(f.has_hinge_outputs);
+  ASSERT_EQ(f.hinge_events.size(), r.hinge_events.size());
+  for (std::size_t i = 0; i < r.hinge_events.size(); ++i) {
+    SCOPED_TRACE("event " + std::to_string(i));
+    const analysis::HingeEvent& a = r.hinge_events[i];
+    const analysis::HingeEvent& b = f.hinge_events[i].event;
+    EXPECT_EQ(b.kind, a.kind);
+    EXPECT_EQ(b.t, a.t);
+    EXPECT_EQ(b.panel, a.panel);
+    EXPECT_EQ(f.hinge_events[i].panel_name,
+              r.profile.model.hinged.panels[static_cast<std::size_t>(a.panel)].name);
+    EXPECT_EQ(b.angle, a.angle);
+    EXPECT_EQ(b.rate_before, a.rate_before);
+    EXPECT_EQ(b.rate_after, a.rate_after);
+    EXPECT_EQ(b.impulse, a.impulse);
+    EXPECT_EQ(b.w_jump_B, a.w_jump_B);
+    EXPECT_EQ(b.energy_dissipated, a.energy_dissipated);
+  }
+  ASSERT_EQ(f.hinge_latch_times.size(), r.latch_times.size());
+  for (std::size_t k = 0; k < r.latch_times.size(); ++k) {
+    if (std::isnan(r.latch_times[k])) {
+      EXPECT_TRUE(std::isnan(f.hinge_latch_times[k])) << k;
+    } else {
+      EXPECT_EQ(f.hinge_latch_times[k], r.latch_times[k]) << k;
+    }
+  }
+  EXPECT_EQ(f.spin_axis_45_times, r.spin_axis_45_crossings);
 }
 
 /// Output of a shell command ("" if it could not run).
@@ -182,6 +245,8 @@ analysis::Trajectory Slice(const analysis::Trajectory& t, std::size_t from, std:
   cut(b.h_N, t.h_N);
   cut(b.energy, t.energy);
   cut(b.energy_rigid, t.energy_rigid);
+  cut(b.energy_spring, t.energy_spring);
+  cut(b.hinge_rates, t.hinge_rates);
   cut(b.euler_313, t.euler_313);
   cut(b.spin_axis_angle, t.spin_axis_angle);
   cut(b.hinge_angles, t.hinge_angles);
@@ -215,6 +280,8 @@ TEST_F(TrajectoryFileTest, StreamedInBlocksIsTheSameFile) {
     EXPECT_EQ(a.units, b.units);
     EXPECT_EQ(a.flip_times, b.flip_times);
     EXPECT_EQ(a.stages.size(), b.stages.size());
+    EXPECT_EQ(a.energy_total, b.energy_total);
+    ExpectSameHingeOutputs(r, b);
     std::ifstream ca(Path("whole.csv")), cb(Path("streamed.csv"));
     EXPECT_EQ(std::string(std::istreambuf_iterator<char>(ca), {}),
               std::string(std::istreambuf_iterator<char>(cb), {}));
@@ -290,6 +357,8 @@ TEST_F(TrajectoryFileTest, StageAnalysisAndDangerWindowsRoundTrip) {
     EXPECT_EQ(row.predicted_flip_count, static_cast<long long>(a.predicted_flips.size()));
     EXPECT_EQ(row.observed_flip_count, static_cast<long long>(a.observed_flips.size()));
     EXPECT_EQ(row.max_flip_time_difference, a.max_flip_time_difference);
+    EXPECT_EQ(row.caveat, a.caveat);
+    EXPECT_EQ(row.rigid_body_only, a.rigid_body_only);
   }
   EXPECT_EQ(f.stages[0].spin_axis_role, "intermediate");
   EXPECT_EQ(f.stages[1].regime, "");
@@ -300,6 +369,120 @@ TEST_F(TrajectoryFileTest, StageAnalysisAndDangerWindowsRoundTrip) {
   EXPECT_EQ(f.danger_windows[0].t_end, 0.75);
   EXPECT_EQ(f.danger_windows[1].t_begin, 1.25);
   EXPECT_EQ(f.danger_windows[1].t_end, 1.5);
+}
+
+TEST_F(TrajectoryFileTest, HingeOutputsRoundTripBitExact) {
+  const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);
+  const std::string path = Path("out.h5");
+  WriteTrajectoryFile(path, r);
+  const TrajectoryFile f = ReadTrajectoryFile(path);
+  ExpectSameTrajectory(r.trajectory, f.trajectory);  // hinge_rates, energy_spring included
+  ASSERT_EQ(f.energy_total.size(), r.trajectory.size());
+  for (std::size_t k = 0; k < r.trajectory.size(); ++k) {
+    EXPECT_EQ(f.energy_total[k], r.trajectory.energy[k] + r.trajectory.energy_spring[k]);
+  }
+  EXPECT_EQ(f.panel_names, (std::vector<std::string>{"wing_\xce\xb8", "boom"}));
+  ExpectSameHingeOutputs(r, f);
+  ASSERT_EQ(f.hinge_events.size(), 6u);
+  EXPECT_EQ(f.hinge_events[0].event.kind, analysis::HingeEvent::Kind::kRelease);
+  EXPECT_EQ(f.hinge_events[3].event.kind, analysis::HingeEvent::Kind::kRest);
+  EXPECT_EQ(f.hinge_events[5].event.kind, analysis::HingeEvent::Kind::kJam);
+  EXPECT_TRUE(std::isnan(f.hinge_latch_times[1])) << "never latched";
+  ASSERT_EQ(f.stages.size(), 2u);
+  EXPECT_EQ(f.stages[1].caveat, r.stages[1].caveat) << "UTF-8 survives";
+  EXPECT_TRUE(f.stages[1].rigid_body_only);
+  EXPECT_FALSE(f.stages[0].rigid_body_only);
+}
+
+// A hinge profile run end to end: its phases are the stage table (no configurations),
+// its events, latch times and spring energy reach the file, streamed or whole.
+TEST_F(TrajectoryFileTest, HingeProfileRunRoundTrips) {
+  schedule::HingePlan plus = testing::SpringHinge(0.2, -30.0);
+  plus.drive.latch.enabled = true;
+  plus.drive.latch.angle = 0.0;
+  schedule::HingePlan minus = plus;
+  minus.drive.release.kind = schedule::Release::Kind::kAfterLatch;
+  minus.drive.release.panel = 0;
+  minus.drive.release.delay = 2.0;
+  schedule::Profile profile = testing::SmallsatHingeProfile(plus, minus, 30.0);
+  profile.integrator.rtol = 1e-10;
+  ASSERT_TRUE(profile.is_hinge_profile());
+  const MissionResult r = analysis::RunMission(profile);
+  ASSERT_EQ(r.termination, integrators::Termination::kReachedEnd) << r.message;
+  ASSERT_EQ(r.hinge_events.size(), 4u);  // release, latch, release, latch
+  ASSERT_GE(r.stages.size(), 3u);        // phases, not profile stages (there are none)
+
+  WriteTrajectoryFile(Path("whole.h5"), r);
+  {
+    // As `simulate` writes it: streamed while the mission runs.
+    TrajectoryOutputs out(Path("streamed.h5"), Path("streamed.csv"), profile);
+    const MissionResult again = analysis::RunMission(profile, out);
+    out.Finish(again);
+    out.Commit();
+  }
+  for (const char* name : {"whole.h5", "streamed.h5"}) {
+    SCOPED_TRACE(name);
+    const TrajectoryFile f = ReadTrajectoryFile(Path(name));
+    ExpectSameTrajectory(r.trajectory, f.trajectory);
+    ExpectSameHingeOutputs(r, f);
+    EXPECT_EQ(f.panel_names, (std::vector<std::string>{"wing_plus_x", "wing_minus_x"}));
+    EXPECT_EQ(f.hinge_events[1].panel_name, "wing_plus_x");
+    EXPECT_EQ(f.hinge_events[3].panel_name, "wing_minus_x");
+    EXPECT_TRUE(std::isfinite(f.hinge_latch_times[0]) && std::isfinite(f.hinge_latch_times[1]));
+    ASSERT_EQ(f.stages.size(), r.stages.size());
+    for (std::size_t i = 0; i < r.stages.size(); ++i) {
+      SCOPED_TRACE("phase " + std::to_string(i));
+      EXPECT_EQ(f.stages[i].index, static_cast<int>(i));
+      EXPECT_EQ(f.stages[i].name, r.stages[i].name);
+      EXPECT_EQ(f.stages[i].law, r.stages[i].law);
+      EXPECT_EQ(f.stages[i].t_begin, r.stages[i].t_begin);
+      EXPECT_EQ(f.stages[i].t_end, r.stages[i].t_end);
+      EXPECT_EQ(f.stages[i].from, "");
+      EXPECT_EQ(f.stages[i].to, "");
+      EXPECT_EQ(f.stages[i].caveat, r.stages[i].caveat);
+      EXPECT_FALSE(f.stages[i].caveat.empty());
+      EXPECT_EQ(f.stages[i].rigid_body_only, r.stages[i].rigid_body_only);
+    }
+    EXPECT_EQ(f.stages.front().name, "free: wing_plus_x");
+    EXPECT_EQ(f.stages.front().law, "free");
+    // Springs store energy: the total is kinetic + spring, and without dampers it drops
+    // only at the latches, by what they dissipate.
+    const std::vector<double>& E = f.energy_total;
+    ASSERT_EQ(E.size(), f.trajectory.size());
+    EXPECT_GT(f.trajectory.energy_spring.front(), 0.0);
+    const double lost = r.hinge_events[1].energy_dissipated + r.hinge_events[3].energy_dissipated;
+    EXPECT_GT(lost, 0.0);
+    EXPECT_NEAR(E.front() - E.back(), lost, 1e-9 * E.front());
+  }
+  EXPECT_EQ(Entries(), (std::vector<std::string>{"streamed.csv", "streamed.h5", "whole.h5"}));
+}
+
+// A version 2 file written by deploysim before issue 9 (tests/io/data, made by
+// `deploysim simulate deployment_profiles/smallsat_three_stage.yaml --dt 40` at commit
+// 6f38410 and repacked with `h5repack -l CONTI` to drop the chunk padding) still reads:
+// the free-hinge outputs are additions to schema version 2, absent there.
+TEST_F(TrajectoryFileTest, ReadsAVersion2FileWrittenBeforeIssue9) {
+  const std::string path =
+      std::string(DEPLOYSIM_SOURCE_DIR) + "/tests/io/data/trajectory_v2_before_issue9.h5";
+  const TrajectoryFile f = ReadTrajectoryFile(path);
+  EXPECT_EQ(f.attributes.at("schema_version"), "2");
+  EXPECT_FALSE(f.has_hinge_outputs);
+  EXPECT_EQ(f.trajectory.size(), 16u);  // 0, 40, ..., 600 s
+  EXPECT_EQ(f.trajectory.hinge_angles.size(), 16u);
+  EXPECT_TRUE(f.trajectory.hinge_rates.empty());
+  EXPECT_TRUE(f.trajectory.energy_spring.empty());
+  EXPECT_TRUE(f.energy_total.empty());
+  EXPECT_TRUE(f.panel_names.empty());
+  EXPECT_TRUE(f.hinge_events.empty());
+  EXPECT_TRUE(f.hinge_latch_times.empty());
+  EXPECT_TRUE(f.spin_axis_45_times.empty());
+  ASSERT_EQ(f.stages.size(), 5u);
+  for (const StageRow& row : f.stages) {
+    EXPECT_EQ(row.caveat, "");
+    EXPECT_FALSE(row.rigid_body_only);
+  }
+  EXPECT_EQ(f.stages[1].from, "closed");
+  EXPECT_FALSE(f.flip_times.empty());
 }
 
 TEST_F(TrajectoryFileTest, StageReportsMustMatchTheProfileStages) {
@@ -411,8 +594,26 @@ TEST_F(TrajectoryFileTest, EveryDatasetHasUnits) {
       {"/euler_313", "rad"},
       {"/spin_axis_angle", "rad"},
       {"/hinge_angles", "rad"},
+      {"/hinge_rates", "rad/s"},
+      {"/energy_spring", "J"},
+      {"/energy_total", "J"},
+      {"/panel_names", "none"},
+      {"/hinge_latch_time", "s"},
       {"/events/flip_time", "s"},
       {"/events/predicted_flip_time", "s"},
+      {"/events/spin_axis_45_time", "s"},
+      {"/events/hinge/time", "s"},
+      {"/events/hinge/panel", "1"},
+      {"/events/hinge/panel_name", "none"},
+      {"/events/hinge/kind", "none"},
+      {"/events/hinge/angle", "rad"},
+      {"/events/hinge/rate_before", "rad/s"},
+      {"/events/hinge/rate_after", "rad/s"},
+      {"/events/hinge/impulse", "N m s"},
+      {"/events/hinge/w_jump_B", "rad/s"},
+      {"/events/hinge/energy_dissipated", "J"},
+      {"/stages/caveat", "none"},
+      {"/stages/rigid_body_only", "1"},
       {"/danger_windows/t_begin", "s"},
       {"/danger_windows/t_end", "s"},
       {"/stages/index", "1"},
@@ -443,7 +644,14 @@ TEST_F(TrajectoryFileTest, TensorModeHasNoHingeAngles) {
   const TrajectoryFile f = ReadTrajectoryFile(path);
   ExpectSameTrajectory(r.trajectory, f.trajectory);
   EXPECT_TRUE(f.trajectory.hinge_angles.empty());
+  EXPECT_TRUE(f.trajectory.hinge_rates.empty());
+  EXPECT_TRUE(f.panel_names.empty());
   EXPECT_EQ(f.units.count("/hinge_angles"), 0u);
+  EXPECT_EQ(f.units.count("/hinge_rates"), 0u);
+  EXPECT_EQ(f.units.count("/panel_names"), 0u);
+  // The per-sample energies and the event tables are there in tensor mode too.
+  EXPECT_EQ(f.units.count("/energy_total"), 1u);
+  ExpectSameHingeOutputs(r, f);
   EXPECT_EQ(f.attributes.at("mode"), "tensor");
 }
 
@@ -524,6 +732,27 @@ TEST_F(TrajectoryFileTest, InconsistentTrajectoryIsRejectedAndTheOldFileKept) {
   bad = SyntheticResult(schedule::Mode::kGeometry);
   bad.trajectory.hinge_angles[3] = Eigen::VectorXd::Zero(3);
   EXPECT_THROW(WriteTrajectoryFile(path, bad), std::invalid_argument);
+  bad = SyntheticResult(schedule::Mode::kGeometry);
+  bad.trajectory.hinge_rates.pop_back();
+  EXPECT_THROW(WriteTrajectoryFile(path, bad), std::invalid_argument);
+  bad = SyntheticResult(schedule::Mode::kGeometry);
+  bad.trajectory.hinge_rates[2] = Eigen::VectorXd::Zero(1);
+  EXPECT_THROW(WriteTrajectoryFile(path, bad), std::invalid_argument);
+  bad = SyntheticResult(schedule::Mode::kTensor);
+  bad.trajectory.energy_spring.clear();
+  EXPECT_THROW(WriteTrajectoryFile(path, bad), std::invalid_argument);
+  bad = SyntheticResult(schedule::Mode::kTensor);
+  bad.latch_times.push_back(1.0);  // three latch times, two panels
+  EXPECT_THROW(WriteTrajectoryFile(path, bad), std::invalid_argument);
+  bad = SyntheticResult(schedule::Mode::kTensor);
+  bad.hinge_events[1].panel = kPanels;
+  try {
+    WriteTrajectoryFile(path, bad);
+    ADD_FAILURE() << "an event of panel " << kPanels << " was written";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("panel = 2 (rule: in [0, 2))"), std::string::npos)
+        << e.what();
+  }
   EXPECT_EQ(ReadTrajectoryFile(path).attributes.at("mode"), "tensor");
   EXPECT_EQ(Entries(), std::vector<std::string>{"out.h5"});
 }
@@ -558,7 +787,10 @@ TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
   std::string line;
   ASSERT_TRUE(std::getline(in, line));
   const std::vector<std::string> header = Split(line);
-  const std::size_t columns = 1 + 3 + 3 + 4 + 6 + 3 + 3 + 3 + 1 + 1 + 3 + 1 + kPanels;
+  // The columns before issue 9 keep their positions; energy_spring, energy_total and the
+  // hinge rates follow.
+  const std::size_t old_columns = 1 + 3 + 3 + 4 + 6 + 3 + 3 + 3 + 1 + 1 + 3 + 1 + kPanels;
+  const std::size_t columns = old_columns + 2 + kPanels;
   ASSERT_EQ(header.size(), columns) << line;
   EXPECT_EQ(header[0], "time [s]");
   EXPECT_EQ(header[1], "H_B_x [kg m^2/s]");
@@ -566,7 +798,12 @@ TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
   EXPECT_EQ(header[11], "J_B_xx [kg m^2]");
   EXPECT_EQ(header[26], "energy [J]");
   EXPECT_EQ(header[27], "energy_rigid [J]");
-  EXPECT_EQ(header[columns - 1], "hinge_angle_1 [rad]");
+  EXPECT_EQ(header[old_columns - 2], "hinge_angle_0 [rad]");
+  EXPECT_EQ(header[old_columns - 1], "hinge_angle_1 [rad]");
+  EXPECT_EQ(header[old_columns], "energy_spring [J]");
+  EXPECT_EQ(header[old_columns + 1], "energy_total [J]");
+  EXPECT_EQ(header[old_columns + 2], "hinge_rate_0 [rad/s]");
+  EXPECT_EQ(header[columns - 1], "hinge_rate_1 [rad/s]");
   for (const std::string& h : header) {
     EXPECT_NE(h.find(" ["), std::string::npos) << "no unit: " << h;
   }
@@ -583,11 +820,28 @@ TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
     EXPECT_EQ(value(14), t.J_B[k](0, 1));  // J_B_xy
     EXPECT_EQ(value(26), t.energy[k]);
     EXPECT_EQ(value(27), t.energy_rigid[k]);
-    EXPECT_EQ(value(columns - 1), t.hinge_angles[k][1]);
+    EXPECT_EQ(value(old_columns - 1), t.hinge_angles[k][1]);
+    EXPECT_EQ(value(old_columns), t.energy_spring[k]);
+    EXPECT_EQ(value(old_columns + 1), t.energy[k] + t.energy_spring[k]);
+    EXPECT_EQ(value(old_columns + 2), t.hinge_rates[k][0]);
+    EXPECT_EQ(value(columns - 1), t.hinge_rates[k][1]);
     ++k;
   }
   EXPECT_EQ(k, t.size());
   EXPECT_EQ(Entries(), std::vector<std::string>{"out.csv"});
+}
+
+TEST_F(TrajectoryFileTest, CsvNeedsHingeRatesBesideHingeAngles) {
+  analysis::Trajectory t = SyntheticResult(schedule::Mode::kGeometry).trajectory;
+  t.hinge_rates.clear();
+  EXPECT_THROW(WriteTrajectoryCsv(Path("out.csv"), t), std::invalid_argument);
+  t = SyntheticResult(schedule::Mode::kGeometry).trajectory;
+  t.hinge_rates[1] = Eigen::VectorXd::Zero(3);
+  EXPECT_THROW(WriteTrajectoryCsv(Path("out.csv"), t), std::invalid_argument);
+  t = SyntheticResult(schedule::Mode::kGeometry).trajectory;
+  t.energy_spring.pop_back();
+  EXPECT_THROW(WriteTrajectoryCsv(Path("out.csv"), t), std::invalid_argument);
+  EXPECT_TRUE(Entries().empty());
 }
 
 TEST_F(TrajectoryFileTest, CsvFailureLeavesNothing) {

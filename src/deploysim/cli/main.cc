@@ -317,6 +317,9 @@ int main(int argc, char** argv) {
 #endif
     const deploysim::schedule::Profile profile = Load(profile_path, ov);
     const bool geometry = profile.mode == deploysim::schedule::Mode::kGeometry;
+    // The exact vs quasi-rigid comparison concerns prescribed stages; free hinges are
+    // always coupled exactly.
+    const bool comparable = geometry && !profile.is_hinge_profile();
     if (sim->parsed()) {
       if (out_path.empty()) out_path = std::filesystem::path(profile_path).stem().string() + ".h5";
       const std::vector<std::string> inputs{profile_path, profile.model.source};
@@ -338,7 +341,13 @@ int main(int argc, char** argv) {
       outputs.Commit();
       if (!quiet) {
         std::cout << deploysim::cli::FormatSummary(r);
-        if (compare && geometry) {
+        const std::string timeline = deploysim::cli::FormatTimeline(r);
+        if (!timeline.empty()) std::cout << "\n" << timeline;
+        if (compare && profile.is_hinge_profile()) {
+          std::cout << "\n--compare-coupling: not applicable to a hinge profile (free hinges "
+                       "are coupled exactly)\n";
+        }
+        if (compare && comparable) {
           std::cout << "\n"
                     << deploysim::cli::FormatCouplingComparison(NamingFile(profile_path, [&] {
                          return deploysim::analysis::CompareCouplings(profile);
@@ -383,7 +392,7 @@ int main(int argc, char** argv) {
       const MissionResult r = NamingFile(
           profile_path, [&] { return deploysim::analysis::RunMission(profile, discard); });
       std::optional<deploysim::analysis::CouplingComparison> c;
-      if (geometry) {
+      if (comparable) {
         c = NamingFile(profile_path,
                        [&] { return deploysim::analysis::CompareCouplings(profile); });
       }
@@ -391,6 +400,8 @@ int main(int argc, char** argv) {
         std::cout << deploysim::cli::FormatJson(r, c ? &*c : nullptr);
       } else {
         std::cout << deploysim::cli::FormatSummary(r);
+        const std::string timeline = deploysim::cli::FormatTimeline(r);
+        if (!timeline.empty()) std::cout << "\n" << timeline;
         if (c) std::cout << "\n" << deploysim::cli::FormatCouplingComparison(*c);
       }
       return 0;

@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 namespace deploysim::cli {
 
@@ -41,6 +44,47 @@ std::string JsonList(const std::vector<double>& v) {
   return o + "]";
 }
 
+constexpr double kDegPerRad = 180.0 / M_PI;
+
+std::string PanelName(const analysis::MissionResult& r, int panel) {
+  const auto& panels = r.profile.model.hinged.panels;
+  if (panel < 0 || static_cast<std::size_t>(panel) >= panels.size()) {
+    return "#" + std::to_string(panel);
+  }
+  return panels[static_cast<std::size_t>(panel)].name;
+}
+
+/// The stage column's width: 18 (as before issue 9), wider for the longer names of a
+/// hinge profile's phases ("free: wing_plus_x, wing_minus_x"), at most 48.
+std::size_t StageNameWidth(const analysis::MissionResult& r) {
+  std::size_t w = 18;
+  for (const auto& s : r.stages) w = std::max(w, std::min<std::size_t>(s.name.size(), 48));
+  return w;
+}
+
+/// One line per run of consecutive stages with the same caveat, "!" marking the ones
+/// whose verdict holds only for a perfectly rigid body (DESIGN.md 2.7, major-axis rule).
+std::string FormatCaveats(const analysis::MissionResult& r) {
+  if (r.stages.empty()) return "";
+  std::string o =
+      "caveats (what each stage's verdict assumes; ! = holds only for a perfectly rigid "
+      "body):\n";
+  for (std::size_t i = 0; i < r.stages.size();) {
+    std::size_t j = i + 1;
+    while (j < r.stages.size() && r.stages[j].caveat == r.stages[i].caveat &&
+           r.stages[j].rigid_body_only == r.stages[i].rigid_body_only) {
+      ++j;
+    }
+    const std::string range = j - i == 1
+                                  ? fmt::format("{}", r.stages[i].index)
+                                  : fmt::format("{}-{}", r.stages[i].index, r.stages[j - 1].index);
+    o += fmt::format("{} {:<6} {}\n", r.stages[i].rigid_body_only ? "!" : " ", range,
+                     r.stages[i].caveat.empty() ? "-" : r.stages[i].caveat);
+    i = j;
+  }
+  return o;
+}
+
 }  // namespace
 
 std::string FormatSummary(const analysis::MissionResult& r) {
@@ -53,22 +97,60 @@ std::string FormatSummary(const analysis::MissionResult& r) {
       fmt::format("integrator {}: {} steps, {} rejected, {} rhs evaluations, {:.3g} s wall; {}\n\n",
                   p.integrator.method, r.stats.steps, r.stats.rejected, r.stats.evaluations,
                   r.wall_seconds, r.message);
-  o += fmt::format("{:>2}  {:<18} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>12} {:>14} {:>9}\n",
-                   "#", "stage", "law", "t0 [s]", "t1 [s]", "spin axis", "regime", "1-k^2",
-                   "sep. dist.", "flip every [s]", "flips");
+  // One row per stage; in a hinge profile one row per run of consecutive phases of the
+  // same hinges and law (a stop impact starts a new phase: a panel bouncing 100 times on
+  // its stop would otherwise fill 100 rows), with the values at the run's end.
+  struct Row {
+    std::string index;
+    const analysis::StageReport* first;
+    const analysis::StageReport* last;
+    std::size_t observed = 0, predicted = 0;
+  };
+  std::vector<Row> rows;
+  bool merged = false;
   for (const auto& s : r.stages) {
-    const std::string flips =
-        s.rigid ? fmt::format("{}/{}", s.observed_flips.size(), s.predicted_flips.size())
-                : fmt::format("{}", s.observed_flips.size());
-    o += fmt::format("{:>2}  {:<18} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>12} {:>14} {:>9}\n",
-                     s.index, s.name.substr(0, 18), s.law, Num(s.t_begin), Num(s.t_end),
-                     analysis::ToString(s.spin_axis_end), s.rigid ? s.regime : "(deploying)",
-                     s.rigid ? Num(s.one_minus_k2) : "-", Num(s.separatrix_distance),
-                     s.rigid ? Num(s.predicted_flip_half_period) : "-", flips);
+    if (p.is_hinge_profile() && !rows.empty() && rows.back().last->name == s.name &&
+        rows.back().last->law == s.law && rows.back().last->rigid == s.rigid) {
+      Row& row = rows.back();
+      row.last = &s;
+      row.index = fmt::format("{}-{}", row.first->index, s.index);
+      row.observed += s.observed_flips.size();
+      row.predicted += s.predicted_flips.size();
+      merged = true;
+      continue;
+    }
+    rows.push_back(
+        {fmt::format("{}", s.index), &s, &s, s.observed_flips.size(), s.predicted_flips.size()});
+  }
+  std::size_t index_width = 2;
+  for (const Row& row : rows) index_width = std::max(index_width, row.index.size());
+  const std::size_t name_width = StageNameWidth(r);
+  o += fmt::format("{:>{}}  {:<{}} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>12} {:>14} {:>9}\n",
+                   "#", index_width, "stage", name_width, "law", "t0 [s]", "t1 [s]", "spin axis",
+                   "regime", "1-k^2", "sep. dist.", "flip every [s]", "flips");
+  for (const Row& row : rows) {
+    const analysis::StageReport& s = *row.last;
+    const std::string flips = s.rigid ? fmt::format("{}/{}", row.observed, row.predicted)
+                                      : fmt::format("{}", row.observed);
+    const std::string regime = s.rigid           ? s.regime
+                               : s.law == "free" ? "(free hinges)"
+                                                 : "(deploying)";
+    o +=
+        fmt::format("{:>{}}  {:<{}} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>12} {:>14} {:>9}\n",
+                    row.index, index_width, s.name.substr(0, name_width), name_width, s.law,
+                    Num(row.first->t_begin), Num(s.t_end), analysis::ToString(s.spin_axis_end),
+                    regime, s.rigid ? Num(s.one_minus_k2) : "-", Num(s.separatrix_distance),
+                    s.rigid ? Num(s.predicted_flip_half_period) : "-", flips);
+  }
+  if (merged) {
+    o += "\n(a-b: consecutive phases of the same free hinges, split at stop impacts; spin axis, "
+         "regime and sep. dist. at the end of the last)";
   }
   o += "\n(spin axis: role of the body spin axis among the principal axes at the stage end; "
        "flips: observed/predicted for constant stages;\n sep. dist.: (D - I2)/(I3 - I1), 0 on the "
        "separatrix, < 0 circulating about the minor axis)\n\n";
+  const std::string caveats = FormatCaveats(r);
+  if (!caveats.empty()) o += caveats + "\n";
   double worst = 0.0;
   for (const auto& s : r.stages) worst = std::max(worst, s.max_flip_time_difference);
   o += fmt::format("flips located: {}", r.flip_times.size());
@@ -86,6 +168,89 @@ std::string FormatSummary(const analysis::MissionResult& r) {
     o += "\n";
   }
   o += fmt::format("invariants: max |h_N(t) - h_N(0)|/|h_N| = {}\n", Num(r.max_h_N_drift));
+  return o;
+}
+
+std::string FormatTimeline(const analysis::MissionResult& r) {
+  if (!r.profile.is_hinge_profile() && r.hinge_events.empty()) return "";
+  std::size_t name_width = 5;  // "panel"
+  for (const auto& p : r.profile.model.hinged.panels) {
+    name_width = std::max(name_width, p.name.size());
+  }
+  std::string o = "deployment timeline (hinge events):\n";
+  o += fmt::format("{:>10}  {:<{}}  {:<7} {:>9} {:>11} {:>11} {:>12} {:>13} {:>12}\n", "t [s]",
+                   "panel", name_width, "event", "angle", "rate before", "rate after", "impulse",
+                   "|hub w jump|", "dissipated");
+  o += fmt::format("{:>10}  {:<{}}  {:<7} {:>9} {:>11} {:>11} {:>12} {:>13} {:>12}\n", "", "",
+                   name_width, "", "[deg]", "[deg/s]", "[deg/s]", "[N m s]", "[deg/s]", "[J]");
+  auto line = [&](const analysis::HingeEvent& e) {
+    const bool release = e.kind == analysis::HingeEvent::Kind::kRelease;
+    o += fmt::format("{:>10}  {:<{}}  {:<7} {:>9} {:>11} {:>11} {:>12} {:>13} {:>12}\n", Num(e.t),
+                     PanelName(r, e.panel), name_width, analysis::ToString(e.kind),
+                     Num(e.angle * kDegPerRad), release ? "-" : Num(e.rate_before * kDegPerRad),
+                     release ? "-" : Num(e.rate_after * kDegPerRad), release ? "-" : Num(e.impulse),
+                     release ? "-" : Num(e.w_jump_B.norm() * kDegPerRad),
+                     release ? "-" : Num(e.energy_dissipated));
+  };
+  const auto& events = r.hinge_events;
+  for (std::size_t i = 0; i < events.size();) {
+    // A run of stop impacts of one panel (bounces, which with restitution e < 1 can number
+    // a hundred before the panel rests): the first kStopsShown, one summary line, the last.
+    std::size_t j = i;
+    while (j < events.size() && events[j].kind == analysis::HingeEvent::Kind::kStop &&
+           events[j].panel == events[i].panel) {
+      ++j;
+    }
+    constexpr std::size_t kStopsShown = 3;
+    if (j - i <= kStopsShown + 2) {
+      line(events[i]);
+      ++i;
+      continue;
+    }
+    for (std::size_t k = i; k < i + kStopsShown; ++k) line(events[k]);
+    double hidden_energy = 0.0;
+    for (std::size_t k = i + kStopsShown; k + 1 < j; ++k)
+      hidden_energy += events[k].energy_dissipated;
+    o += fmt::format(
+        "{:>10}  {:<{}}  {} more stop impacts from t = {} to {} s, {} J dissipated "
+        "(all in --json and the HDF5 file)\n",
+        "...", PanelName(r, events[i].panel), name_width, j - i - kStopsShown - 1,
+        Num(events[i + kStopsShown].t), Num(events[j - 2].t), Num(hidden_energy));
+    line(events[j - 1]);
+    i = j;
+  }
+  if (r.hinge_events.empty()) o += "  (no hinge events)\n";
+  double dissipated = 0.0;
+  for (const analysis::HingeEvent& e : r.hinge_events) dissipated += e.energy_dissipated;
+  o += fmt::format("energy dissipated in the events: {} J\n", Num(dissipated));
+  // Per panel: when it locked, and how (the locking event at that time).
+  std::string locked;
+  for (std::size_t k = 0; k < r.latch_times.size(); ++k) {
+    const double t = r.latch_times[k];
+    locked += k ? ", " : "";
+    locked += PanelName(r, static_cast<int>(k)) + " ";
+    if (std::isnan(t)) {
+      locked += "never";
+      continue;
+    }
+    std::string how;
+    for (const analysis::HingeEvent& e : r.hinge_events) {
+      if (e.panel == static_cast<int>(k) && e.t == t &&
+          e.kind != analysis::HingeEvent::Kind::kRelease &&
+          e.kind != analysis::HingeEvent::Kind::kStop) {
+        how = analysis::ToString(e.kind);
+      }
+    }
+    locked += fmt::format("{} s{}", Num(t), how.empty() ? "" : " (" + how + ")");
+  }
+  if (!r.latch_times.empty()) o += "panels locked (latch, jam or rest on a stop): " + locked + "\n";
+  if (r.spin_axis_45_crossings.empty()) {
+    o += "spin axis 45 deg from h_N: never\n";
+  } else {
+    o += fmt::format("spin axis 45 deg from h_N: first at {} s ({} crossing{})\n",
+                     Num(r.spin_axis_45_crossings.front()), r.spin_axis_45_crossings.size(),
+                     r.spin_axis_45_crossings.size() == 1 ? "" : "s");
+  }
   return o;
 }
 
@@ -124,14 +289,15 @@ std::string FormatJson(const analysis::MissionResult& r, const analysis::Couplin
         "\"rigid\": {}, \"principal_moments_end\": [{}, {}, {}], \"spin_axis_end\": {}, "
         "\"regime\": {}, \"one_minus_k2\": {}, \"separatrix_distance\": {}, "
         "\"flip_half_period\": {}, \"predicted_flips\": {}, \"observed_flips\": {}, "
-        "\"max_flip_time_difference\": {}}}{}\n",
+        "\"max_flip_time_difference\": {}, \"caveat\": {}, \"rigid_body_only\": {}}}{}\n",
         s.index, JsonStr(s.name), JsonStr(s.law), JsonNum(s.t_begin), JsonNum(s.t_end),
         s.rigid ? "true" : "false", JsonNum(s.moments_end[0]), JsonNum(s.moments_end[1]),
         JsonNum(s.moments_end[2]), JsonStr(analysis::ToString(s.spin_axis_end)),
         s.rigid ? JsonStr(s.regime) : "null", s.rigid ? JsonNum(s.one_minus_k2) : "null",
         JsonNum(s.separatrix_distance), JsonNum(s.predicted_flip_half_period),
         JsonList(s.predicted_flips), JsonList(s.observed_flips),
-        JsonNum(s.max_flip_time_difference), i + 1 < r.stages.size() ? "," : "");
+        JsonNum(s.max_flip_time_difference), JsonStr(s.caveat),
+        s.rigid_body_only ? "true" : "false", i + 1 < r.stages.size() ? "," : "");
   }
   o += "  ],\n  \"danger_windows\": [";
   for (std::size_t i = 0; i < r.danger_windows.size(); ++i) {
@@ -139,6 +305,27 @@ std::string FormatJson(const analysis::MissionResult& r, const analysis::Couplin
                      JsonNum(r.danger_windows[i].t_end));
   }
   o += "]";
+  // Hinge profiles (issue 9); empty lists otherwise. SI units, as in the HDF5 file.
+  o += ",\n  \"hinge_events\": [";
+  for (std::size_t i = 0; i < r.hinge_events.size(); ++i) {
+    const analysis::HingeEvent& e = r.hinge_events[i];
+    o += fmt::format(
+        "{}\n    {{\"t\": {}, \"panel\": {}, \"panel_name\": {}, \"kind\": {}, \"angle\": {}, "
+        "\"rate_before\": {}, \"rate_after\": {}, \"impulse\": {}, \"w_jump_B\": [{}, {}, {}], "
+        "\"energy_dissipated\": {}}}",
+        i ? "," : "", JsonNum(e.t), e.panel, JsonStr(PanelName(r, e.panel)),
+        JsonStr(analysis::ToString(e.kind)), JsonNum(e.angle), JsonNum(e.rate_before),
+        JsonNum(e.rate_after), JsonNum(e.impulse), JsonNum(e.w_jump_B[0]), JsonNum(e.w_jump_B[1]),
+        JsonNum(e.w_jump_B[2]), JsonNum(e.energy_dissipated));
+  }
+  o += r.hinge_events.empty() ? "]" : "\n  ]";
+  o += ",\n  \"latch_times\": {";
+  for (std::size_t k = 0; k < r.latch_times.size(); ++k) {
+    o += fmt::format("{}{}: {}", k ? ", " : "", JsonStr(PanelName(r, static_cast<int>(k))),
+                     JsonNum(r.latch_times[k]));
+  }
+  o += "}";
+  o += fmt::format(",\n  \"spin_axis_45_crossings\": {}", JsonList(r.spin_axis_45_crossings));
   if (c != nullptr) {
     o += fmt::format(
         ",\n  \"coupling_comparison\": {{\"max_w_difference_deploying\": {}, \"w_scale\": {}, "

@@ -10,10 +10,20 @@
 
 namespace deploysim::cli {
 
-/// The stability table: one row per stage, then flips, danger windows, invariants.
+/// The stability table: one row per stage (a hinge profile: per phase between hinge
+/// events), the caveat of each stage's verdict (which conclusions hold only for a
+/// perfectly rigid body), then flips, danger windows, invariants.
 std::string FormatSummary(const analysis::MissionResult& r);
 
-/// The same content as a JSON document.
+/// Hinge profiles: the deployment timeline, one line per hinge event (time, panel, kind,
+/// angle [deg], rates before and after [deg/s], impulse [N m s], |hub w jump| [deg/s],
+/// energy dissipated [J]), the energy dissipated in all events, when each panel locked
+/// and the first 45-degree crossing of the spin axis. Empty for stage profiles.
+std::string FormatTimeline(const analysis::MissionResult& r);
+
+/// The content of FormatSummary and FormatTimeline as a JSON document (SI units: hinge
+/// angles in rad, rates in rad/s; "hinge_events", "latch_times" (by panel name, null:
+/// never) and "spin_axis_45_crossings" are empty for stage profiles).
 std::string FormatJson(const analysis::MissionResult& r, const analysis::CouplingComparison* c);
 
 /// Exact vs quasi-rigid coupling, a few lines.

@@ -40,6 +40,12 @@ std::vector<std::string> Header(std::size_t hinge_columns) {
   for (std::size_t k = 0; k < hinge_columns; ++k) {
     h.push_back("hinge_angle_" + std::to_string(k) + " [rad]");
   }
+  // Since issue 9: after the older columns, which keep their positions.
+  h.push_back("energy_spring [J]");
+  h.push_back("energy_total [J]");
+  for (std::size_t k = 0; k < hinge_columns; ++k) {
+    h.push_back("hinge_rate_" + std::to_string(k) + " [rad/s]");
+  }
   return h;
 }
 
@@ -54,6 +60,7 @@ void Check(const std::string& path, const analysis::Trajectory& t, std::size_t& 
                                t.h_N.size(),
                                t.energy.size(),
                                t.energy_rigid.size(),
+                               t.energy_spring.size(),
                                t.euler_313.size(),
                                t.spin_axis_angle.size()};
   for (std::size_t s : sizes) {
@@ -74,6 +81,20 @@ void Check(const std::string& path, const analysis::Trajectory& t, std::size_t& 
     for (const Eigen::VectorXd& h : t.hinge_angles) {
       if (static_cast<std::size_t>(h.size()) != hinge_columns) {
         throw std::invalid_argument(path + ": trajectory.hinge_angles rows differ in length");
+      }
+    }
+    if (t.hinge_rates.size() != n) {
+      throw std::invalid_argument(path + ": trajectory.hinge_rates has " +
+                                  std::to_string(t.hinge_rates.size()) + " samples, time has " +
+                                  std::to_string(n) +
+                                  " (rule: hinge rates wherever there are hinge angles)");
+    }
+    for (const Eigen::VectorXd& h : t.hinge_rates) {
+      if (static_cast<std::size_t>(h.size()) != hinge_columns) {
+        throw std::invalid_argument(path + ": trajectory.hinge_rates rows have " +
+                                    std::to_string(h.size()) + " rates, hinge_angles rows " +
+                                    std::to_string(hinge_columns) +
+                                    " angles (rule: one rate per hinge angle)");
       }
     }
   }
@@ -150,6 +171,11 @@ void TrajectoryCsvWriter::Append(const analysis::Trajectory& t) {
     put(t.spin_axis_angle[k]);
     for (std::size_t i = 0; i < hinge_columns; ++i) {
       put(t.hinge_angles[k][static_cast<Eigen::Index>(i)]);
+    }
+    put(t.energy_spring[k]);
+    put(t.energy[k] + t.energy_spring[k]);
+    for (std::size_t i = 0; i < hinge_columns; ++i) {
+      put(t.hinge_rates[k][static_cast<Eigen::Index>(i)]);
     }
     text += line;
     text += '\n';

@@ -3,8 +3,10 @@
 #include "deploysim/io/trajectory_file.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -69,7 +71,7 @@ std::size_t HingeColumns(const analysis::MissionResult& r) {
 }
 
 /// Every per-sample array of t has one entry per output time; in geometry mode one row
-/// of `panels` hinge angles per time.
+/// of `panels` hinge angles and one of `panels` hinge rates per time.
 void CheckSamples(const std::string& path, const Trajectory& t, bool geometry, std::size_t panels) {
   const std::size_t n = t.time.size();
   auto require = [&](const char* name, std::size_t size) {
@@ -88,27 +90,47 @@ void CheckSamples(const std::string& path, const Trajectory& t, bool geometry, s
   require("h_N", t.h_N.size());
   require("energy", t.energy.size());
   require("energy_rigid", t.energy_rigid.size());
+  require("energy_spring", t.energy_spring.size());
   require("euler_313", t.euler_313.size());
   require("spin_axis_angle", t.spin_axis_angle.size());
   if (geometry) {
-    require("hinge_angles", t.hinge_angles.size());
-    for (std::size_t k = 0; k < n; ++k) {
-      if (static_cast<std::size_t>(t.hinge_angles[k].size()) != panels) {
-        throw std::invalid_argument(path + ": trajectory.hinge_angles[" + std::to_string(k) +
-                                    "] has " + std::to_string(t.hinge_angles[k].size()) +
-                                    " angles, the model has " + std::to_string(panels) +
-                                    " panels (rule: one angle per panel)");
+    auto per_panel = [&](const char* name, const std::vector<Eigen::VectorXd>& rows) {
+      require(name, rows.size());
+      for (std::size_t k = 0; k < n; ++k) {
+        if (static_cast<std::size_t>(rows[k].size()) != panels) {
+          throw std::invalid_argument(path + ": trajectory." + name + "[" + std::to_string(k) +
+                                      "] has " + std::to_string(rows[k].size()) +
+                                      " entries, the model has " + std::to_string(panels) +
+                                      " panels (rule: one per panel)");
+        }
       }
-    }
+    };
+    per_panel("hinge_angles", t.hinge_angles);
+    per_panel("hinge_rates", t.hinge_rates);
   }
 }
 
-/// The analysis of r fits its profile: one report per stage, ordered danger windows.
+/// The analysis of r fits its profile: one report per stage (a hinge profile: one per
+/// phase, any number), ordered danger windows, latch times empty or one per panel, hinge
+/// events naming panels of the model.
 void CheckAnalysis(const std::string& path, const analysis::MissionResult& r) {
-  if (r.stages.size() != r.profile.stages.size()) {
+  if (!r.profile.is_hinge_profile() && r.stages.size() != r.profile.stages.size()) {
     throw std::invalid_argument(path + ": " + std::to_string(r.stages.size()) +
                                 " stage reports for " + std::to_string(r.profile.stages.size()) +
                                 " profile stages (rule: one report per stage)");
+  }
+  const std::size_t panels = r.profile.model.hinged.panels.size();
+  if (!r.latch_times.empty() && r.latch_times.size() != panels) {
+    throw std::invalid_argument(path + ": " + std::to_string(r.latch_times.size()) +
+                                " latch times for " + std::to_string(panels) +
+                                " panels (rule: none, or one per panel)");
+  }
+  for (const analysis::HingeEvent& e : r.hinge_events) {
+    if (e.panel < 0 || static_cast<std::size_t>(e.panel) >= panels) {
+      throw std::invalid_argument(path + ": hinge event at t = " + FormatNumber(e.t) +
+                                  ": panel = " + std::to_string(e.panel) + " (rule: in [0, " +
+                                  std::to_string(panels) + "))");
+    }
   }
   for (const analysis::DangerWindow& d : r.danger_windows) {
     if (!(d.t_begin <= d.t_end)) {
@@ -132,22 +154,34 @@ std::string StatisticsText(const integrators::Statistics& s) {
 }
 
 /// The /stages table: one row per profile stage, its definition and its analysis
-/// (analysis::StageReport; CheckAnalysis ensured one report per stage).
+/// (analysis::StageReport; CheckAnalysis ensured one report per stage). A hinge profile
+/// has no stages: one row per phase between hinge events, as its reports describe them
+/// (no configurations: from and to empty).
 void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
   const schedule::Profile& p = r.profile;
+  const bool phases = p.is_hinge_profile();
   std::vector<double> t_begin, t_end, moments, one_minus_k2, separatrix, half_period, max_diff;
-  std::vector<long long> index, rigid, predicted, observed;
-  std::vector<std::string> names, laws, from, to, roles, regimes;
-  for (std::size_t i = 0; i < p.stages.size(); ++i) {
-    const schedule::Stage& s = p.stages[i];
+  std::vector<long long> index, rigid, predicted, observed, rigid_only;
+  std::vector<std::string> names, laws, from, to, roles, regimes, caveats;
+  for (std::size_t i = 0; i < r.stages.size(); ++i) {
     const analysis::StageReport& a = r.stages[i];
     index.push_back(static_cast<long long>(i));
-    t_begin.push_back(s.t_begin);
-    t_end.push_back(s.t_end);
-    names.push_back(s.name);
-    laws.push_back(s.is_hold() ? "hold" : schedule::ToString(s.law));
-    from.push_back(s.from);
-    to.push_back(s.to);
+    if (phases) {
+      t_begin.push_back(a.t_begin);
+      t_end.push_back(a.t_end);
+      names.push_back(a.name);
+      laws.push_back(a.law);
+      from.emplace_back();
+      to.emplace_back();
+    } else {
+      const schedule::Stage& s = p.stages[i];
+      t_begin.push_back(s.t_begin);
+      t_end.push_back(s.t_end);
+      names.push_back(s.name);
+      laws.push_back(s.is_hold() ? "hold" : schedule::ToString(s.law));
+      from.push_back(s.from);
+      to.push_back(s.to);
+    }
     rigid.push_back(a.rigid ? 1 : 0);
     moments.insert(moments.end(), {a.moments_end[0], a.moments_end[1], a.moments_end[2]});
     roles.push_back(analysis::ToString(a.spin_axis_end));
@@ -158,15 +192,21 @@ void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
     predicted.push_back(static_cast<long long>(a.predicted_flips.size()));
     observed.push_back(static_cast<long long>(a.observed_flips.size()));
     max_diff.push_back(a.max_flip_time_difference);
+    caveats.push_back(a.caveat);
+    rigid_only.push_back(a.rigid_body_only ? 1 : 0);
   }
-  const std::size_t count = p.stages.size();
-  w.Integers("/stages/index", index, "1", "position of the stage in the profile, from 0");
+  const std::size_t count = r.stages.size();
+  w.Integers("/stages/index", index, "1",
+             "position of the stage in the profile (hinge profiles: of the phase), from 0");
   w.Doubles("/stages/t_begin", {count}, t_begin, "s", "stage start time");
   w.Doubles("/stages/t_end", {count}, t_end, "s", "stage end time");
-  w.Strings("/stages/name", names, "stage name");
-  w.Strings("/stages/law", laws, "interpolation law (hold for a hold)");
-  w.Strings("/stages/from", from, "configuration at the stage start");
-  w.Strings("/stages/to", to, "configuration at the stage end");
+  w.Strings("/stages/name", names,
+            "stage name (hinge profiles: the phase between hinge events, e.g. 'free: "
+            "wing_plus_x, wing_minus_x')");
+  w.Strings("/stages/law", laws,
+            "interpolation law (hold for a hold; hinge profiles: free, prescribed or hold)");
+  w.Strings("/stages/from", from, "configuration at the stage start (empty for a phase)");
+  w.Strings("/stages/to", to, "configuration at the stage end (empty for a phase)");
   w.Integers("/stages/rigid", rigid, "1",
              "1 if J_B is constant and h_rel_B = 0 over the stage (closed form applies), else 0");
   w.Doubles("/stages/moments_end", {count, 3}, moments, "kg m^2",
@@ -191,6 +231,66 @@ void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
              "flips located by the integrator within [t_begin, t_end)");
   w.Doubles("/stages/max_flip_time_difference", {count}, max_diff, "s",
             "max |observed - nearest predicted flip time| within the stage (0 if none)");
+  w.Strings("/stages/caveat", caveats,
+            "which conclusions of the stage's stability verdict hold only for a perfectly "
+            "rigid body (major-axis rule: with energy dissipation a minor-axis spin drifts "
+            "into a flat spin about the major axis)");
+  w.Integers("/stages/rigid_body_only", rigid_only, "1",
+             "1 if the stage's verdict about the spin axis holds only without energy "
+             "dissipation (a minor-axis or degenerate spin), else 0");
+}
+
+/// The hinge event table /events/hinge/* (one row per event, in time order), the latch
+/// time of every panel and the model's panel names (geometry mode).
+void WriteHingeOutputs(Hdf5Writer& w, const analysis::MissionResult& r, bool geometry) {
+  const std::vector<model::Panel>& panels = r.profile.model.hinged.panels;
+  std::vector<double> time, angle, before, after, impulse, jump, dissipated;
+  std::vector<long long> panel;
+  std::vector<std::string> panel_name, kind;
+  for (const analysis::HingeEvent& e : r.hinge_events) {
+    time.push_back(e.t);
+    panel.push_back(e.panel);
+    panel_name.push_back(panels[static_cast<std::size_t>(e.panel)].name);
+    kind.push_back(analysis::ToString(e.kind));
+    angle.push_back(e.angle);
+    before.push_back(e.rate_before);
+    after.push_back(e.rate_after);
+    impulse.push_back(e.impulse);
+    jump.insert(jump.end(), {e.w_jump_B[0], e.w_jump_B[1], e.w_jump_B[2]});
+    dissipated.push_back(e.energy_dissipated);
+  }
+  const std::size_t count = time.size();
+  const std::string g = "/events/hinge/";
+  w.Doubles(g + "time", {count}, time, "s",
+            "time of the hinge event (release, latch, jam, stop, rest), located on the dense "
+            "output");
+  w.Integers(g + "panel", panel, "1", "index of the panel (hinge) in the model, from 0");
+  w.Strings(g + "panel_name", panel_name, "name of the panel in the model");
+  w.Strings(g + "kind", kind,
+            "release (starts to move), latch (plastic impulse at the latch angle, then "
+            "locked), jam (plastic impulse part-way, then locked), stop (impact on a hard stop "
+            "with restitution) or rest (came to rest on a stop, then locked)");
+  w.Doubles(g + "angle", {count}, angle, "rad", "hinge angle at the event");
+  w.Doubles(g + "rate_before", {count}, before, "rad/s", "hinge rate just before the event");
+  w.Doubles(g + "rate_after", {count}, after, "rad/s", "hinge rate just after the event");
+  w.Doubles(g + "impulse", {count}, impulse, "N m s",
+            "angular impulse of the torque pair at the hinge: the jump of the hinge's "
+            "conjugate momentum (0 for a release)");
+  w.Doubles(g + "w_jump_B", {count, 3}, jump, "rad/s",
+            "jump of the hub's angular velocity w_NB_B+ - w_NB_B- (the latch shock), B "
+            "components");
+  w.Doubles(g + "energy_dissipated", {count}, dissipated, "J",
+            "kinetic energy lost in the impulse, (M^-1)_kk impulse^2 / 2 (0 for a release)");
+  w.Doubles("/hinge_latch_time", {r.latch_times.size()}, r.latch_times, "s",
+            "per panel, the time it locked (latch, jam or rest on a stop); NaN if it never "
+            "did; empty for stage profiles");
+  if (geometry) {
+    std::vector<std::string> names;
+    for (const model::Panel& p : panels) names.push_back(p.name);
+    w.Strings("/panel_names", names,
+              "names of the model's panels in panel order (the columns of /hinge_angles, "
+              "/hinge_rates and the entries of /hinge_latch_time)");
+  }
 }
 
 /// /danger_windows: the intervals of the output grid in which the spin axis is the
@@ -220,9 +320,12 @@ enum Column : std::size_t {
   kHN,
   kEnergy,
   kEnergyRigid,
+  kEnergySpring,
+  kEnergyTotal,
   kEuler,
   kSpinAngle,
   kHinge,
+  kHingeRates,
   kColumns
 };
 
@@ -231,6 +334,7 @@ struct ColumnSpec {
   std::vector<std::size_t> trailing;
   const char* units;
   const char* description;
+  bool geometry_only = false;  ///< Written in geometry mode only.
 };
 
 std::vector<ColumnSpec> Columns(std::size_t panels) {
@@ -266,6 +370,17 @@ std::vector<ColumnSpec> Columns(std::size_t panels) {
        "J",
        "rigid-body part 1/2 w.J_B w of /energy (equal to it when nothing moves "
        "relative to B)"},
+      {"/energy_spring",
+       {},
+       "J",
+       "energy stored in the free hinges' torsion springs, sum of 1/2 k (theta - theta_rest)^2 "
+       "- preload (theta - theta_rest) over every hinge with a free plan, held and latched "
+       "ones included; 0 for stage profiles"},
+      {"/energy_total",
+       {},
+       "J",
+       "/energy + /energy_spring: constant without dampers, motors and friction except "
+       "for the steps down at latches, jams and stop impacts"},
       {"/euler_313",
        {3},
        "rad",
@@ -275,7 +390,14 @@ std::vector<ColumnSpec> Columns(std::size_t panels) {
       {"/hinge_angles",
        {panels},
        "rad",
-       "hinge angle of each panel, in panel order (geometry mode)"},
+       "hinge angle of each panel, in panel order (geometry mode)",
+       true},
+      {"/hinge_rates",
+       {panels},
+       "rad/s",
+       "hinge rate (time derivative of the hinge angle) of each panel, in panel order "
+       "(geometry mode)",
+       true},
   };
 }
 
@@ -302,17 +424,26 @@ std::vector<double> Flat(const Trajectory& t, std::size_t c) {
       return t.energy;
     case kEnergyRigid:
       return t.energy_rigid;
+    case kEnergySpring:
+      return t.energy_spring;
+    case kEnergyTotal: {
+      std::vector<double> total(t.energy.size());
+      for (std::size_t k = 0; k < total.size(); ++k) total[k] = t.energy[k] + t.energy_spring[k];
+      return total;
+    }
     case kEuler:
       return Flatten(t.euler_313);
     case kSpinAngle:
       return t.spin_axis_angle;
-    default:
+    case kHinge:
       return FlattenRows(t.hinge_angles);
+    default:
+      return FlattenRows(t.hinge_rates);
   }
 }
 
 /// Everything but the per-sample datasets: events, stages, danger windows, attributes.
-void WriteAnalysis(Hdf5Writer& w, const analysis::MissionResult& r) {
+void WriteAnalysis(Hdf5Writer& w, const analysis::MissionResult& r, bool geometry) {
   w.Doubles("/events/flip_time", {r.flip_times.size()}, r.flip_times, "s",
             "located flips: sign changes of H_B along the tracked spin axis while it is the "
             "intermediate principal axis (docs/file_formats.md, Flips)");
@@ -322,6 +453,12 @@ void WriteAnalysis(Hdf5Writer& w, const analysis::MissionResult& r) {
   }
   w.Doubles("/events/predicted_flip_time", {predicted.size()}, predicted, "s",
             "closed-form flip times of the rigid stages, in stage order");
+  w.Doubles("/events/spin_axis_45_time", {r.spin_axis_45_crossings.size()},
+            r.spin_axis_45_crossings, "s",
+            "times at which the angle between the initial spin axis (fixed in B) and h_N "
+            "crosses 45 degrees, either way, located on the dense output (hinge profiles; "
+            "empty for stage profiles)");
+  WriteHingeOutputs(w, r, geometry);
   WriteStageTable(w, r);
   WriteDangerWindows(w, r);
 
@@ -456,6 +593,65 @@ H5::Group OpenGroup(const std::string& path, const H5::Group& parent, const std:
   return parent.openGroup(name);
 }
 
+/// The kind named `name` ("latch", ...: analysis::ToString); throws naming the file.
+analysis::HingeEvent::Kind ParseKind(const std::string& path, const std::string& name) {
+  using Kind = analysis::HingeEvent::Kind;
+  for (Kind k : {Kind::kRelease, Kind::kLatch, Kind::kJam, Kind::kStop, Kind::kRest}) {
+    if (analysis::ToString(k) == name) return k;
+  }
+  throw std::runtime_error(path + ": /events/hinge/kind: '" + name +
+                           "' is not a hinge event kind (release, latch, jam, stop, rest)");
+}
+
+/// The table /events/hinge/* (all columns of one length).
+void ReadHingeEvents(const std::string& path, const H5::Group& g, TrajectoryFile& out) {
+  const std::string gp = "/events/hinge";
+  hsize_t count = 0;
+  const std::vector<double> time = ReadDoubles(path, g, gp, "time", {}, count, out);
+  auto doubles = [&](const std::string& name, const std::vector<hsize_t>& trailing) {
+    hsize_t rows = 0;
+    std::vector<double> v = ReadDoubles(path, g, gp, name, trailing, rows, out);
+    if (rows != count) {
+      throw std::runtime_error(path + ": " + gp + "/" + name + ": has " + std::to_string(rows) +
+                               " rows, " + gp + "/time has " + std::to_string(count));
+    }
+    return v;
+  };
+  auto same_length = [&](const std::string& name, std::size_t size) {
+    if (size != count) {
+      throw std::runtime_error(path + ": " + gp + "/" + name + ": has " + std::to_string(size) +
+                               " rows, " + gp + "/time has " + std::to_string(count));
+    }
+  };
+  const std::vector<long long> panel = ReadIntegers(path, g, gp, "panel", out);
+  same_length("panel", panel.size());
+  const std::vector<std::string> names = ReadStrings(path, g, gp, "panel_name", out);
+  same_length("panel_name", names.size());
+  const std::vector<std::string> kinds = ReadStrings(path, g, gp, "kind", out);
+  same_length("kind", kinds.size());
+  const std::vector<double> angle = doubles("angle", {});
+  const std::vector<double> before = doubles("rate_before", {});
+  const std::vector<double> after = doubles("rate_after", {});
+  const std::vector<double> impulse = doubles("impulse", {});
+  const std::vector<double> jump = doubles("w_jump_B", {3});
+  const std::vector<double> dissipated = doubles("energy_dissipated", {});
+  for (std::size_t i = 0; i < time.size(); ++i) {
+    HingeEventRow row;
+    analysis::HingeEvent& e = row.event;
+    e.kind = ParseKind(path, kinds[i]);
+    e.t = time[i];
+    e.panel = static_cast<int>(panel[i]);
+    e.angle = angle[i];
+    e.rate_before = before[i];
+    e.rate_after = after[i];
+    e.impulse = impulse[i];
+    e.w_jump_B = math::Vec3(jump[3 * i], jump[3 * i + 1], jump[3 * i + 2]);
+    e.energy_dissipated = dissipated[i];
+    row.panel_name = names[i];
+    out.hinge_events.push_back(row);
+  }
+}
+
 TrajectoryFile ReadContents(const std::string& path) {
   TrajectoryFile out;
   {
@@ -514,12 +710,36 @@ TrajectoryFile ReadContents(const std::string& path) {
   t.energy_rigid = read_rows("energy_rigid", {});
   t.euler_313 = Vec3Rows(read_rows("euler_313", {3}), n);
   t.spin_axis_angle = read_rows("spin_axis_angle", {});
-  if (file.nameExists("hinge_angles")) {
-    const std::vector<double> flat = read_rows("hinge_angles", {0});
+  // The free-hinge outputs (issue 9): all or none (none in files written before).
+  out.has_hinge_outputs = file.nameExists("energy_spring");
+  const bool geometry = file.nameExists("hinge_angles");
+  std::size_t panels = 0;
+  auto per_panel_rows = [&](const std::string& name, std::vector<Eigen::VectorXd>& into) {
+    const std::vector<double> flat = read_rows(name, {0});
     const std::size_t width = n == 0 ? 0 : flat.size() / n;
+    if (name == "hinge_angles") {
+      panels = width;
+    } else if (n > 0 && width != panels) {
+      throw std::runtime_error(path + ": /" + name + ": has " + std::to_string(width) +
+                               " columns, /hinge_angles has " + std::to_string(panels));
+    }
     for (std::size_t k = 0; k < n; ++k) {
-      t.hinge_angles.push_back(
+      into.push_back(
           Eigen::Map<const Eigen::VectorXd>(&flat[k * width], static_cast<Eigen::Index>(width)));
+    }
+  };
+  if (geometry) per_panel_rows("hinge_angles", t.hinge_angles);
+  if (out.has_hinge_outputs) {
+    t.energy_spring = read_rows("energy_spring", {});
+    out.energy_total = read_rows("energy_total", {});
+    if (geometry) {
+      per_panel_rows("hinge_rates", t.hinge_rates);
+      out.panel_names = ReadStrings(path, file, "", "panel_names", out);
+      if (n > 0 && out.panel_names.size() != panels) {
+        throw std::runtime_error(
+            path + ": /panel_names: has " + std::to_string(out.panel_names.size()) +
+            " names, /hinge_angles has " + std::to_string(panels) + " columns");
+      }
     }
   }
 
@@ -529,6 +749,12 @@ TrajectoryFile ReadContents(const std::string& path) {
 
   out.predicted_flip_times =
       ReadDoubles(path, events, "/events", "predicted_flip_time", {}, rows, out);
+  if (out.has_hinge_outputs) {
+    out.spin_axis_45_times =
+        ReadDoubles(path, events, "/events", "spin_axis_45_time", {}, rows, out);
+    out.hinge_latch_times = ReadDoubles(path, file, "", "hinge_latch_time", {}, rows, out);
+    ReadHingeEvents(path, OpenGroup(path, events, "hinge"), out);
+  }
 
   const H5::Group stages = OpenGroup(path, file, "stages");
   const std::string sp = "/stages";
@@ -568,6 +794,11 @@ TrajectoryFile ReadContents(const std::string& path) {
   const std::vector<double> moments = doubles("moments_end", {3});
   const std::vector<std::string> roles = strings("spin_axis_role");
   const std::vector<std::string> regimes = strings("regime");
+  // Since issue 9 (absent in version 2 files written before).
+  const std::vector<std::string> caveats =
+      out.has_hinge_outputs ? strings("caveat") : std::vector<std::string>(count);
+  const std::vector<long long> rigid_only =
+      out.has_hinge_outputs ? integers("rigid_body_only") : std::vector<long long>(count, 0);
   const std::vector<double> one_minus_k2 = doubles("one_minus_k2", {});
   const std::vector<double> separatrix = doubles("separatrix_distance", {});
   const std::vector<double> half_period = doubles("predicted_flip_half_period", {});
@@ -593,6 +824,8 @@ TrajectoryFile ReadContents(const std::string& path) {
     row.predicted_flip_count = predicted[i];
     row.observed_flip_count = observed[i];
     row.max_flip_time_difference = max_diff[i];
+    row.caveat = caveats[i];
+    row.rigid_body_only = rigid_only[i] != 0;
     out.stages.push_back(row);
   }
 
@@ -620,8 +853,9 @@ struct TrajectoryFileWriter::Impl {
         panels(geometry ? profile.model.hinged.panels.size() : 0),
         writer(p) {
     const std::vector<ColumnSpec> columns = Columns(panels);
-    const std::size_t used = geometry ? kColumns : kHinge;
-    for (std::size_t c = 0; c < used; ++c) {
+    for (std::size_t c = 0; c < kColumns; ++c) {
+      if (columns[c].geometry_only && !geometry) continue;
+      used.push_back(c);
       handles.push_back(writer.GrowingDoubles(columns[c].path, columns[c].trailing,
                                               columns[c].units, columns[c].description));
     }
@@ -630,7 +864,8 @@ struct TrajectoryFileWriter::Impl {
   bool geometry;
   std::size_t panels;
   Hdf5Writer writer;
-  std::vector<std::size_t> handles;
+  std::vector<std::size_t> used;     // Column of each handle
+  std::vector<std::size_t> handles;  // GrowingDoubles handles
   bool finished = false;
 };
 
@@ -643,14 +878,14 @@ TrajectoryFileWriter::~TrajectoryFileWriter() = default;
 void TrajectoryFileWriter::Append(const Trajectory& block) {
   if (impl_->finished) throw std::logic_error(impl_->path + ": Append after Finish");
   CheckSamples(impl_->path, block, impl_->geometry, impl_->panels);
-  for (std::size_t c = 0; c < impl_->handles.size(); ++c) {
-    impl_->writer.AppendRows(impl_->handles[c], Flat(block, c), block.size());
+  for (std::size_t i = 0; i < impl_->handles.size(); ++i) {
+    impl_->writer.AppendRows(impl_->handles[i], Flat(block, impl_->used[i]), block.size());
   }
 }
 
 void TrajectoryFileWriter::Finish(const analysis::MissionResult& r) {
   CheckAnalysis(impl_->path, r);
-  WriteAnalysis(impl_->writer, r);
+  WriteAnalysis(impl_->writer, r, impl_->geometry);
   impl_->writer.Close();
   impl_->finished = true;
 }

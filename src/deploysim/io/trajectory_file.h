@@ -8,7 +8,10 @@
 /// HDF5 layout (schema_version 2): row-major datasets of IEEE little-endian doubles
 /// (counts and indices: 64-bit integers), each with string attributes `units` and
 /// `description`; text as variable-length UTF-8 strings. Quaternions scalar first (w, x, y, z);
-/// J_B[n][i][j] = J_B(i, j) at time n.
+/// J_B[n][i][j] = J_B(i, j) at time n. Free hinges (issue 9) add /hinge_rates,
+/// /energy_spring, /energy_total, /panel_names, /hinge_latch_time, the hinge event table
+/// /events/hinge/*, /events/spin_axis_45_time and the stage columns caveat and
+/// rigid_body_only (docs/file_formats.md, "Hinge events").
 
 #include <cstddef>
 #include <map>
@@ -26,6 +29,19 @@ namespace deploysim::io {
 /// Version 2: /energy is the total kinetic energy (was 1/2 w.J w), /energy_rigid, the
 /// per-stage analysis in /stages, /danger_windows, /events/predicted_flip_time and the
 /// model_source and model_text attributes.
+///
+/// The free-hinge outputs (issue 9) are additions to version 2, not a version 3: no
+/// dataset or attribute of version 2 changed its name, shape, type, units or meaning
+/// (/energy is still the kinetic energy; the stored spring energy is the new
+/// /energy_spring and their sum the new /energy_total), so every reader of version 2
+/// files (h5py, MATLAB, h5dump, ReadTrajectoryFile of earlier deploysim builds) reads the
+/// new files unchanged and simply does not see the new datasets. For a hinge profile the
+/// rows of /stages are the phases between hinge events instead of the profile's stages
+/// (a hinge profile has no `stages:`), with empty /stages/from and /stages/to: the same
+/// columns with the same meaning per row. ReadTrajectoryFile reads version 2 files
+/// written before issue 9 too: the new datasets are optional, and where a file has none
+/// of them the corresponding fields are left empty (TrajectoryFile::has_hinge_outputs
+/// is false).
 inline constexpr int kTrajectorySchemaVersion = 2;
 
 /// One row of the /stages table: the profile's stage and its analysis
@@ -33,12 +49,12 @@ inline constexpr int kTrajectorySchemaVersion = 2;
 struct StageRow {
   int index = 0;  ///< Position in the profile, from 0.
   std::string name;
-  std::string law;                              ///< "hold" or the law's name ("minimum-jerk", ...).
-  std::string from;                             ///< Configuration at t_begin.
-  std::string to;                               ///< Configuration at t_end.
-  double t_begin = 0.0;                         ///< [s]
-  double t_end = 0.0;                           ///< [s]
-  bool rigid = false;                           ///< J constant and h_rel = 0 over the stage.
+  std::string law;       ///< "hold" or the law's name ("minimum-jerk", ...).
+  std::string from;      ///< Configuration at t_begin (empty for a hinge profile's phase).
+  std::string to;        ///< Configuration at t_end (empty for a hinge profile's phase).
+  double t_begin = 0.0;  ///< [s]
+  double t_end = 0.0;    ///< [s]
+  bool rigid = false;    ///< J constant and h_rel = 0 over the stage.
   math::Vec3 moments_end = math::Vec3::Zero();  ///< [kg m^2] principal moments at t_end.
   std::string spin_axis_role;        ///< Role of the spin axis at t_end ("intermediate", ...).
   std::string regime;                ///< Rigid stages: the analytic regime; else empty.
@@ -48,15 +64,41 @@ struct StageRow {
   long long predicted_flip_count = 0;       ///< Analytic flips within the stage.
   long long observed_flip_count = 0;        ///< Located flips within the stage.
   double max_flip_time_difference = 0.0;    ///< [s] |observed - predicted|.
+  /// Which conclusions of the stage's verdict hold only for a perfectly rigid body
+  /// (analysis::StageReport::caveat; empty in files written before issue 9).
+  std::string caveat;
+  /// The spin-axis verdict holds only without energy dissipation
+  /// (analysis::StageReport::rigid_body_only).
+  bool rigid_body_only = false;
+};
+
+/// One row of the hinge event table /events/hinge/* (analysis::HingeEvent).
+struct HingeEventRow {
+  analysis::HingeEvent event;  ///< Kind read back from its name ("latch", ...).
+  std::string panel_name;      ///< Name of panel event.panel in the model.
 };
 
 /// The contents of a trajectory file, as read back.
 struct TrajectoryFile {
-  analysis::Trajectory trajectory;           ///< hinge_angles empty unless the file has them.
-  std::vector<double> flip_times;            ///< [s] /events/flip_time
-  std::vector<double> predicted_flip_times;  ///< [s] /events/predicted_flip_time
-  std::vector<StageRow> stages;              ///< /stages/*
+  /// hinge_angles and hinge_rates empty unless the file has them (geometry mode);
+  /// energy_spring empty only in files written before issue 9.
+  analysis::Trajectory trajectory;
+  std::vector<double> flip_times;                      ///< [s] /events/flip_time
+  std::vector<double> predicted_flip_times;            ///< [s] /events/predicted_flip_time
+  std::vector<StageRow> stages;                        ///< /stages/*
   std::vector<analysis::DangerWindow> danger_windows;  ///< /danger_windows/*
+  /// [J] /energy_total: trajectory.energy + trajectory.energy_spring, as written.
+  std::vector<double> energy_total;
+  /// /panel_names: the model's panel names in panel order (geometry mode).
+  std::vector<std::string> panel_names;
+  std::vector<HingeEventRow> hinge_events;  ///< /events/hinge/*, in time order.
+  /// [s] /hinge_latch_time: per panel, when it locked (latch, jam or rest on a stop);
+  /// NaN if never. Empty for stage profiles.
+  std::vector<double> hinge_latch_times;
+  std::vector<double> spin_axis_45_times;  ///< [s] /events/spin_axis_45_time
+  /// False for a version 2 file written before issue 9 (none of the datasets above, nor
+  /// /stages/caveat and /stages/rigid_body_only).
+  bool has_hinge_outputs = false;
   /// Root attributes (all strings): deploysim_version, schema_version, profile_name,
   /// profile_source, profile_text, model_name, model_source, model_text, integrator,
   /// integrator_settings, mode, coupling, termination, termination_message, statistics,
@@ -67,10 +109,12 @@ struct TrajectoryFile {
 };
 
 /// Writes r (its profile and model texts, trajectory, flip times, stage table with the
-/// per-stage analysis, danger windows) to `path`. Throws std::invalid_argument if the
-/// trajectory's arrays do not all have one entry per output time (hinge angles: in
-/// geometry mode, one per panel) or r.stages does not have one report per profile stage,
-/// and std::runtime_error naming `path` for I/O failures. The same file as a
+/// per-stage analysis, danger windows, hinge events and latch times) to `path`. Throws
+/// std::invalid_argument if the trajectory's arrays do not all have one entry per output
+/// time (hinge angles and rates: in geometry mode, one per panel), r.stages does not have
+/// one report per profile stage (hinge profiles: any number of phases), r.latch_times is
+/// neither empty nor one per panel, or a hinge event names no panel of the model; and
+/// std::runtime_error naming `path` for I/O failures. The same file as a
 /// TrajectoryFileWriter fed r.trajectory (it is one).
 void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult& r);
 
@@ -107,7 +151,7 @@ class TrajectoryFileWriter final : public analysis::SampleSink {
 /// TrajectoryFileWriter (Finish completes the temporary, Commit renames it).
 class TrajectoryCsvWriter final : public analysis::SampleSink {
  public:
-  /// `hinge_columns`: hinge angles per sample (0: none).
+  /// `hinge_columns`: hinge angles (and as many hinge rates) per sample (0: none).
   TrajectoryCsvWriter(const std::string& path, std::size_t hinge_columns);
   ~TrajectoryCsvWriter() override;
   TrajectoryCsvWriter(const TrajectoryCsvWriter&) = delete;
@@ -143,9 +187,10 @@ class TrajectoryOutputs final : public analysis::SampleSink {
   std::optional<TrajectoryCsvWriter> csv_;
 };
 
-/// Reads a file written by WriteTrajectoryFile. Throws std::runtime_error naming `path`
-/// and the dataset for unreadable files, missing datasets, wrong shapes or another
-/// schema_version.
+/// Reads a file written by WriteTrajectoryFile (or by a deploysim from before issue 9:
+/// see kTrajectorySchemaVersion). Throws std::runtime_error naming `path` and the dataset
+/// for unreadable files, missing datasets, wrong shapes, an unknown hinge event kind or
+/// another schema_version.
 TrajectoryFile ReadTrajectoryFile(const std::string& path);
 
 /// Writes the trajectory as CSV: one header line of column names with units in brackets
@@ -153,8 +198,10 @@ TrajectoryFile ReadTrajectoryFile(const std::string& path);
 /// shortest form that reads back exactly. Columns: time, H_B_{x,y,z}, w_NB_B_{x,y,z},
 /// q_NB_{w,x,y,z}, J_B_{xx,yy,zz,xy,xz,yz}, principal_moments_{1,2,3},
 /// h_rel_B_{x,y,z}, h_N_{x,y,z}, energy, energy_rigid, euler_313_{precession,nutation,spin},
-/// spin_axis_angle, then hinge_angle_{0..P-1} if present. Same atomicity and errors as
-/// WriteTrajectoryFile.
+/// spin_axis_angle, then hinge_angle_{0..P-1} if present, energy_spring, energy_total
+/// (= energy + energy_spring), then hinge_rate_{0..P-1} if hinge angles are present (the
+/// new columns after the old ones, so that the old columns keep their positions). Same
+/// atomicity and errors as WriteTrajectoryFile.
 void WriteTrajectoryCsv(const std::string& path, const analysis::Trajectory& trajectory);
 
 }  // namespace deploysim::io
