@@ -95,7 +95,7 @@ TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
   for (const auto& entry :
        fs::directory_iterator(fs::path(DEPLOYSIM_SOURCE_DIR) / "deployment_profiles")) {
     if (entry.path().extension() != ".yaml") continue;
-    // Hinge profiles are not run yet (HingeProfilesAreRefusedWithoutOutput).
+    // simulate does not run hinge profiles yet (HingeProfilesAreAnalyzedOrRefused...).
     if (io::LoadProfile(entry.path().string()).is_hinge_profile()) continue;
     ++count;
     const std::string name = entry.path().stem().string();
@@ -145,25 +145,28 @@ TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
   fs::remove_all(d);
 }
 
-// Hinge profiles (issue 9) load and validate, but simulate, analyze and crosscheck do not
-// run them until the free-hinge engine lands: one line, exit 1, no output file (before
-// that check the CLI crashed on their empty stage list). Replace when they run.
-TEST(CliTest, HingeProfilesAreRefusedWithoutOutput) {
+// Hinge profiles (issue 9): analyze runs them; simulate (no hinge trajectory output yet)
+// and crosscheck (no free-hinge Simbody model yet) refuse them with one line, exit 1 and
+// no output file (before that check they crashed on the empty stage list). Replace each
+// part when the command runs them.
+TEST(CliTest, HingeProfilesAreAnalyzedOrRefusedWithoutOutput) {
   const fs::path d = TempDir("hinges");
   const std::string profile =
       (fs::path(DEPLOYSIM_SOURCE_DIR) / "deployment_profiles/smallsat_spring_deploy.yaml").string();
+  const CliRun analyzed = RunCli("analyze '" + profile + "'", d);
+  EXPECT_EQ(analyzed.exit_code, 0) << analyzed.err;
+  EXPECT_NE(analyzed.out.find("smallsat_spring_deploy"), std::string::npos) << analyzed.out;
   const CliRun help = RunCli("--help", d);
-  std::vector<std::string> commands = {"simulate", "analyze"};
+  std::vector<std::string> commands = {"simulate"};
   if (help.out.find("crosscheck") != std::string::npos) commands.push_back("crosscheck");
   for (const std::string& command : commands) {
     SCOPED_TRACE(command);
     const fs::path out = d / "out.h5";
-    const std::string output = command == "analyze" ? "" : " -o '" + out.string() + "'";
-    const CliRun r = RunCli(command + " '" + profile + "'" + output, d);
+    const CliRun r = RunCli(command + " '" + profile + "' -o '" + out.string() + "'", d);
     EXPECT_EQ(r.exit_code, 1) << r.err;
-    EXPECT_EQ(r.err, "deploysim: error: " + profile +
-                         ": hinges: the profile is valid, but simulate, analyze and crosscheck do "
-                         "not run hinge profiles yet (rule: they run stage profiles, `stages:`)\n");
+    EXPECT_EQ(r.err, "deploysim: error: " + profile + ": hinges: " + command +
+                         " does not run hinge profiles yet (rule: it runs stage profiles, "
+                         "`stages:`; analyze runs hinge profiles)\n");
     EXPECT_FALSE(fs::exists(out));
     for (const auto& left : fs::directory_iterator(d)) {
       const std::string n = left.path().filename().string();
