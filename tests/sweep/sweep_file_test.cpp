@@ -330,6 +330,14 @@ INSTANTIATE_TEST_SUITE_P(
                  "0}\n",
                  "outcome.tumble_angle_deg = 0: must be in (0, 90) [deg]"},
         BadSweep{"YamlSyntax", "grid: [\n", "YAML syntax error"},
+        // Hinge profiles (issue 9) load, but sweeps vary stage profiles only (for now).
+        BadSweep{"HingeBase",
+                 "name: t\nbase: " + std::string(DEPLOYSIM_SOURCE_DIR) +
+                     "/deployment_profiles/smallsat_spring_deploy.yaml\ngrid:\n  - "
+                     "{parameter: spin_rate, values: [1]}\n",
+                 ": a hinge profile (`hinges:`) cannot be a sweep base yet (rule: sweeps "
+                 "vary stage profiles, `stages:`)",
+                 true},
         // Hostile input (issue 10).
         BadSweep{"BaseIsADevice", "name: t\nbase: /dev/zero\n",
                  "base = /dev/zero: cannot read /dev/zero: is a character device, not a regular "

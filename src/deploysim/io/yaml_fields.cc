@@ -669,6 +669,13 @@ std::optional<double> Fields::OptionalNumber(const std::string& key) const {
   return Number(key);
 }
 
+double Fields::Degrees(const std::string& key) const { return Number(key) * kRadiansPerDegree; }
+
+std::optional<double> Fields::OptionalDegrees(const std::string& key) const {
+  if (!Has(key)) return std::nullopt;
+  return Degrees(key);
+}
+
 std::string Fields::Text(const std::string& key) const {
   return ReadText(*doc_, Get(key), Key(key));
 }

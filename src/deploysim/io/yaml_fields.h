@@ -73,6 +73,9 @@ inline constexpr std::size_t kMaxShownPathBytes = 160;
 /// Longest name (of a model, profile, sweep, configuration, panel or stage) [bytes]: names
 /// appear in messages, file attributes and CSV headers.
 inline constexpr std::size_t kMaxNameBytes = 200;
+/// Degrees in files (`..._deg`, `..._deg_s`) become radians (rad/s) on load by this factor
+/// (nothing downstream sees degrees).
+inline constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
 
 /// The whole file as bytes: a regular file of at most kMaxFileBytes bytes. Throws
 /// std::runtime_error "<path>: cannot read: <reason>" (missing, unreadable, not a regular
@@ -181,6 +184,10 @@ class Fields {
 
   double Number(const std::string& key) const;
   std::optional<double> OptionalNumber(const std::string& key) const;
+  /// A number given in degrees (`..._deg`) or degrees per second (`..._deg_s`), returned
+  /// in radians (rad/s): Number(key) * kRadiansPerDegree.
+  double Degrees(const std::string& key) const;
+  std::optional<double> OptionalDegrees(const std::string& key) const;
   std::string Text(const std::string& key) const;
   /// A name: a string that passes NameProblem.
   std::string Name(const std::string& key) const;

@@ -51,7 +51,7 @@ void CheckRunSettings(const schedule::Profile& p) {
                                 ": the fixed-step method " + method +
                                 " needs integrator.step > 0 [s]");
   }
-  if (!p.stages.empty() && p.output.dt > 0.0) {
+  if ((!p.stages.empty() || p.is_hinge_profile()) && p.output.dt > 0.0) {
     const double samples = (p.t_end() - p.t_begin()) / p.output.dt + 1.0;
     if (!(samples <= kMaxOutputSamples)) {
       throw std::invalid_argument(where + ": output.dt = " + FormatNumber(p.output.dt) +

@@ -1,8 +1,11 @@
 // ReadProfile and the mode / coupling names (docs/file_formats.md, "Deployment
-// profiles"). LoadModel is in yaml_model.cc; the run-setting rules that need the
-// integrators (io::LoadProfile, CheckRunSettings) are in yaml_loader.cc (deploysim::io).
+// profiles" and "Hinge profiles"). LoadModel is in yaml_model.cc; the run-setting rules
+// that need the integrators (io::LoadProfile, CheckRunSettings) are in yaml_loader.cc
+// (deploysim::io).
 
 #include <cmath>
+#include <cstddef>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,10 +68,32 @@ schedule::Coupling ReadCoupling(const Fields& top, schedule::Mode mode) {
   return *c;
 }
 
-schedule::InitialState ReadInitial(const Fields& top) {
-  const Fields f =
-      top.Mapping("initial", {"attitude_wxyz", "angular_velocity", "angular_momentum"});
+/// Refuses a `hold` / `to` / `configuration` that names no configuration of the model, with
+/// a bounded message (schedule::ValidateProfile would list every configuration).
+void RequireConfiguration(const Fields& f, const std::string& key, const model::Model& m) {
+  const std::string name = f.Text(key);
+  std::vector<std::string> names;
+  for (const model::Configuration& c : m.configurations) {
+    if (c.name == name) return;
+    names.push_back(c.name);
+  }
+  f.doc().Fail(f.Key(key) + " = '" + yaml::ShortValue(name) + "'",
+               "no configuration of that name in model '" + yaml::ShortValue(m.name) +
+                   "' (valid: " + yaml::ShortList(names) + ")");
+}
+
+schedule::InitialState ReadInitial(const Fields& top, bool hinge_profile, const model::Model& m) {
+  const Fields f = top.Mapping(
+      "initial", {"attitude_wxyz", "angular_velocity", "angular_momentum", "configuration"});
   schedule::InitialState init;
+  if (hinge_profile) {
+    init.configuration = f.Name("configuration");
+    RequireConfiguration(f, "configuration", m);
+  } else if (f.Has("configuration")) {
+    f.Fail("configuration",
+           "only in hinge profiles (`hinges:`): a stage profile starts in the configuration "
+           "of its first stage");
+  }
   if (f.Has("attitude_wxyz")) {
     const Eigen::VectorXd v = f.Numbers("attitude_wxyz", 4);
     const math::Vec4 wxyz(v[0], v[1], v[2], v[3]);
@@ -85,20 +110,6 @@ schedule::InitialState ReadInitial(const Fields& top) {
     init.H_B = f.Vector3("angular_momentum");
   }
   return init;
-}
-
-/// Refuses a `hold` / `to` that names no configuration of the model, with a bounded
-/// message (schedule::ValidateProfile would list every configuration).
-void RequireConfiguration(const Fields& f, const std::string& key, const model::Model& m) {
-  const std::string name = f.Text(key);
-  std::vector<std::string> names;
-  for (const model::Configuration& c : m.configurations) {
-    if (c.name == name) return;
-    names.push_back(c.name);
-  }
-  f.doc().Fail(f.Key(key) + " = '" + yaml::ShortValue(name) + "'",
-               "no configuration of that name in model '" + yaml::ShortValue(m.name) +
-                   "' (valid: " + yaml::ShortList(names) + ")");
 }
 
 std::vector<schedule::Stage> ReadStages(const Fields& top, const model::Model& m) {
@@ -146,6 +157,191 @@ std::vector<schedule::Stage> ReadStages(const Fields& top, const model::Model& m
   return stages;
 }
 
+// --- Hinge profiles (`hinges:`, docs/file_formats.md "Hinge profiles") ---------------------
+// The reader checks structure, types, finiteness and names (panel names resolve to
+// indices); ranges and cross-field rules are schedule::ValidateProfile's.
+
+/// The index of the panel called `name`, or -1.
+int FindPanel(const model::Model& m, const std::string& name) {
+  for (std::size_t k = 0; k < m.hinged.panels.size(); ++k) {
+    if (m.hinged.panels[k].name == name) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+std::string PanelNames(const model::Model& m) {
+  std::vector<std::string> names;
+  for (const model::Panel& pn : m.hinged.panels) names.push_back(pn.name);
+  return yaml::ShortList(names);
+}
+
+std::string NoSuchPanel(const model::Model& m) {
+  return "no panel of that name in model '" + yaml::ShortValue(m.name) +
+         "' (valid: " + PanelNames(m) + ")";
+}
+
+/// `mode` and `coupling` of a hinge profile: optional, and only geometry / exact.
+void ReadHingeModes(const Fields& top, schedule::Profile& p) {
+  p.mode = schedule::Mode::kGeometry;
+  p.coupling = schedule::Coupling::kExact;
+  if (top.Has("mode") && top.Text("mode") != schedule::ToString(p.mode)) {
+    top.Fail("mode",
+             "a hinge profile runs in geometry mode (the hinge angles are the state): "
+             "mode geometry, or leave mode out");
+  }
+  if (top.Has("coupling") && top.Text("coupling") != schedule::ToString(p.coupling)) {
+    top.Fail("coupling",
+             "a hinge profile runs with exact coupling (the hinge rates enter the momentum): "
+             "coupling exact, or leave coupling out");
+  }
+}
+
+schedule::Release ReadRelease(const Fields& f, const model::Model& m) {
+  schedule::Release r;
+  f.RequireExactlyOne("at", "after_latch");
+  if (f.Has("at")) {
+    if (f.Has("delay")) {
+      f.Fail("delay", "delay goes with after_latch (`at` is the release time itself)");
+    }
+    r.kind = schedule::Release::Kind::kAtTime;
+    r.time = f.Number("at");
+  } else {
+    r.kind = schedule::Release::Kind::kAfterLatch;
+    r.panel = FindPanel(m, f.Name("after_latch"));
+    if (r.panel < 0) f.Fail("after_latch", NoSuchPanel(m));
+    r.delay = f.OptionalNumber("delay").value_or(0.0);
+  }
+  return r;
+}
+
+schedule::Motor ReadMotor(const Fields& f) {
+  schedule::Motor motor;
+  if (f.Has("torque")) {
+    for (const char* key : {"stall_torque", "no_load_speed_deg_s"}) {
+      if (f.Has(key)) {
+        f.Fail(key,
+               "a motor gives either torque (constant) or stall_torque and "
+               "no_load_speed_deg_s (a torque-speed line), not both");
+      }
+    }
+    motor.kind = schedule::Motor::Kind::kConstant;
+    motor.torque = f.Number("torque");
+    return motor;
+  }
+  if (!f.Has("stall_torque") && !f.Has("no_load_speed_deg_s")) {
+    f.doc().Fail(f.path(), f.node(),
+                 "a motor needs torque (constant, N m), or stall_torque (N m) and "
+                 "no_load_speed_deg_s (a torque-speed line)");
+  }
+  motor.kind = schedule::Motor::Kind::kTorqueSpeed;
+  motor.stall_torque = f.Number("stall_torque");
+  motor.no_load_speed = f.Degrees("no_load_speed_deg_s");
+  return motor;
+}
+
+schedule::FreeDrive ReadFreeDrive(const Fields& f, const model::Model& m) {
+  schedule::FreeDrive d;
+  if (f.Has("release"))
+    d.release = ReadRelease(f.Mapping("release", {"at", "after_latch", "delay"}), m);
+  if (f.Has("spring")) {
+    const Fields s = f.Mapping("spring", {"stiffness", "rest_angle_deg", "preload"});
+    d.spring.stiffness = s.Number("stiffness");
+    d.spring.rest_angle = s.Degrees("rest_angle_deg");
+    d.spring.preload = s.OptionalNumber("preload").value_or(0.0);
+  }
+  if (f.Has("damper")) d.damping = f.Mapping("damper", {"coefficient"}).Number("coefficient");
+  if (f.Has("motor")) {
+    d.motor = ReadMotor(f.Mapping("motor", {"torque", "stall_torque", "no_load_speed_deg_s"}));
+  }
+  if (f.Has("friction")) {
+    const Fields fr = f.Mapping("friction", {"torque", "regularization_speed_deg_s"});
+    d.friction.torque = fr.Number("torque");
+    d.friction.regularization_speed = fr.Degrees("regularization_speed_deg_s");
+  }
+  if (f.Has("stops")) {
+    const Fields st = f.Mapping("stops", {"min_deg", "max_deg", "restitution"});
+    d.stops.min_angle = st.OptionalDegrees("min_deg").value_or(d.stops.min_angle);
+    d.stops.max_angle = st.OptionalDegrees("max_deg").value_or(d.stops.max_angle);
+    d.stops.restitution = st.OptionalNumber("restitution").value_or(0.0);
+  }
+  if (f.Has("latch")) {
+    const Fields l = f.Mapping("latch", {"angle_deg", "jam_fraction"});
+    d.latch.enabled = true;
+    d.latch.angle = l.Degrees("angle_deg");
+    d.latch.jam_fraction = l.OptionalNumber("jam_fraction").value_or(0.0);
+  }
+  return d;
+}
+
+std::vector<schedule::HingeMove> ReadMoves(const Fields& plan) {
+  const std::string key = plan.Key("prescribed");
+  const std::vector<YamlNode> nodes =
+      yaml::SequenceElements(plan.doc(), plan.Get("prescribed"), key, "moves");
+  if (nodes.empty()) {
+    plan.Fail("prescribed",
+              "at least one move is required (a hinge that does not move: locked: true, or "
+              "leave the panel out)");
+  }
+  std::vector<schedule::HingeMove> moves;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const Fields f(plan.doc(), nodes[i], key + "[" + std::to_string(i) + "]",
+                   {"to_deg", "rate_deg_s", "law", "start", "until"});
+    schedule::HingeMove mv;
+    f.RequireExactlyOne("to_deg", "rate_deg_s");
+    if (f.Has("to_deg")) {
+      mv.kind = schedule::HingeMove::Kind::kTo;
+      mv.angle = f.Degrees("to_deg");
+      const std::optional<schedule::Law> law = FindByName(kLaws, f.Text("law"));
+      if (!law) f.Fail("law", "unknown law (valid: " + Names(kLaws) + ")");
+      mv.law = *law;
+    } else {
+      mv.kind = schedule::HingeMove::Kind::kRate;
+      if (f.Has("law")) f.Fail("law", "a rate move has no law (law is for to_deg moves)");
+      mv.rate = f.Degrees("rate_deg_s");
+    }
+    mv.t_begin = f.Number("start");
+    mv.t_end = f.Number("until");
+    moves.push_back(mv);
+  }
+  return moves;
+}
+
+/// One plan per panel, in panel order; panels not listed are locked.
+std::vector<schedule::HingePlan> ReadHinges(const Fields& top, const model::Model& m) {
+  const YamlDocument& doc = top.doc();
+  std::vector<schedule::HingePlan> plans(m.hinged.panels.size());
+  for (const auto& [name, node] : yaml::MappingEntries(doc, top.Get("hinges"), "hinges")) {
+    const std::string key = yaml::JoinKey("hinges", name);
+    const int k = FindPanel(m, name);
+    if (k < 0) doc.Fail(key, node, NoSuchPanel(m));
+    const Fields f(doc, node, key, {"free", "prescribed", "locked"});
+    const int given = int{f.Has("free")} + int{f.Has("prescribed")} + int{f.Has("locked")};
+    if (given != 1) {
+      doc.Fail(key, node,
+               "exactly one of free, prescribed, locked is required (" +
+                   std::string(given == 0 ? "none is" : "several are") + " given)");
+    }
+    schedule::HingePlan& plan = plans[static_cast<std::size_t>(k)];
+    if (f.Has("free")) {
+      plan.kind = schedule::HingePlan::Kind::kFree;
+      plan.drive = ReadFreeDrive(
+          f.Mapping("free", {"release", "spring", "damper", "motor", "friction", "stops", "latch"}),
+          m);
+    } else if (f.Has("prescribed")) {
+      plan.kind = schedule::HingePlan::Kind::kPrescribed;
+      plan.moves = ReadMoves(f);
+    } else {
+      plan.kind = schedule::HingePlan::Kind::kLocked;
+      if (!*f.OptionalBool("locked")) {
+        f.Fail("locked",
+               "must be true (a panel left out of hinges is locked too; to move it, give free "
+               "or prescribed)");
+      }
+    }
+  }
+  return plans;
+}
+
 schedule::IntegratorSpec ReadIntegrator(const Fields& top) {
   schedule::IntegratorSpec spec;
   if (!top.Has("integrator")) return spec;
@@ -187,17 +383,51 @@ schedule::Profile ReadProfile(const std::string& path) {
   const YamlDocument doc(path, yaml::ReadTextFile(path));
   const Fields top(doc, doc.root(), "",
                    {"name", "description", "model", "mode", "coupling", "initial", "stages",
-                    "integrator", "output"});
+                    "hinges", "start", "until", "integrator", "output"});
   schedule::Profile p;
   p.source = path;
   p.text = doc.text();
   p.name = top.Name("name");
   p.description = top.OptionalText("description").value_or("");
+  // A stage profile moves every panel through the stages' configurations together; a hinge
+  // profile gives each panel its own plan.
+  if (top.Has("stages") && top.Has("hinges")) {
+    top.Fail("hinges",
+             "a profile has either stages (every panel through the stages' configurations) "
+             "or hinges (a plan per panel), not both");
+  }
+  const bool hinge_profile = top.Has("hinges");
+  if (!hinge_profile) {
+    if (!top.Has("stages")) {
+      doc.Fail("stages",
+               "required key is missing (a profile has stages, or hinges for a plan per "
+               "panel)");
+    }
+    for (const char* key : {"start", "until"}) {
+      if (top.Has(key)) {
+        top.Fail(key,
+                 "top-level start and until are keys of hinge profiles (`hinges:`); a stage "
+                 "profile gives start on its first stage and until on every stage");
+      }
+    }
+  }
   p.model = LoadModel(top.FilePath("model"));
-  p.mode = ReadMode(top, p.model);
-  p.coupling = ReadCoupling(top, p.mode);
-  p.initial = ReadInitial(top);
-  p.stages = ReadStages(top, p.model);
+  if (hinge_profile) {
+    if (p.model.kind != model::ModelKind::kHinged) {
+      top.Fail("model", "hinges need a hinged model (model '" + yaml::ShortValue(p.model.name) +
+                            "' is kind tensors)");
+    }
+    ReadHingeModes(top, p);
+    p.initial = ReadInitial(top, true, p.model);
+    p.start = top.OptionalNumber("start").value_or(0.0);
+    p.until = top.Number("until");
+    p.hinges = ReadHinges(top, p.model);
+  } else {
+    p.mode = ReadMode(top, p.model);
+    p.coupling = ReadCoupling(top, p.mode);
+    p.initial = ReadInitial(top, false, p.model);
+    p.stages = ReadStages(top, p.model);
+  }
   p.integrator = ReadIntegrator(top);
   p.output = ReadOutput(top);
   schedule::ValidateProfile(p);

@@ -35,7 +35,11 @@ model::Model LoadModel(const std::string& path);
 /// Reads a deployment profile and the model it names (`model:`, relative to the
 /// profile's directory). Profile::source = path, Profile::text = the file's text.
 /// The attitude quaternion is normalized; stages get contiguous [t_begin, t_end] and
-/// their `from` configuration (the previous stage's `to`). The result has passed
+/// their `from` configuration (the previous stage's `to`). A hinge profile (`hinges:`
+/// instead of `stages:`, docs/file_formats.md "Hinge profiles") gets one HingePlan per
+/// panel in the model's panel order (panels it leaves out are locked), panel names
+/// resolved to indices, angles and rates in rad and rad/s, mode geometry and coupling
+/// exact, and Profile::start / until / initial.configuration. The result has passed
 /// schedule::ValidateProfile; the integrator settings are read but not checked against
 /// the integrators (use io::LoadProfile for a profile that is to be run).
 schedule::Profile ReadProfile(const std::string& path);

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -46,6 +47,13 @@ DeploymentSchedule::DeploymentSchedule(const Profile& profile)
       coupling_(profile.coupling),
       model_(profile.model) {
   ValidateProfile(profile);
+  if (profile.is_hinge_profile()) {
+    // Its panels follow their own plans (hinge_plan.h), not a stage table.
+    throw std::invalid_argument(
+        (profile.source.empty() ? "profile '" + profile.name + "'" : profile.source) +
+        ": hinges: a DeploymentSchedule follows the stages of a stage profile; a hinge "
+        "profile has none (rule: hinge profiles are run by the free-hinge engine)");
+  }
   const bool hinged = model_.kind == model::ModelKind::kHinged;
   if (hinged) {
     // Already checked by ValidateProfile; this normalizes the hinge axes.

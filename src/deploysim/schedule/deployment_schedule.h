@@ -38,6 +38,7 @@ class DeploymentSchedule final : public dynamics::InertiaSource {
  public:
   /// Validates the profile (ValidateProfile; throws std::invalid_argument), resolves an
   /// empty `from` to the previous stage's `to`, and precomputes the configurations.
+  /// A hinge profile (Profile::is_hinge_profile) has no stages: std::invalid_argument.
   explicit DeploymentSchedule(const Profile& profile);
 
   dynamics::InertiaSample Evaluate(double t,

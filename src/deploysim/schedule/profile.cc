@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -181,6 +183,303 @@ void ValidateInitial(const Profile& p, const std::string& where) {
   }
 }
 
+// --- Hinge profiles (`hinges:`, hinge_plan.h, docs/file_formats.md "Hinge profiles") ------
+
+constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
+
+/// An angle [rad] (or a rate [rad/s]) as the file gives it, in degrees (deg/s), to 12
+/// significant digits: the file's `95` reads back as "95", not "95.00000000000001".
+std::string Deg(double rad) {
+  if (!std::isfinite(rad)) return Num(rad);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", rad * kDegreesPerRadian);
+  return buf;
+}
+
+/// "[min, max] deg" of a hinge's stops (-inf / inf where there is none).
+std::string StopRange(const Stops& s) {
+  return "[" + Deg(s.min_angle) + ", " + Deg(s.max_angle) + "] deg";
+}
+
+/// A hinge profile: no stages, a hinged model, geometry mode with exact coupling.
+void ValidateHingeModes(const Profile& p, const std::string& where) {
+  if (!p.stages.empty()) {
+    Fail(where,
+         "stages: a profile has either stages (every panel through the stages' "
+         "configurations) or hinges (a plan per panel), not both");
+  }
+  if (p.model.kind != model::ModelKind::kHinged) {
+    Fail(where, "model: hinges need a hinged model (model '" + p.model.name + "' is kind tensors)");
+  }
+  if (p.mode != Mode::kGeometry) {
+    Fail(where, "mode = " + ToString(p.mode) +
+                    ": a hinge profile runs in geometry mode (the hinge angles are the state)");
+  }
+  if (p.coupling != Coupling::kExact) {
+    Fail(where, "coupling = " + ToString(p.coupling) +
+                    ": a hinge profile runs with exact coupling (the hinge rates enter the "
+                    "momentum)");
+  }
+}
+
+/// start, until and the initial configuration of a hinge profile.
+void ValidateHingeRun(const Profile& p, const std::string& where) {
+  if (!std::isfinite(p.start)) Fail(where, "start = " + Num(p.start) + ": must be finite");
+  if (!std::isfinite(p.until)) Fail(where, "until = " + Num(p.until) + ": must be finite");
+  if (!(p.until > p.start)) {
+    Fail(where, "until = " + Num(p.until) + ": must be > start (" + Num(p.start) + " s)");
+  }
+  const double scale = std::max(std::abs(p.start), std::abs(p.until));
+  const double min_duration = kMinStageDurationFraction * scale;
+  if (!(p.until - p.start >= min_duration)) {
+    Fail(where, "until = " + Num(p.until) + ": the run lasts " + Num(p.until - p.start) +
+                    " s, less than the minimum " + Num(min_duration) +
+                    " s = " + Num(kMinStageDurationFraction) +
+                    " x max(|start|, |until|) (rule: minimum run duration)");
+  }
+  if (p.initial.configuration.empty()) {
+    Fail(where,
+         "initial.configuration: required key is missing (a hinge profile names the model "
+         "configuration that gives the hinge angles at start)");
+  }
+  RequireConfiguration(p, where, "initial.configuration", p.initial.configuration);
+}
+
+/// The moves of a prescribed hinge: ascending windows that do not overlap, each after the
+/// profile's start, no step law.
+void ValidateMoves(const Profile& p,
+                   const std::string& where,
+                   const std::string& key,
+                   const std::vector<HingeMove>& moves) {
+  if (moves.empty()) {
+    Fail(where, key +
+                    ": at least one move is required (a hinge that does not move: locked: true, "
+                    "or leave the panel out)");
+  }
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    const HingeMove& mv = moves[i];
+    const std::string mk = key + "[" + std::to_string(i) + "]";
+    if (!std::isfinite(mv.t_begin))
+      Fail(where, mk + ".start = " + Num(mv.t_begin) + ": must be finite");
+    if (!std::isfinite(mv.t_end))
+      Fail(where, mk + ".until = " + Num(mv.t_end) + ": must be finite");
+    if (mv.kind == HingeMove::Kind::kTo) {
+      if (!std::isfinite(mv.angle))
+        Fail(where, mk + ".to_deg = " + Deg(mv.angle) + ": must be finite");
+      if (mv.law == Law::kStep) {
+        Fail(where, mk + ".law = step: the step law is not allowed for a hinge (an instantaneous "
+                         "hinge motion carries an impulsive relative momentum; use linear, "
+                         "smoothstep or minimum-jerk)");
+      }
+    } else if (!std::isfinite(mv.rate)) {
+      Fail(where, mk + ".rate_deg_s = " + Deg(mv.rate) + ": must be finite");
+    }
+    if (!(mv.t_begin >= p.start)) {
+      Fail(where, mk + ".start = " + Num(mv.t_begin) +
+                      ": a move starts at or after the profile's start (" + Num(p.start) + " s)");
+    }
+    if (i > 0 && !(mv.t_begin >= moves[i - 1].t_end)) {
+      Fail(where, mk + ".start = " + Num(mv.t_begin) +
+                      ": the moves of a hinge are in time order and do not overlap (the "
+                      "previous move ends at " +
+                      Num(moves[i - 1].t_end) + " s)");
+    }
+    if (!(mv.t_end > mv.t_begin)) {
+      Fail(where, mk + ".until = " + Num(mv.t_end) +
+                      ": a move ends after it starts (start = " + Num(mv.t_begin) + " s)");
+    }
+    // Window ends are integrator breakpoints, as stage boundaries are (kMinStageDurationFraction).
+    const double scale = std::max({std::abs(p.start), std::abs(p.until), std::abs(mv.t_end)});
+    const double min_duration = kMinStageDurationFraction * scale;
+    if (!(mv.t_end - mv.t_begin >= min_duration)) {
+      Fail(where, mk + ".until = " + Num(mv.t_end) + ": the move lasts " +
+                      Num(mv.t_end - mv.t_begin) + " s, less than the minimum " +
+                      Num(min_duration) + " s = " + Num(kMinStageDurationFraction) +
+                      " x the time scale (" + Num(scale) + " s) (rule: minimum move duration)");
+    }
+  }
+}
+
+/// The drive of free hinge k (key: "hinges.<panel>.free"), whose angle at start is theta0.
+void ValidateDrive(const Profile& p,
+                   const std::string& where,
+                   const std::string& key,
+                   std::size_t k,
+                   double theta0) {
+  const FreeDrive& d = p.hinges[k].drive;
+  const std::vector<model::Panel>& panels = p.model.hinged.panels;
+  // A finite value that obeys `ok`; `degrees`: shown in degrees (a `_deg` or `_deg_s` key).
+  auto require = [&](const std::string& sub, double value, bool ok, const std::string& rule,
+                     bool degrees = false) {
+    const std::string shown = degrees ? Deg(value) : Num(value);
+    if (!std::isfinite(value)) Fail(where, key + sub + " = " + shown + ": must be finite");
+    if (!ok) Fail(where, key + sub + " = " + shown + ": " + rule);
+  };
+  const Spring& sp = d.spring;
+  require(".spring.stiffness", sp.stiffness, sp.stiffness >= 0.0, "must be >= 0 [N m/rad]");
+  require(".spring.rest_angle_deg", sp.rest_angle, true, "", true);
+  require(".spring.preload", sp.preload, true, "");
+  require(".damper.coefficient", d.damping, d.damping >= 0.0, "must be >= 0 [N m s/rad]");
+
+  const Motor& mo = d.motor;
+  if (mo.kind == Motor::Kind::kConstant) {
+    require(".motor.torque", mo.torque, true, "");
+  } else if (mo.kind == Motor::Kind::kTorqueSpeed) {
+    require(".motor.stall_torque", mo.stall_torque, mo.stall_torque != 0.0,
+            "must be non-zero [N m] (the torque at rest; its sign is the direction the motor "
+            "drives)");
+    require(".motor.no_load_speed_deg_s", mo.no_load_speed, mo.no_load_speed != 0.0,
+            "must be non-zero (the speed at which the motor's torque falls to zero)", true);
+    if ((mo.stall_torque > 0.0) != (mo.no_load_speed > 0.0)) {
+      Fail(where, key + ".motor.no_load_speed_deg_s = " + Deg(mo.no_load_speed) +
+                      ": must have the sign of stall_torque (" + Num(mo.stall_torque) +
+                      " N m): the motor drives one way, with torque stall_torque (1 - rate / "
+                      "no_load_speed)");
+    }
+  }
+
+  const Friction& fr = d.friction;
+  require(".friction.torque", fr.torque, fr.torque >= 0.0, "must be >= 0 [N m] (0: no friction)");
+  require(".friction.regularization_speed_deg_s", fr.regularization_speed,
+          fr.torque > 0.0 ? fr.regularization_speed > 0.0 : fr.regularization_speed >= 0.0,
+          "must be > 0 (below this hinge rate the friction torque fades out, tanh(rate / "
+          "speed))",
+          true);
+
+  const Stops& st = d.stops;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (std::isnan(st.min_angle) || st.min_angle == kInf) {
+    Fail(where, key + ".stops.min_deg = " + Deg(st.min_angle) +
+                    ": must be finite (leave it out for no stop)");
+  }
+  if (std::isnan(st.max_angle) || st.max_angle == -kInf) {
+    Fail(where, key + ".stops.max_deg = " + Deg(st.max_angle) +
+                    ": must be finite (leave it out for no stop)");
+  }
+  if (!(st.min_angle < st.max_angle)) {
+    Fail(where, key + ".stops.max_deg = " + Deg(st.max_angle) + ": must be > min_deg (" +
+                    Deg(st.min_angle) + ")");
+  }
+  require(".stops.restitution", st.restitution, st.restitution >= 0.0 && st.restitution <= 1.0,
+          "must be in [0, 1] (0: the hinge stops dead on a stop, 1: a lossless rebound)");
+  if (st.restitution != 0.0 && !st.any()) {
+    Fail(where, key + ".stops.restitution = " + Num(st.restitution) +
+                    ": a restitution needs a stop (min_deg or max_deg) to rebound from");
+  }
+  const std::string initial =
+      Deg(theta0) + " deg in configuration '" + p.initial.configuration + "'";
+  if (theta0 < st.min_angle || theta0 > st.max_angle) {
+    const bool below = theta0 < st.min_angle;
+    Fail(where, key +
+                    (below ? ".stops.min_deg = " + Deg(st.min_angle)
+                           : ".stops.max_deg = " + Deg(st.max_angle)) +
+                    ": the hinge's initial angle (" + initial + ") must lie within the stops " +
+                    StopRange(st));
+  }
+
+  const Latch& la = d.latch;
+  if (la.enabled) {
+    require(".latch.angle_deg", la.angle, true, "", true);
+    if (la.angle < st.min_angle || la.angle > st.max_angle) {
+      Fail(where, key + ".latch.angle_deg = " + Deg(la.angle) +
+                      ": the latch angle must lie within the stops " + StopRange(st));
+    }
+    if (la.angle == theta0) {
+      Fail(where, key + ".latch.angle_deg = " + Deg(la.angle) +
+                      ": the latch angle must differ from the hinge's initial angle (" + initial +
+                      "): the hinge would latch before it moves");
+    }
+  }
+  require(".latch.jam_fraction", la.jam_fraction,
+          la.jam_fraction == 0.0 || (la.jam_fraction > 0.0 && la.jam_fraction < 1.0),
+          "must be in (0, 1): the fraction of the swing from release to latch at which the "
+          "hinge jams (leave it out for a latch that does not jam)");
+  if (la.jam_fraction != 0.0 && !la.enabled) {
+    Fail(where, key + ".latch.jam_fraction = " + Num(la.jam_fraction) +
+                    ": a jam needs a latch (it is a fraction of the swing to the latch angle)");
+  }
+
+  const Release& re = d.release;
+  if (re.kind == Release::Kind::kAtTime) {
+    require(".release.at", re.time, re.time >= p.start,
+            "must be >= start (" + Num(p.start) +
+                " s; leave release out for a hinge free from the start)");
+  } else if (re.kind == Release::Kind::kAfterLatch) {
+    const std::string rk = key + ".release.after_latch = ";
+    if (re.panel < 0 || static_cast<std::size_t>(re.panel) >= panels.size()) {
+      Fail(where, rk + std::to_string(re.panel) + ": no such panel (the model has " +
+                      std::to_string(panels.size()) + " panels)");
+    }
+    const std::size_t j = static_cast<std::size_t>(re.panel);
+    const std::string& other = panels[j].name;
+    if (j == k) {
+      Fail(where, rk + other +
+                      ": a hinge cannot wait for its own latch (it is locked until "
+                      "released, so it would never move)");
+    }
+    const HingePlan& waited = p.hinges[j];
+    if (waited.kind != HingePlan::Kind::kFree) {
+      Fail(where, rk + other + ": panel '" + other + "' is " + ToString(waited.kind) +
+                      ": a release waits for a free hinge with a latch");
+    }
+    if (!waited.drive.latch.enabled) {
+      Fail(where, rk + other + ": panel '" + other +
+                      "' has no latch: it never latches, so this hinge would never be released");
+    }
+    require(".release.delay", re.delay, re.delay >= 0.0, "must be >= 0 [s]");
+  }
+}
+
+/// Releases that wait (after_latch) on each other in a cycle: none would ever move.
+/// Each free hinge waits for at most one other, so following the waits from a panel either
+/// ends (a hinge released otherwise) or comes back: within n steps.
+void ValidateReleaseOrder(const Profile& p, const std::string& where) {
+  const std::vector<model::Panel>& panels = p.model.hinged.panels;
+  const std::size_t n = p.hinges.size();
+  auto waits_for = [&](std::size_t k) -> int {
+    const HingePlan& h = p.hinges[k];
+    return h.kind == HingePlan::Kind::kFree && h.drive.release.kind == Release::Kind::kAfterLatch
+               ? h.drive.release.panel
+               : -1;
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    int j = waits_for(k);
+    std::size_t length = 1;
+    while (j >= 0 && static_cast<std::size_t>(j) != k && length <= n) {
+      j = waits_for(static_cast<std::size_t>(j));
+      ++length;
+    }
+    if (j >= 0 && static_cast<std::size_t>(j) == k) {
+      const std::string& next = panels[static_cast<std::size_t>(waits_for(k))].name;
+      Fail(where, "hinges." + panels[k].name + ".free.release.after_latch = " + next +
+                      ": the releases wait on each other in a cycle of " + std::to_string(length) +
+                      " panels (back to '" + panels[k].name +
+                      "'): none of them would ever be released");
+    }
+  }
+}
+
+/// One plan per panel; each plan's own rules, then the release order.
+void ValidateHinges(const Profile& p, const std::string& where) {
+  const std::vector<model::Panel>& panels = p.model.hinged.panels;
+  if (p.hinges.size() != panels.size()) {
+    Fail(where, "hinges: " + std::to_string(p.hinges.size()) + " plans for " +
+                    std::to_string(panels.size()) +
+                    " panels (one per panel, in the model's panel order)");
+  }
+  const Eigen::VectorXd& theta0 = FindConfiguration(p.model, p.initial.configuration)->hinge_angles;
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const HingePlan& plan = p.hinges[k];
+    const std::string key = "hinges." + panels[k].name;
+    if (plan.kind == HingePlan::Kind::kPrescribed) {
+      ValidateMoves(p, where, key + ".prescribed", plan.moves);
+    } else if (plan.kind == HingePlan::Kind::kFree) {
+      ValidateDrive(p, where, key + ".free", k, theta0[static_cast<Eigen::Index>(k)]);
+    }
+  }
+  ValidateReleaseOrder(p, where);
+}
+
 void ValidateNumerics(const Profile& p, const std::string& where) {
   const IntegratorSpec& s = p.integrator;
   auto require = [&](const std::string& key, double value, bool ok, const std::string& rule) {
@@ -218,9 +517,21 @@ std::string ToString(Coupling c) {
 
 void ValidateProfile(const Profile& p) {
   const std::string where = p.source.empty() ? "profile '" + p.name + "'" : p.source;
-  ValidateModes(p, where);
-  ValidateModel(p, where);
-  ValidateStages(p, where);
+  if (p.is_hinge_profile()) {
+    ValidateHingeModes(p, where);
+    ValidateModel(p, where);
+    ValidateHingeRun(p, where);
+    ValidateHinges(p, where);
+  } else {
+    ValidateModes(p, where);
+    ValidateModel(p, where);
+    ValidateStages(p, where);
+    if (!p.initial.configuration.empty()) {
+      Fail(where, "initial.configuration = '" + p.initial.configuration +
+                      "': only in hinge profiles (a stage profile starts in the configuration "
+                      "of its first stage)");
+    }
+  }
   ValidateInitial(p, where);
   ValidateNumerics(p, where);
 }

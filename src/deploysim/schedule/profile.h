@@ -109,7 +109,18 @@ inline constexpr double kMinStageDurationFraction = 1e-8;
 /// Checks the cross-field rules a file reader cannot see key by key (stages contiguous
 /// and increasing, no stage shorter than kMinStageDurationFraction of the time scale,
 /// configurations exist, exact coupling only in geometry mode, step law not with exact
-/// coupling, ...). Throws std::invalid_argument naming the rule.
+/// coupling, ...). Hinge profiles (docs/file_formats.md, "Hinge profiles"): no stages, a
+/// hinged model, geometry mode, exact coupling; finite start < until; an existing
+/// initial.configuration; one plan per panel; prescribed moves in time order, not
+/// overlapping, after start, not step, each at least kMinStageDurationFraction of the
+/// time scale long; free drives with stiffness, damping and friction >= 0, a friction
+/// regularization speed > 0, a torque-speed motor's stall torque and no-load speed
+/// non-zero and of one sign, stops min < max with restitution in [0, 1], the initial and
+/// latch angles within the stops, the latch angle != the initial angle, jam_fraction in
+/// (0, 1) (0: none), a release at >= start or after the latch of another free, latched
+/// panel with delay >= 0, and no cycle of releases; every number finite. Throws
+/// std::invalid_argument "<file>: <key path> = <value>: <rule>" (key paths as in the file:
+/// `hinges.wing_plus_x.free.latch.angle_deg`, angles shown in degrees).
 void ValidateProfile(const Profile& p);
 
 }  // namespace deploysim::schedule

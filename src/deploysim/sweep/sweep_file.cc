@@ -439,6 +439,12 @@ SweepSpec ReadSweep(const std::string& path) {
   spec.name = top.Name("name");
   spec.description = top.OptionalText("description").value_or("");
   spec.base = io::LoadProfile(top.FilePath("base"));
+  if (spec.base.is_hinge_profile()) {
+    // The sweep parameters act on stages (durations, laws) and on the initial spin.
+    top.Fail("base",
+             "a hinge profile (`hinges:`) cannot be a sweep base yet (rule: sweeps vary stage "
+             "profiles, `stages:`)");
+  }
   spec.model_text = io::yaml::ReadTextFile(spec.base.model.source);
   ReadIntegrator(top, spec.base);
   if (!top.Has("grid") && !top.Has("monte_carlo")) {
