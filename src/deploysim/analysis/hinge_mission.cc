@@ -106,7 +106,7 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
                               const std::function<void(double)>& progress,
                               const HingeRunOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
-  // MERGE(hingeyaml): schedule::ValidateProfile(profile);
+  schedule::ValidateProfile(profile);
   const std::string where = profile.source.empty() ? profile.name : profile.source;
   const model::Model& model = profile.model;
   if (model.kind != model::ModelKind::kHinged) {

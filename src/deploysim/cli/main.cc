@@ -34,6 +34,7 @@
 #ifdef DEPLOYSIM_HAVE_CROSSCHECK
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/crosscheck_file.h"
+#include "deploysim/crosscheck/free_hinge_crosscheck.h"
 #include "deploysim/crosscheck/speed_study.h"
 #endif
 
@@ -238,9 +239,16 @@ int main(int argc, char** argv) {
                "also run the deployment-speed study: quasi-rigid coupling vs Simbody for "
                "deployments of 1 to 1000 s (geometry-mode profiles)");
   cc->add_option("--csv", speed_csv, "speed-study CSV (default: <profile stem>_speed_study.csv)");
+  double cc_own_error = 0.0;
+  cc->add_option("--own-error", cc_own_error,
+                 "hinge profiles: also run Simbody at this looser accuracy and print its "
+                 "difference from the main run beside every figure (Simbody's own error)")
+      ->check(Number("in [1e-16, 0.1]", [](double v) { return v >= 1e-16 && v <= 0.1; }));
   cc->footer(
       "Examples:\n"
       "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml -o smallsat_cc.h5\n"
+      "  deploysim crosscheck deployment_profiles/smallsat_spring_deploy.yaml --accuracy 1e-14 "
+      "--own-error 1e-12 --until 300\n"
       "  deploysim crosscheck deployment_profiles/wing_nut.yaml --accuracy 1e-14\n"
       "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml --until 300 "
       "--speed-study --csv speed.csv\n"
@@ -316,16 +324,6 @@ int main(int argc, char** argv) {
     }
 #endif
     const deploysim::schedule::Profile profile = Load(profile_path, ov);
-    // Hinge profiles (`hinges:`, docs/file_formats.md): analyze runs them (RunMission), but
-    // simulate cannot write their trajectory yet (the HDF5 stage table follows `stages:`)
-    // and crosscheck has no free-hinge Simbody model yet: refused here, before any output
-    // exists. Remove each once it runs them.
-    if (profile.is_hinge_profile() && (sim->parsed() || !ana->parsed())) {
-      throw std::invalid_argument(profile_path +
-                                  ": hinges: " + (sim->parsed() ? "simulate" : "crosscheck") +
-                                  " does not run hinge profiles yet (rule: it runs stage "
-                                  "profiles, `stages:`; analyze runs hinge profiles)");
-    }
     const bool geometry = profile.mode == deploysim::schedule::Mode::kGeometry;
     // The exact vs quasi-rigid comparison concerns prescribed stages; free hinges are
     // always coupled exactly.
@@ -370,12 +368,28 @@ int main(int argc, char** argv) {
 #ifdef DEPLOYSIM_HAVE_CROSSCHECK
     if (cc->parsed()) {
       namespace xc = deploysim::crosscheck;
-      if (speed_study && !geometry) {
-        throw std::invalid_argument(profile_path + ": --speed-study needs a geometry-mode profile");
+      if (speed_study && (!geometry || profile.is_hinge_profile())) {
+        throw std::invalid_argument(profile_path +
+                                    ": --speed-study needs a geometry-mode stage profile");
+      }
+      if (cc_own_error > 0.0 && !profile.is_hinge_profile()) {
+        throw std::invalid_argument(profile_path + ": --own-error is for hinge profiles");
       }
       const std::string stem = std::filesystem::path(profile_path).stem().string();
       if (out_path.empty()) out_path = stem + "_crosscheck.h5";
       RefuseOutputOver(out_path, {profile_path, profile.model.source});
+      if (profile.is_hinge_profile()) {
+        // Free, prescribed and locked hinges: the independent Simbody model of free hinges.
+        xc::FreeHingeCrosscheckOptions o;
+        o.accuracy = cc_accuracy;
+        o.own_error_accuracy = cc_own_error;
+        o.t_end = cc_until;
+        const xc::FreeHingeCrosscheckResult r =
+            NamingFile(profile_path, [&] { return xc::RunFreeHingeCrosscheck(profile, o); });
+        xc::WriteCrosscheckFile(out_path, xc::AsCrosscheckResult(r));
+        std::cout << xc::FormatFreeHingeCrosscheckTable(r) << "\nwrote " << out_path << "\n";
+        return 0;
+      }
       xc::CrosscheckOptions o;
       o.accuracy = cc_accuracy;
       o.t_end = cc_until;

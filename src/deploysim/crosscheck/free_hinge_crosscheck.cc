@@ -16,6 +16,7 @@ namespace deploysim::crosscheck {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kQuarterPi = 0.78539816339744831;
 
 std::string Num(double x) {
@@ -206,11 +207,12 @@ std::string FormatFreeHingeCrosscheckTable(const FreeHingeCrosscheckResult& r) {
   std::ostringstream o;
   const schedule::Profile& p = r.profile;
   const bool self = r.has_reference;
+  // simbody_self NaN: not a figure Simbody's own-error run gives ("-").
   auto line = [&](const std::string& what, double value, double simbody_self) {
     char buf[200];
     if (self) {
       std::snprintf(buf, sizeof(buf), "  %-42s %-12s %s\n", what.c_str(), Num(value).c_str(),
-                    Num(simbody_self).c_str());
+                    std::isnan(simbody_self) ? "-" : Num(simbody_self).c_str());
     } else {
       std::snprintf(buf, sizeof(buf), "  %-42s %s\n", what.c_str(), Num(value).c_str());
     }
@@ -234,7 +236,7 @@ std::string FormatFreeHingeCrosscheckTable(const FreeHingeCrosscheckResult& r) {
   line("H_B, relative to |H|", r.difference.max_H_B_relative, r.simbody_self.max_H_B_relative);
   line("attitude [rad]", r.difference.max_attitude, r.simbody_self.max_attitude);
   line("angular velocity w_NB_B [rad/s]", r.difference.max_w, r.simbody_self.max_w);
-  line("total energy T + V, relative to E(t0)", r.max_energy_difference, 0.0);
+  line("total energy T + V, relative to E(t0)", r.max_energy_difference, kNaN);
   const std::size_t events = AfterStart(r.simbody.events, p.t_begin()).size();
   if (r.events.same_sequence) {
     line("event times [s] (" + std::to_string(events) + " events)", r.events.max_time,
@@ -260,8 +262,8 @@ std::string FormatFreeHingeCrosscheckTable(const FreeHingeCrosscheckResult& r) {
          r.max_45_crossing_difference, r.simbody_self_45_crossing_difference);
   }
   o << "\n  own errors\n";
-  line("Simbody momentum drift |dh_N|/|h_N|", r.simbody.max_momentum_drift, 0.0);
-  line("reduced momentum drift |dh_N|/|h_N|", r.reduced.max_h_N_drift, 0.0);
+  line("Simbody momentum drift |dh_N|/|h_N|", r.simbody.max_momentum_drift, kNaN);
+  line("reduced momentum drift |dh_N|/|h_N|", r.reduced.max_h_N_drift, kNaN);
   o << "\n  cost\n";
   o << "  reduced wall time [s]                      " << Num(r.reduced.wall_seconds) << "  ("
     << r.reduced.stats.steps << " steps)\n";
