@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "analysis/hinge_fixtures.h"
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/analysis/mission.h"
 #include "schedule/schedule_fixtures.h"
@@ -90,6 +91,43 @@ TEST(WorkEstimateTest, RefusesRunsPastTheLimits) {
   EXPECT_NO_THROW(CheckWork(p));
   p.integrator.step = 1e-7;
   EXPECT_THROW(CheckWork(p), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace deploysim::analysis
+
+namespace deploysim::analysis {
+namespace {
+
+// Hinge profiles (issue 9): a horizon of 1e9 s or a free rotor whose constant motor would
+// spin it up for days is refused up front, naming the run; the shipped-like deployment
+// passes, and its bound is never exceeded by the run.
+TEST(WorkEstimateTest, HingeProfilesAreBoundedUpFront) {
+  schedule::HingePlan wing = deploysim::testing::SpringHinge(0.2, -30.0, 1.0);
+  wing.drive.latch.enabled = true;
+  schedule::Profile p = deploysim::testing::SmallsatHingeProfile(wing, wing, 600.0);
+  EXPECT_NO_THROW(CheckWork(p));
+  const WorkEstimate e = EstimateWork(p);
+  ASSERT_EQ(e.stages.size(), 1u);
+  const MissionResult r = RunMission(p);
+  double max_w = 0.0;
+  for (const math::Vec3& w : r.trajectory.w_NB_B) max_w = std::max(max_w, w.norm());
+  EXPECT_LE(max_w, e.stages[0].max_rate);
+
+  p.until = 1e9;
+  try {
+    CheckWork(p);
+    ADD_FAILURE() << "a 1e9 s run was accepted";
+  } catch (const std::invalid_argument& ex) {
+    EXPECT_NE(std::string(ex.what()).find("the run, hub and hinges"), std::string::npos)
+        << ex.what();
+  }
+  schedule::HingePlan rotor = deploysim::testing::SpringHinge(0.0, 0.0);
+  rotor.drive.motor.kind = schedule::Motor::Kind::kConstant;
+  rotor.drive.motor.torque = 1.0;
+  schedule::Profile spun =
+      deploysim::testing::SmallsatHingeProfile(rotor, schedule::HingePlan{}, 1e5);
+  EXPECT_THROW(CheckWork(spun), std::invalid_argument);
 }
 
 }  // namespace

@@ -53,7 +53,74 @@ std::string Num(double x) {
 
 }  // namespace
 
+namespace {
+
+/// A hinge profile: one "stage" over [start, until]. The hub's rate is bounded as for a
+/// geometry-mode move (M over the sum of the parts' smallest moments); each hinge adds what
+/// it can turn: a prescribed hinge its moves' rates (a rotor at a held rate: its turns), a
+/// free hinge with a spring its natural frequency sqrt(k / I) (I: its panel's smallest moment,
+/// a lower bound of its effective inertia), with a constant motor the rate the torque alone
+/// would give it by the end, |tau| D / I, with a torque-speed motor its no-load speed.
+WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
+  WorkEstimate out;
+  const model::Model& model = profile.model;
+  if (model.kind != model::ModelKind::kHinged) return out;
+  auto smallest_moment = [](const math::Mat3& J) {
+    return math::PrincipalDecomposition(J).moments[0];
+  };
+  math::Vec3 H0 = math::Vec3::Zero();
+  double I_parts = smallest_moment(model.hinged.hub.body.inertia_cm);
+  for (const model::Panel& pn : model.hinged.panels) I_parts += smallest_moment(pn.body.inertia_cm);
+  if (profile.initial.H_B) {
+    H0 = *profile.initial.H_B;
+  } else if (profile.initial.w_NB_B) {
+    const model::Configuration& c = model.configuration(profile.initial.configuration);
+    const model::MassProperties mp = model::ComputeMassProperties(
+        model.hinged, c.hinge_angles, Eigen::VectorXd::Zero(c.hinge_angles.size()));
+    H0 = mp.J_B * *profile.initial.w_NB_B;
+  }
+  out.momentum = H0.norm();
+  StageWork w;
+  w.duration = profile.t_end() - profile.t_begin();
+  w.max_rate = out.momentum / I_parts;
+  for (std::size_t k = 0; k < profile.hinges.size() && k < model.hinged.panels.size(); ++k) {
+    const schedule::HingePlan& h = profile.hinges[k];
+    const double I_k = smallest_moment(model.hinged.panels[k].body.inertia_cm);
+    double rate = 0.0;
+    if (h.kind == schedule::HingePlan::Kind::kPrescribed) {
+      for (const schedule::HingeMove& mv : h.moves) {
+        const double d = std::max(mv.t_end - mv.t_begin, 1e-300);
+        rate = std::max(rate, mv.kind == schedule::HingeMove::Kind::kRate
+                                  ? std::abs(mv.rate)
+                                  : 2.0 * std::abs(mv.angle) / d);
+      }
+    } else if (h.kind == schedule::HingePlan::Kind::kFree) {
+      const schedule::FreeDrive& d = h.drive;
+      rate = std::sqrt(d.spring.stiffness / I_k);
+      if (d.motor.kind == schedule::Motor::Kind::kConstant) {
+        rate += std::abs(d.motor.torque) * w.duration / I_k;
+      } else if (d.motor.kind == schedule::Motor::Kind::kTorqueSpeed) {
+        rate += std::abs(d.motor.no_load_speed);
+      }
+    }
+    w.max_rate += rate;
+  }
+  w.turns = w.max_rate * w.duration / kTwoPi;
+  const bool adaptive = MakeStepper(profile.integrator.method)->info().adaptive;
+  if (!adaptive && profile.integrator.step > 0.0) {
+    w.fixed_steps = std::ceil(w.duration / profile.integrator.step);
+  }
+  out.finite = std::isfinite(w.turns) && std::isfinite(w.fixed_steps);
+  out.turns = w.turns;
+  out.fixed_steps = w.fixed_steps;
+  out.stages.push_back(w);
+  return out;
+}
+
+}  // namespace
+
 WorkEstimate EstimateWork(const schedule::Profile& profile) {
+  if (profile.is_hinge_profile()) return EstimateHingeWork(profile);
   WorkEstimate out;
   if (profile.stages.empty()) return out;
   const model::Model& model = profile.model;
@@ -159,11 +226,13 @@ void CheckWork(const schedule::Profile& profile) {
   }
   if (!(e.turns <= kMaxTurns)) {
     const StageWork& w = e.stages[worst];
-    throw std::invalid_argument(where + ": the run asks for up to " + Num(e.turns) +
-                                " turns of the body (stage '" + profile.stages[worst].name +
-                                "': |w| up to " + Num(w.max_rate) + " rad/s for " +
-                                Num(w.duration) + " s; rule: at most " + Num(kMaxTurns) +
-                                " turns per run: shorten the stages or lower the spin)");
+    const std::string stage = profile.is_hinge_profile()
+                                  ? std::string("the run, hub and hinges")
+                                  : "stage '" + profile.stages[worst].name + "'";
+    throw std::invalid_argument(
+        where + ": the run asks for up to " + Num(e.turns) + " turns of the body (" + stage +
+        ": |w| up to " + Num(w.max_rate) + " rad/s for " + Num(w.duration) + " s; rule: at most " +
+        Num(kMaxTurns) + " turns per run: shorten the stages or lower the spin)");
   }
   if (!(e.fixed_steps <= kMaxFixedSteps)) {
     throw std::invalid_argument(where + ": integrator.step = " + Num(profile.integrator.step) +

@@ -17,6 +17,11 @@
 /// h_rel_B is left out (it turns the hub by about the hinge travel: a fraction of a turn).
 /// Cost: a principal decomposition per configuration used (~1 us each); no schedule is
 /// built when initial.H_B is given (as in every sweep case).
+///
+/// Hinge profiles: one entry for the whole run, the hub's rate bounded as for a
+/// geometry-mode move plus, per hinge, what it can turn (a prescribed rate; a free hinge's
+/// spring frequency sqrt(k / I_min), a constant motor's |tau| D / I_min, a torque-speed
+/// motor's no-load speed; I_min its panel's smallest moment).
 
 #include <string>
 #include <vector>
