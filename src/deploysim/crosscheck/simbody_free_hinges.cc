@@ -176,10 +176,16 @@ class PrescribedHinge final : public SimTK::Motion::Custom::Implementation {
 /// MobilityLinearSpring and MobilityLinearDamper): Q = preload + motor - mu tanh(u/omega_f).
 /// Potential energy -preload (theta - rest): with the spring's, the stored energy of
 /// schedule/hinge_plan.h.
+/// A servo motor (schedule::Motor::Kind::kServo) adds servo_stiffness (theta_ref - theta) +
+/// servo_damping (theta'_ref - theta'), theta_ref along its `follow` moves (its window ends
+/// are restart points, as a prescribed hinge's).
 class HingeDrive final : public SimTK::Force::Custom::Implementation {
  public:
-  HingeDrive(const SimTK::MobilizedBody::Pin& pin, const schedule::FreeDrive& drive)
-      : pin_(pin), drive_(drive) {}
+  HingeDrive(const SimTK::MobilizedBody::Pin& pin,
+             const schedule::FreeDrive& drive,
+             double angle0,
+             const SegmentClock& clock)
+      : pin_(pin), drive_(drive), servo_path_(drive.motor.follow, angle0), clock_(clock) {}
   void calcForce(const SimTK::State& s,
                  SimTK::Vector_<SimTK::SpatialVec>&,
                  SimTK::Vector_<SimTK::Vec3>&,
@@ -190,6 +196,11 @@ class HingeDrive final : public SimTK::Force::Custom::Implementation {
     if (m.kind == schedule::Motor::Kind::kConstant) Q += m.torque;
     if (m.kind == schedule::Motor::Kind::kTorqueSpeed) {
       Q += m.stall_torque * (1.0 - u / m.no_load_speed);
+    }
+    if (m.kind == schedule::Motor::Kind::kServo) {
+      const double t = s.getTime();
+      const PathValue ref = servo_path_.At(t, clock_.Left(t));
+      Q += m.servo_stiffness * (ref.q - pin_.getOneQ(s, 0)) + m.servo_damping * (ref.qdot - u);
     }
     const schedule::Friction& f = drive_.friction;
     if (f.torque > 0.0) Q -= f.torque * std::tanh(u / f.regularization_speed);
@@ -203,6 +214,8 @@ class HingeDrive final : public SimTK::Force::Custom::Implementation {
  private:
   SimTK::MobilizedBody::Pin pin_;
   schedule::FreeDrive drive_;
+  PrescribedPath servo_path_;
+  const SegmentClock& clock_;
 };
 
 /// The multibody system. Non-copyable: Simbody handles refer into `system`.
@@ -536,7 +549,12 @@ class Runner {
       }
       if (d.spring.preload != 0.0 || d.motor.kind != schedule::Motor::Kind::kNone ||
           d.friction.torque > 0.0) {
-        SimTK::Force::Custom(sys_.forces, new HingeDrive(pin, d));
+        SimTK::Force::Custom(sys_.forces, new HingeDrive(pin, d, angle0_[Index(k)], sys_.clock));
+        for (const schedule::HingeMove& m : d.motor.follow) {
+          for (double t : {m.t_begin, m.t_end}) {
+            if (t > t0_ + SameTime(t0_)) time_events_.push_back({t, TimeEvent::kWindow, k});
+          }
+        }
       }
       if (d.latch.enabled && options_.compliant_latch.stiffness > 0.0) {
         sys_.latch_stops[k] = SimTK::Force::MobilityLinearStop(

@@ -214,8 +214,24 @@ schedule::Release ReadRelease(const Fields& f, const model::Model& m) {
   return r;
 }
 
+std::vector<schedule::HingeMove> ReadMoves(const Fields& plan, const std::string& name);
+
 schedule::Motor ReadMotor(const Fields& f) {
   schedule::Motor motor;
+  if (f.Has("servo_stiffness") || f.Has("servo_damping") || f.Has("follow")) {
+    for (const char* key : {"torque", "stall_torque", "no_load_speed_deg_s"}) {
+      if (f.Has(key)) {
+        f.Fail(key,
+               "a servo motor (servo_stiffness, servo_damping, follow) has no constant torque "
+               "or torque-speed line");
+      }
+    }
+    motor.kind = schedule::Motor::Kind::kServo;
+    motor.servo_stiffness = f.Number("servo_stiffness");
+    motor.servo_damping = f.OptionalNumber("servo_damping").value_or(0.0);
+    motor.follow = ReadMoves(f, "follow");
+    return motor;
+  }
   if (f.Has("torque")) {
     for (const char* key : {"stall_torque", "no_load_speed_deg_s"}) {
       if (f.Has(key)) {
@@ -251,7 +267,8 @@ schedule::FreeDrive ReadFreeDrive(const Fields& f, const model::Model& m) {
   }
   if (f.Has("damper")) d.damping = f.Mapping("damper", {"coefficient"}).Number("coefficient");
   if (f.Has("motor")) {
-    d.motor = ReadMotor(f.Mapping("motor", {"torque", "stall_torque", "no_load_speed_deg_s"}));
+    d.motor = ReadMotor(f.Mapping("motor", {"torque", "stall_torque", "no_load_speed_deg_s",
+                                            "servo_stiffness", "servo_damping", "follow"}));
   }
   if (f.Has("friction")) {
     const Fields fr = f.Mapping("friction", {"torque", "regularization_speed_deg_s"});
@@ -273,12 +290,13 @@ schedule::FreeDrive ReadFreeDrive(const Fields& f, const model::Model& m) {
   return d;
 }
 
-std::vector<schedule::HingeMove> ReadMoves(const Fields& plan) {
-  const std::string key = plan.Key("prescribed");
+/// The moves under `name` (a prescribed plan's `prescribed`, a servo motor's `follow`).
+std::vector<schedule::HingeMove> ReadMoves(const Fields& plan, const std::string& name) {
+  const std::string key = plan.Key(name);
   const std::vector<YamlNode> nodes =
-      yaml::SequenceElements(plan.doc(), plan.Get("prescribed"), key, "moves");
+      yaml::SequenceElements(plan.doc(), plan.Get(name), key, "moves");
   if (nodes.empty()) {
-    plan.Fail("prescribed",
+    plan.Fail(name,
               "at least one move is required (a hinge that does not move: locked: true, or "
               "leave the panel out)");
   }
@@ -329,7 +347,7 @@ std::vector<schedule::HingePlan> ReadHinges(const Fields& top, const model::Mode
           m);
     } else if (f.Has("prescribed")) {
       plan.kind = schedule::HingePlan::Kind::kPrescribed;
-      plan.moves = ReadMoves(f);
+      plan.moves = ReadMoves(f, "prescribed");
     } else {
       plan.kind = schedule::HingePlan::Kind::kLocked;
       if (!*f.OptionalBool("locked")) {

@@ -22,7 +22,9 @@ constexpr int kSmallSystem = 12;
 /// Runge-Kutta stage, and for the usual 4 to 8 unknowns Eigen's LLT (dynamic or fixed size)
 /// took about 1,000 instructions per solve here against about 250 for these loops
 /// (callgrind, the smallsat's two-wing deployment). False if A is not positive definite.
-bool SmallCholeskySolve(const Eigen::MatrixXd& A, int u, const Eigen::VectorXd& b,
+bool SmallCholeskySolve(const Eigen::MatrixXd& A,
+                        int u,
+                        const Eigen::VectorXd& b,
                         Eigen::VectorXd& x) {
   double L[kSmallSystem][kSmallSystem];
   for (int j = 0; j < u; ++j) {
@@ -70,6 +72,14 @@ FreeHingeSystem::FreeHingeSystem(const model::HingedBody& body,
     const HingePlan& p = plans_[static_cast<std::size_t>(k)];
     if (p.kind == HingePlan::Kind::kPrescribed) {
       prescribed_[static_cast<std::size_t>(k)] = PrescribedHinge(p.moves, initial_angles[k]);
+    }
+  }
+  servo_ref_.resize(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    const HingePlan& p = plans_[static_cast<std::size_t>(k)];
+    if (p.kind == HingePlan::Kind::kFree && p.drive.motor.kind == Motor::Kind::kServo) {
+      servo_ref_[static_cast<std::size_t>(k)] =
+          PrescribedHinge(p.drive.motor.follow, initial_angles[k]);
     }
   }
   is_free_.assign(static_cast<std::size_t>(n), 0);
@@ -172,14 +182,28 @@ void FreeHingeSystem::Evaluate(double t,
     const int k = free_[static_cast<std::size_t>(a)];
     const double rate = theta_dot_[k];
     x_dot[a] = rate;
-    x_dot[m + a] = grad_[a] + DriveTorque(plans_[static_cast<std::size_t>(k)].drive, x[a], rate);
+    x_dot[m + a] = grad_[a] + Torque(k, t, side, x[a], rate);
   }
   w_NB_B = w_;
+}
+
+double FreeHingeSystem::Torque(
+    int k, double t, dynamics::Side side, double theta, double theta_dot) const {
+  const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
+  double q = DriveTorque(d, theta, theta_dot);
+  if (d.motor.kind == Motor::Kind::kServo) {
+    q +=
+        ServoTorque(d.motor, servo_ref_[static_cast<std::size_t>(k)].At(t, side), theta, theta_dot);
+  }
+  return q;
 }
 
 std::vector<double> FreeHingeSystem::Breakpoints(double t0, double t1) const {
   std::vector<double> out;
   for (const PrescribedHinge& p : prescribed_) {
+    for (double b : p.Breakpoints(t0, t1)) out.push_back(b);
+  }
+  for (const PrescribedHinge& p : servo_ref_) {
     for (double b : p.Breakpoints(t0, t1)) out.push_back(b);
   }
   std::sort(out.begin(), out.end());
@@ -237,7 +261,12 @@ FreeHingeSystem::Snapshot FreeHingeSystem::Snap(double t,
   for (int a = 0; a < m; ++a) {
     const int k = free_[static_cast<std::size_t>(a)];
     const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
-    s.power += NonConservativeTorque(d, theta_dot_[k]) * theta_dot_[k];
+    double q = NonConservativeTorque(d, theta_dot_[k]);
+    if (d.motor.kind == Motor::Kind::kServo) {
+      q += ServoTorque(d.motor, servo_ref_[static_cast<std::size_t>(k)].At(t, side), theta_[k],
+                       theta_dot_[k]);
+    }
+    s.power += q * theta_dot_[k];
   }
   return s;
 }

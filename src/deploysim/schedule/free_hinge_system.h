@@ -112,11 +112,11 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   /// Mass matrix over cols_ and the solve for (w, theta'_f) into w_, theta_dot_.
   void Solve(const math::Vec3& H_B, const Eigen::VectorXd& x) const;
 
-
   model::HingedBody body_;
   model::PanelTree tree_;
   std::vector<HingePlan> plans_;
   std::vector<PrescribedHinge> prescribed_;  // per panel (empty moves unless prescribed)
+  std::vector<PrescribedHinge> servo_ref_;   // per panel: a servo motor's planned motion
   std::vector<int> free_;
   std::vector<char> is_free_;
   Eigen::VectorXd angles_;  // locked angles (every hinge; free/prescribed: last known)
@@ -129,6 +129,8 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   mutable Eigen::MatrixXd M_, A_;
   mutable Eigen::VectorXd rhs_, sol_, grad_, rates_;
   mutable math::Vec3 w_ = math::Vec3::Zero();
+  /// The drive's generalized force on free hinge k at time t (DriveTorque + ServoTorque).
+  double Torque(int k, double t, dynamics::Side side, double theta, double theta_dot) const;
 };
 
 }  // namespace deploysim::schedule

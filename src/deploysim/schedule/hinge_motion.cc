@@ -83,11 +83,18 @@ double NonConservativeTorque(const FreeDrive& d, double theta_dot) {
     case Motor::Kind::kTorqueSpeed:
       q += d.motor.stall_torque * (1.0 - theta_dot / d.motor.no_load_speed);
       break;
+    case Motor::Kind::kServo:
+      break;  // time-dependent: ServoTorque, added by the caller
   }
   if (d.friction.torque > 0.0) {
     q -= d.friction.torque * std::tanh(theta_dot / d.friction.regularization_speed);
   }
   return q;
+}
+
+double ServoTorque(const Motor& m, const HingeKinematics& ref, double theta, double theta_dot) {
+  if (m.kind != Motor::Kind::kServo) return 0.0;
+  return m.servo_stiffness * (ref.angle - theta) + m.servo_damping * (ref.rate - theta_dot);
 }
 
 double SpringEnergy(const FreeDrive& d, double theta) {

@@ -46,6 +46,11 @@ class PrescribedHinge {
 /// by impulses).
 double DriveTorque(const FreeDrive& drive, double theta, double theta_dot);
 
+/// The torque of a servo motor (Motor::Kind::kServo) at hinge angle theta and rate
+/// theta_dot with the planned motion `ref` at that time [N m] (0 for other motors). Not part
+/// of DriveTorque (it depends on time); counted as non-conservative in the energy balance.
+double ServoTorque(const Motor& motor, const HingeKinematics& ref, double theta, double theta_dot);
+
 /// The part of DriveTorque that dissipates or supplies energy, i.e. all but the spring:
 /// dE/dt = sum_k NonConservativeTorque_k theta'_k along the flow (E = T + V).
 double NonConservativeTorque(const FreeDrive& drive, double theta_dot);

@@ -55,11 +55,20 @@ struct Motor {
     kTorqueSpeed,  ///< Q = stall_torque (1 - theta' / no_load_speed): the DC-motor line; it
                    ///< brakes above the no-load speed. stall_torque and no_load_speed have
                    ///< the same sign (the direction the motor drives).
+    kServo,        ///< A position servo following a planned motion:
+                   ///< Q = servo_stiffness (theta_ref - theta) + servo_damping (theta'_ref -
+                   ///< theta'), theta_ref(t) the `follow` moves from the hinge's angle at the
+                   ///< run's start (as a prescribed hinge's; PrescribedHinge). As the gains
+                   ///< grow the hinge follows the plan: the free hinge reproduces the
+                   ///< prescribed one (error ~ 1 / servo_stiffness).
   };
   Kind kind = Kind::kNone;
-  double torque = 0.0;         ///< [N m] kConstant.
-  double stall_torque = 0.0;   ///< [N m] kTorqueSpeed, non-zero.
-  double no_load_speed = 0.0;  ///< [rad/s] kTorqueSpeed, non-zero, same sign as stall_torque.
+  double torque = 0.0;            ///< [N m] kConstant.
+  double stall_torque = 0.0;      ///< [N m] kTorqueSpeed, non-zero.
+  double no_load_speed = 0.0;     ///< [rad/s] kTorqueSpeed, non-zero, same sign as stall_torque.
+  double servo_stiffness = 0.0;   ///< [N m/rad] kServo, > 0.
+  double servo_damping = 0.0;     ///< [N m s/rad] kServo, >= 0.
+  std::vector<HingeMove> follow;  ///< kServo: the planned moves (ascending, not overlapping).
 };
 
 /// Coulomb friction, regularized: Q = -torque tanh(theta' / regularization_speed). Far above

@@ -336,6 +336,12 @@ void ValidateDrive(const Profile& p,
                       " N m): the motor drives one way, with torque stall_torque (1 - rate / "
                       "no_load_speed)");
     }
+  } else if (mo.kind == Motor::Kind::kServo) {
+    require(".motor.servo_stiffness", mo.servo_stiffness, mo.servo_stiffness > 0.0,
+            "must be > 0 [N m/rad] (the servo's torque per radian of tracking error)");
+    require(".motor.servo_damping", mo.servo_damping, mo.servo_damping >= 0.0,
+            "must be >= 0 [N m s/rad]");
+    ValidateMoves(p, where, key + ".motor.follow", mo.follow);
   }
 
   const Friction& fr = d.friction;
