@@ -24,12 +24,12 @@ using namespace free_hinge_fixtures;  // NOLINT: the shared test builders
 // fails long before the acceptance figure: H_B 5.0e-11 and attitude 5.1e-11 rad (the
 // symmetric deployment, which flips: Simbody's own error, 1e-12 against 1e-14, is 5.6e-9
 // there), latch times 7.9e-14 s, impulses 4.2e-14, w jumps 4.4e-14, flips 7.1e-10 s,
-// total energy 1.1e-13 of E(t0).
+// total energy 8.6e-13 of E(t0) (the undamped chain; 1.1e-13 in the others).
 constexpr double kTrajectoryTolerance = 2e-10;
 constexpr double kLatchTimeTolerance = 5e-13;
 constexpr double kImpulseTolerance = 2e-13;
 constexpr double kFlipTolerance = 3e-9;
-constexpr double kEnergyTolerance = 5e-13;
+constexpr double kEnergyTolerance = 3e-12;
 /// Acceptance 5 asks for 1e-6 relative; measured below 1e-14.
 constexpr double kCrossingTolerance = 1e-12;
 
@@ -105,6 +105,15 @@ TEST(FreeHingeCrosscheckTest, MotorDrivenHinge) {
   a.drive.motor.no_load_speed = -0.2;
   Check(Tight(HingeProfile(SmallSat(), {a, Locked()}, SmallSatSpin(), 300.0)),
         "torque-speed motor");
+}
+
+// An undamped two-segment chain on free springs (no latch) is chaotic (DESIGN.md 2.7):
+// compared over 20 s (over 100 s the two differ by 2.7e-9 in H_B and 4.7e-9 rad, Simbody's
+// own error 1.3e-8 and 2.1e-8, and Simbody takes minutes at 1e-14).
+TEST(FreeHingeCrosscheckTest, UndampedFreeChainOverAShortHorizon) {
+  Check(Tight(HingeProfile(SkewChain(), {Free(0.8, -20 * kDeg), Free(0.5, 20 * kDeg)},
+                           SmallSatSpin(), 20.0)),
+        "undamped free chain");
 }
 
 // Acceptance 5: the minor-axis spinner with a pendulum damper ends in a flat spin about
