@@ -111,11 +111,19 @@ void ComputePose(const HingedBody& body,
     const int p = tree.parent(k);
     const TreePose::Part& parent = p < 0 ? hub : pose.panels[static_cast<std::size_t>(p)];
     TreePose::Part& part = pose.panels[static_cast<std::size_t>(k)];
-    part.axis_B = parent.R_BP * panel.hinge_axis_B;
-    part.origin_B = parent.origin_B + parent.R_BP * panel.hinge_point_B;
-    part.R_BP = UnitAxisRotation(part.axis_B, theta[k]) * parent.R_BP;
+    if (p < 0) {
+      // A child of the hub (the usual case): the parent's frame is B itself.
+      part.axis_B = panel.hinge_axis_B;
+      part.origin_B = panel.hinge_point_B;
+      part.R_BP = UnitAxisRotation(part.axis_B, theta[k]);
+    } else {
+      part.axis_B = parent.R_BP * panel.hinge_axis_B;
+      part.origin_B = parent.origin_B + parent.R_BP * panel.hinge_point_B;
+      part.R_BP = UnitAxisRotation(part.axis_B, theta[k]) * parent.R_BP;
+    }
     part.com_B = part.origin_B + part.R_BP * panel.com_offset_B;
-    part.I_B = part.R_BP * panel.body.inertia_cm * part.R_BP.transpose();
+    const Mat3 RI = part.R_BP * panel.body.inertia_cm;
+    part.I_B.noalias() = RI * part.R_BP.transpose();
     part.mass = panel.body.mass;
     M += part.mass;
     m_x += part.mass * part.com_B;
