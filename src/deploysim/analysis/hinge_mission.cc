@@ -227,13 +227,15 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
       block = Trajectory();
     }
   };
-  // A state of the free-hinge path, or of the rigid path (no hinge free).
-  auto shape_sample = [&](const integrators::ShapeState& s) {
-    const FreeHingeSystem::Snapshot snap = sys.Snap(s.t, s.H_B, s.x);
+  // A state of the free-hinge path (shape state x), or of the rigid path (no hinge free:
+  // x empty).
+  auto make_sample = [&](double ts, const Vec3& H_B, const math::Quat& q_NB,
+                         const Eigen::VectorXd& x, dynamics::Side side) {
+    const FreeHingeSystem::Snapshot snap = sys.Snap(ts, H_B, x, side);
     Sample o;
-    o.t = s.t;
-    o.H_B = s.H_B;
-    o.q_NB = s.q_NB;
+    o.t = ts;
+    o.H_B = H_B;
+    o.q_NB = q_NB;
     o.w = snap.w_NB_B;
     o.J_B = snap.J_B;
     o.h_rel_B = snap.h_rel_B;
@@ -243,20 +245,12 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
     o.spring = SpringEnergyAll(plans, snap.theta);
     return o;
   };
+  auto shape_sample = [&](const integrators::ShapeState& s) {
+    return make_sample(s.t, s.H_B, s.q_NB, s.x, dynamics::Side::kRight);
+  };
+  const Eigen::VectorXd no_shape;
   auto rigid_sample = [&](const integrators::State& s, dynamics::Side side) {
-    const FreeHingeSystem::Snapshot snap = sys.Snap(s.t, s.H_B, Eigen::VectorXd(), side);
-    Sample o;
-    o.t = s.t;
-    o.H_B = s.H_B;
-    o.q_NB = s.q_NB;
-    o.w = snap.w_NB_B;
-    o.J_B = snap.J_B;
-    o.h_rel_B = snap.h_rel_B;
-    o.kinetic = snap.kinetic_energy;
-    o.theta = snap.theta;
-    o.theta_dot = snap.theta_dot;
-    o.spring = SpringEnergyAll(plans, snap.theta);
-    return o;
+    return make_sample(s.t, s.H_B, s.q_NB, no_shape, side);
   };
 
   // ---- Phases (the stage table) ------------------------------------------------------
@@ -690,23 +684,7 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
     }
     rep.predicted_flip_half_period = std::numeric_limits<double>::infinity();
     if (rep.rigid) {
-      const FreeBodySolution sol(math::InertiaTensor::FromMatrix(ph.start.J_B), ph.start.H_B,
-                                 ph.start.q_NB, rep.t_begin);
-      rep.regime = ToString(sol.regime());
-      rep.one_minus_k2 = sol.complementary_parameter();
-      rep.predicted_flip_half_period = sol.flip_half_period();
-      if (LocateSpinAxis(ph.start.J_B, spin_axis_B).role == AxisRole::kIntermediate) {
-        rep.predicted_flips = sol.FlipTimes(rep.t_begin, rep.t_end);
-      } else {
-        rep.predicted_flip_half_period = std::numeric_limits<double>::infinity();
-      }
-      for (double tf : rep.observed_flips) {
-        double nearest = std::numeric_limits<double>::infinity();
-        for (double tp : rep.predicted_flips) nearest = std::min(nearest, std::abs(tf - tp));
-        if (std::isfinite(nearest)) {
-          rep.max_flip_time_difference = std::max(rep.max_flip_time_difference, nearest);
-        }
-      }
+      SetRigidPrediction(rep, ph.start.J_B, ph.start.H_B, ph.start.q_NB, spin_axis_B);
     }
     SetRigidBodyCaveat(rep, ph.dissipative);
     out.stages.push_back(rep);

@@ -152,6 +152,29 @@ MissionResult RunMission(const schedule::Profile& profile,
   return out;
 }
 
+void SetRigidPrediction(StageReport& rep,
+                        const math::Mat3& J_B,
+                        const math::Vec3& H_B,
+                        const math::Quat& q_NB,
+                        const math::Vec3& spin_axis_B) {
+  const FreeBodySolution sol(math::InertiaTensor::FromMatrix(J_B), H_B, q_NB, rep.t_begin);
+  rep.regime = ToString(sol.regime());
+  rep.one_minus_k2 = sol.complementary_parameter();
+  rep.predicted_flip_half_period = sol.flip_half_period();
+  if (LocateSpinAxis(J_B, spin_axis_B).role == AxisRole::kIntermediate) {
+    rep.predicted_flips = sol.FlipTimes(rep.t_begin, rep.t_end);
+  } else {
+    rep.predicted_flip_half_period = std::numeric_limits<double>::infinity();
+  }
+  for (double tf : rep.observed_flips) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (double tp : rep.predicted_flips) nearest = std::min(nearest, std::abs(tf - tp));
+    if (std::isfinite(nearest)) {
+      rep.max_flip_time_difference = std::max(rep.max_flip_time_difference, nearest);
+    }
+  }
+}
+
 void SetRigidBodyCaveat(StageReport& report, bool dissipative) {
   switch (report.spin_axis_end) {
     case AxisRole::kMinor:
@@ -406,23 +429,7 @@ MissionResult RunMission(const schedule::Profile& profile,
       const integrators::State& start = st.t_begin == t0 ? y0 : state_at(st.t_begin);
       // Right after the switch of a step-law stage.
       const dynamics::InertiaSample jr = sched.Evaluate(st.t_begin, dynamics::Side::kRight);
-      const FreeBodySolution sol(math::InertiaTensor::FromMatrix(jr.J_B), start.H_B, start.q_NB,
-                                 st.t_begin);
-      rep.regime = ToString(sol.regime());
-      rep.one_minus_k2 = sol.complementary_parameter();
-      rep.predicted_flip_half_period = sol.flip_half_period();
-      if (LocateSpinAxis(jr.J_B, spin_axis_B).role == AxisRole::kIntermediate) {
-        rep.predicted_flips = sol.FlipTimes(st.t_begin, st.t_end);
-      } else {
-        rep.predicted_flip_half_period = std::numeric_limits<double>::infinity();
-      }
-      for (double tf : rep.observed_flips) {
-        double nearest = std::numeric_limits<double>::infinity();
-        for (double tp : rep.predicted_flips) nearest = std::min(nearest, std::abs(tf - tp));
-        if (std::isfinite(nearest)) {
-          rep.max_flip_time_difference = std::max(rep.max_flip_time_difference, nearest);
-        }
-      }
+      SetRigidPrediction(rep, jr.J_B, start.H_B, start.q_NB, spin_axis_B);
     }
     SetRigidBodyCaveat(rep, /*dissipative=*/false);
     out.stages.push_back(rep);

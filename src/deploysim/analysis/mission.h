@@ -70,6 +70,16 @@ struct StageReport {
   bool rigid_body_only = false;
 };
 
+/// The closed-form part of a rigid stage's report: regime, 1 - k^2, the predicted flips
+/// of the stage [t_begin, t_end] (when the spin axis is the intermediate axis of J_B) from
+/// the state (H_B, q_NB) at its start, and the largest distance of report.observed_flips
+/// from them. J_B: the stage's constant inertia.
+void SetRigidPrediction(StageReport& report,
+                        const math::Mat3& J_B,
+                        const math::Vec3& H_B,
+                        const math::Quat& q_NB,
+                        const math::Vec3& spin_axis_B);
+
 /// The caveat of a stage's verdict: which of its conclusions hold only for a perfectly
 /// rigid body (DESIGN.md 2.7, the major-axis rule), from the spin axis's role at the stage
 /// end. `dissipative`: energy is dissipated continuously in the stage (a damper or friction

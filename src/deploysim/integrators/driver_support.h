@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <boost/math/tools/toms748_solve.hpp>
+#include <cmath>
 #include <cstdint>
 
 namespace deploysim::integrators::driver {
@@ -23,6 +24,19 @@ inline constexpr double kEventDenseBracket = 1e-6;
 inline constexpr std::uintmax_t kMaxEventIterations = 100;
 // Two times closer than this fraction of the segment length are the same time.
 inline constexpr double kTimeEps = 1e-14;
+
+// The factor on the step size after a step whose weighted error norm is err, for a
+// method of (error-estimate) order q: after a rejected step (err > 1 or not finite) a
+// shrink factor, after an accepted one a growth factor (Hairer, Norsett, Wanner I, II.4).
+inline double RejectedStepFactor(double err, int q) {
+  return std::isfinite(err) ? std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1)))
+                            : kMinShrink;
+}
+inline double AcceptedStepFactor(double err, int q) {
+  return err == 0.0
+             ? kMaxGrow
+             : std::min(kMaxGrow, std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1))));
+}
 
 // The time of the sign change of g over the step [t0, t1] (g0, g1 of opposite signs,
 // g1 != 0): bracketed on the continuous extension (no right-hand sides), then, unless

@@ -15,9 +15,6 @@ namespace deploysim::integrators {
 
 namespace {
 
-using driver::kMaxGrow;
-using driver::kMinShrink;
-using driver::kSafety;
 using driver::kTimeEps;
 
 void Require(bool ok, const std::string& what) {
@@ -244,10 +241,7 @@ IntegrationResult Integrate(const Stepper& stepper,
         const double err = att.error_norm;
         if (!std::isfinite(err) || err > 1.0) {
           ++result.stats.rejected;
-          const double shrink = std::isfinite(err)
-                                    ? std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1)))
-                                    : kMinShrink;
-          h_adapt = h * shrink;
+          h_adapt = h * driver::RejectedStepFactor(err, q);
           if (h_adapt < 1e-14 * std::max(1.0, std::abs(y.t))) {
             result.termination = Termination::kStepSizeUnderflow;
             result.message = "step size underflow at t = " + std::to_string(y.t);
@@ -258,10 +252,7 @@ IntegrationResult Integrate(const Stepper& stepper,
           }
           continue;
         }
-        const double grow =
-            err == 0.0
-                ? kMaxGrow
-                : std::min(kMaxGrow, std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1))));
+        const double grow = driver::AcceptedStepFactor(err, q);
         // Do not let the short last step of a segment shrink the next segment's steps.
         if (!last || grow * h > h_adapt) h_adapt = h * grow;
       }

@@ -400,22 +400,14 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
       if (adaptive) {
         if (!std::isfinite(err) || err > 1.0) {
           ++result.stats.rejected;
-          const double shrink =
-              std::isfinite(err)
-                  ? std::max(driver::kMinShrink, driver::kSafety * std::pow(err, -1.0 / (q + 1)))
-                  : driver::kMinShrink;
-          h_adapt = h * shrink;
+          h_adapt = h * driver::RejectedStepFactor(err, q);
           if (h_adapt < 1e-14 * std::max(1.0, std::abs(y.t))) {
             return finish(Termination::kStepSizeUnderflow,
                           "step size underflow at t = " + std::to_string(y.t));
           }
           continue;
         }
-        const double grow =
-            err == 0.0 ? driver::kMaxGrow
-                       : std::min(driver::kMaxGrow,
-                                  std::max(driver::kMinShrink,
-                                           driver::kSafety * std::pow(err, -1.0 / (q + 1))));
+        const double grow = driver::AcceptedStepFactor(err, q);
         if (!last || grow * h > h_adapt) h_adapt = h * grow;
       }
       // A step that crosses a terminal zero it started on, without leaving it first.

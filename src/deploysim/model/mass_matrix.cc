@@ -5,42 +5,17 @@
 #include <stdexcept>
 #include <string>
 
+#include "deploysim/model/point_geometry.h"
+
 namespace deploysim::model {
 
 namespace {
 
+using geometry::PointInertia;
+using geometry::UnitAxisRotation;
+
 using math::Mat3;
 using math::Vec3;
-
-/// S(d) = |d|^2 I - d d^T.
-Mat3 PointInertia(const Vec3& d) {
-  const double xx = d.x() * d.x();
-  const double yy = d.y() * d.y();
-  const double zz = d.z() * d.z();
-  const double xy = d.x() * d.y();
-  const double xz = d.x() * d.z();
-  const double yz = d.y() * d.z();
-  Mat3 S;
-  S << yy + zz, -xy, -xz,  //
-      -xy, xx + zz, -yz,   //
-      -xz, -yz, xx + yy;
-  return S;
-}
-
-/// Rodrigues: cos(t) I + sin(t) [a]x + (1 - cos(t)) a a^T for a unit axis a.
-Mat3 UnitAxisRotation(const Vec3& a, double angle) {
-  const double s = std::sin(angle);
-  const double c = std::cos(angle);
-  const double v = 1.0 - c;
-  const double x = a.x();
-  const double y = a.y();
-  const double z = a.z();
-  Mat3 R;
-  R << c + v * x * x, v * x * y - s * z, v * x * z + s * y,  //
-      v * x * y + s * z, c + v * y * y, v * y * z - s * x,   //
-      v * x * z - s * y, v * y * z + s * x, c + v * z * z;
-  return R;
-}
 
 }  // namespace
 
