@@ -511,7 +511,9 @@ MissionResult RunHingeMission(const schedule::Profile& profile,
         break;
       }
       track_angle(r.final_state.H_B);
-      t = r.final_state.t;
+      // The segment's end, or the event; a segment shorter than the driver's time
+      // resolution (kTimeEps) counts as reached, so the loop always advances.
+      t = r.stopped_at_event ? r.final_state.t : t_next;
       state.t = t;
       state.H_B = r.final_state.H_B;
       state.q_NB = r.final_state.q_NB;
