@@ -107,7 +107,7 @@ void ApplyToDrive(Parameter par, double v, int pass, schedule::FreeDrive& d) {
   }
 }
 
-/// The free-hinge parameters of a hinge profile (steps 2-3 of the file comment of
+/// The free-hinge parameters of a hinge profile (step 2 of the file comment of
 /// sweep_spec.h).
 void ApplyHingeParameters(const std::vector<Target>& targets,
                           const std::vector<double>& v,
@@ -156,12 +156,12 @@ void ApplyHingeParameters(const std::vector<Target>& targets,
   }
 }
 
-/// Coupling, law and timing of a stage profile (steps 2-4 of the file comment of
+/// Coupling, law and timing of a stage profile (steps 2-3 of the file comment of
 /// sweep_spec.h).
 void ApplyStageParameters(const std::vector<Target>& targets,
                           const std::vector<double>& v,
                           schedule::Profile& p) {
-  // 2. Coupling, 3. law (all moves first, then single stages).
+  // 2. Coupling, then law (all moves first, then single stages).
   for (std::size_t k = 0; k < targets.size(); ++k) {
     if (targets[k].parameter == Parameter::kCoupling) {
       p.coupling =
@@ -180,7 +180,7 @@ void ApplyStageParameters(const std::vector<Target>& targets,
       }
     }
   }
-  // 4. Timing.
+  // 3. Timing.
   std::vector<double> durations;
   for (const schedule::Stage& st : p.stages) durations.push_back(st.t_end - st.t_begin);
   for (std::size_t k = 0; k < targets.size(); ++k) {
@@ -398,7 +398,7 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
     }
     dynamics::InertiaSample s0;
     if (p.is_hinge_profile()) {
-      // 2-3. Free-hinge drives and failures; the plans are checked before J_B(t0) is
+      // 2. Free-hinge drives and failures; the plans are checked before J_B(t0) is
       // formed from them.
       ApplyHingeParameters(targets, v, p);
       schedule::ValidateProfile(p);
@@ -413,7 +413,7 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
         spec.base_spin_axis_B ? *spec.base_spin_axis_B : BaseSpinAxis(spec.base);
     c.spin_axis_B = analysis::InitialSpinAxis(s0.J_B, base_axis);
 
-    // 5. Initial state.
+    // 4. Initial state.
     math::Vec3 H =
         p.initial.H_B ? *p.initial.H_B : math::Vec3(s0.J_B * *p.initial.w_NB_B + s0.h_rel_B);
     const math::Vec3& s = c.spin_axis_B;

@@ -14,14 +14,23 @@
 /// Rng(seed, j, parameter position), so sample j has the same dispersions at every grid
 /// point (common random numbers: differences across the grid are the grid's alone).
 ///
-/// Application order in BuildCaseProfile, whatever the order in the file:
+/// Application order in BuildCase, whatever the order in the file (docs/sweeps.md):
 ///   1. model: panel_mass_scale (mass and inertia of the panel(s); all-panel and
-///      per-panel factors multiply), inertia_scale (tensor models; factors multiply);
-///   2. coupling; 3. law (all move stages, then per-stage values override);
-///   4. timing: every move stage's duration times deploy_duration_scale, then
-///      stage_duration values replace single stages' durations; stages stay contiguous
-///      from the first stage's start (later stages shift, holds keep their durations);
-///   5. initial state: nutation / nutation_azimuth tilt H_B(t0) about the spin axis
+///      per-panel factors multiply), inertia_scale (tensors models; factors multiply);
+///   2. stage profiles (`stages:`): coupling; law (all move stages, then per-stage values
+///      override);
+///      hinge profiles (`hinges:`; Target::panel -1 = every free panel): values that set
+///      a quantity (spring_stiffness, damping, latch_angle, motor_torque, release_time,
+///      release_delay, friction_torque, stick_fraction), all-panel targets first, then
+///      per-panel ones; then the factors (spring_stiffness_scale, motor_torque_scale;
+///      all-panel and per-panel multiply); then latch_fails = yes: the panel's latch is
+///      disabled (unless it jams first: stick_fraction > 0 keeps it), and a panel
+///      released after that latch (after_latch) is never released: its release moves
+///      past the end of the run;
+///   3. stage profiles: timing: every move stage's duration times deploy_duration_scale,
+///      then stage_duration values replace single stages' durations; stages stay
+///      contiguous from the first stage's start (later stages shift, holds keep theirs);
+///   4. initial state: nutation / nutation_azimuth tilt H_B(t0) about the spin axis
 ///      (|H_B| kept), then spin_rate scales H_B so that w_NB_B(t0) . s = spin_rate.
 /// The spin axis s is the principal axis of the case's J_B(t0) nearest the BASE
 /// profile's spin axis (analysis::InitialSpinAxis of the base), so that every case of a
