@@ -12,8 +12,9 @@ Flip map (stage sweeps; --map flips):
   1  flip / no flip within the simulated time (with samples: the fraction that flipped);
   2  "will flip, every X s" or "stable": the torque-free motion after the end, whatever
      the simulated time (will_flip, predicted_flip_half_period; median over the samples
-     that will flip). A slow spin that did not flip before the end of the run is marked
-     by when it will, not "no flip". (Results files from before these columns: not drawn.)
+     that will flip, where at least half of them will; blue: stable). A slow spin that
+     did not flip before the end of the run is marked by when it will, not "no flip".
+     (Results files from before these columns: not drawn.)
   3  time to the first flip, from the end of the deployment (--absolute: from t = 0),
      median over the samples that flipped; grey where nothing flipped.
 Hinge map (sweeps over hinge profiles, the default for them; --map hinges):
@@ -301,12 +302,12 @@ def main():
             will = col["will_flip"].astype(float)
             period = cells.map(median_where(col["predicted_flip_half_period"], will > 0))
             will_share = cells.map(lambda s: will[s].mean())
-            period_panel(fig, ax, xe, ye, np.where(will_share > 0.5, period, np.nan),
-                         will_share <= 0.5,
+            period_panel(fig, ax, xe, ye, np.where(will_share >= 0.5, period, np.nan),
+                         will_share < 0.5,
                          "will flip, every X s (colour) or stable (blue):\n"
                          "the motion after the end, whatever the simulated time",
                          samples, "time between flips after the end")
-            if (will_share <= 0.5).any():
+            if (will_share < 0.5).any():
                 ax.legend(handles=[Patch(color=STABLE, label="stable: will not flip")],
                           loc="upper right", fontsize=8, framealpha=0.85)
         # 3: time to the first flip.
