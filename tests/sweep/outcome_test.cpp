@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "deploysim/analysis/free_body_solution.h"
@@ -19,6 +20,7 @@ namespace deploysim::sweep {
 namespace {
 
 using testing::SmallsatProfile;
+using testing::SpringProfile;
 using testing::SweepDirTest;
 
 constexpr double kFlipTimeTolerance = 1e-9;    // [s] same steps, same event search
@@ -147,6 +149,227 @@ TEST_F(SweepDirTest, FinalMotionOfRigidBodies) {
   EXPECT_EQ(i1.final_class, MotionClass::kTumbling);
   EXPECT_GE(i1.flip_count, 1);
   EXPECT_GT(i1.max_spin_axis_angle, 3.0);  // a flip turns the axis over (~pi)
+}
+
+// ---- Horizon-independent outcomes (issue 9) ----
+
+// The separatrix distance and the predicted time between flips, against the closed form
+// evaluated independently (FreeBodySolution of the initial state: a rigid body keeps D),
+// and the predicted time between flips against the spacing of the flips the run located.
+TEST_F(SweepDirTest, SeparatrixDistanceAndFlipPeriodOfRigidBodies) {
+  // About the intermediate axis y, tilted towards z (azimuth 0) or x (azimuth 90).
+  const SweepSpec inter =
+      LoadSweep(RigidSweep(*this, "[0, 1, 0]",
+                           "  - {parameter: nutation_deg, values: [0, 2, 10, 30]}\n"
+                           "  - {parameter: nutation_azimuth_deg, values: [0, 90]}\n"));
+  for (std::size_t i = 0; i < inter.case_count(); ++i) {
+    const Case c = BuildCase(inter, i);
+    const CaseOutcome o = SimulateOutcome(c, inter.outcome);
+    SCOPED_TRACE(DescribeParameters(inter, c.parameters));
+    const analysis::FreeBodySolution sol(
+        math::InertiaTensor::FromPrincipalMoments(math::Vec3(1.0, 2.0, 3.0)),
+        *c.profile.initial.H_B);
+    const double expected = (sol.D() - 2.0) / (3.0 - 1.0);
+    // Measured: 6e-17 (D and the run's final state agree to the integration error).
+    EXPECT_NEAR(o.final_separatrix_distance, expected, 1e-15);
+    if (c.parameters.values[0] == 0.0) {
+      EXPECT_EQ(o.final_separatrix_distance, 0.0);  // a pure spin about the intermediate axis
+      EXPECT_FALSE(WillFlip(o));
+      continue;
+    }
+    // Tilted towards the major axis z: D > I2; towards the minor axis x: D < I2.
+    EXPECT_EQ(o.final_separatrix_distance > 0.0, c.parameters.values[1] == 0.0);
+    EXPECT_TRUE(WillFlip(o));
+    EXPECT_NEAR(o.predicted_flip_half_period, sol.flip_half_period(),
+                1e-13 * sol.flip_half_period());  // measured 9e-15 relative
+    // The flips of a longer run come every predicted_flip_half_period.
+    const double half = o.predicted_flip_half_period;
+    schedule::Profile p = c.profile;
+    p.stages.back().t_end = 4.0 * half;
+    p.output.dt = 0.05;
+    const analysis::MissionResult m = analysis::RunMission(p);
+    ASSERT_GE(m.flip_times.size(), 3u);
+    for (std::size_t k = 1; k < m.flip_times.size(); ++k) {
+      EXPECT_NEAR(m.flip_times[k] - m.flip_times[k - 1], half, 1e-12);  // measured 1.4e-13 s
+    }
+  }
+  // About the minor axis x: stable, never flips.
+  const SweepSpec minor =
+      LoadSweep(RigidSweep(*this, "[1, 0, 0]", "  - {parameter: nutation_deg, values: [5, 60]}\n"));
+  for (std::size_t i = 0; i < minor.case_count(); ++i) {
+    const CaseOutcome o = SimulateOutcome(BuildCase(minor, i), minor.outcome);
+    EXPECT_LT(o.final_separatrix_distance, 0.0);
+    EXPECT_EQ(o.predicted_flip_half_period, std::numeric_limits<double>::infinity());
+    EXPECT_FALSE(WillFlip(o));
+  }
+}
+
+// The motivating case: a slow spin of the small satellite does not flip within its 600 s,
+// but the motion after the end will; a longer final hold shows the flips where predicted.
+TEST_F(SweepDirTest, ASlowSpinThatHasNotFlippedYetWillFlip) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", "name: t\nbase: " + SmallsatProfile() + R"(
+integrator: {method: exact, rtol: 1.0e-10, atol: 1.0e-12}
+grid:
+  - {parameter: spin_rate_rpm, values: [0.3]}
+)"));
+  const Case c = BuildCase(spec, 0);
+  const CaseOutcome o = SimulateOutcome(c, spec.outcome);
+  EXPECT_EQ(o.flip_count, 0);
+  ASSERT_TRUE(WillFlip(o));
+  const double half = o.predicted_flip_half_period;
+  EXPECT_GT(half, 600.0);
+  // The same case with the final hold longer by three half periods.
+  SweepSpec longer = spec;
+  longer.base.stages.back().t_end += 3.0 * half;
+  const CaseOutcome l = SimulateOutcome(BuildCase(longer, 0), longer.outcome);
+  EXPECT_GE(l.flip_count, 2);
+  // The same motion after the deployment (to the integration error; measured 4e-16).
+  EXPECT_NEAR(l.predicted_flip_half_period, half, 1e-13 * half);
+  schedule::Profile p = BuildCase(longer, 0).profile;
+  p.output.dt = 1.0;
+  const analysis::MissionResult m = analysis::RunMission(p);
+  ASSERT_GE(m.flip_times.size(), 2u);
+  for (std::size_t k = 1; k < m.flip_times.size(); ++k) {
+    // Measured: 0 (the closed form after the deployment gives the flips exactly).
+    EXPECT_NEAR(m.flip_times[k] - m.flip_times[k - 1], half, 1e-12 * half);
+  }
+}
+
+// ---- Hinge profiles (issue 9) ----
+
+// The outcome-only hinge run against the sampled mission of the same case: the latch
+// columns against the mission's own hinge events, the horizon-independent columns against
+// the mission's last phase report (its separatrix distance from the end sample's energy,
+// formed directly) and the spacing of the flips after the last latch.
+TEST_F(SweepDirTest, HingeOutcomeAgreesWithTheMission) {
+  using analysis::HingeEvent;
+  const SweepSpec spec = LoadSweep(Write("s.yaml", "name: t\nbase: " + SpringProfile() + R"(
+grid:
+  - {parameter: spring_stiffness, values: [0.4, 3]}
+  - {parameter: spin_rate_rpm, values: [2, 8]}
+)"));
+  for (std::size_t i = 0; i < spec.case_count(); ++i) {
+    const Case c = BuildCase(spec, i);
+    SCOPED_TRACE(DescribeParameters(spec, c.parameters));
+    const CaseOutcome o = SimulateOutcome(c, spec.outcome);
+    const analysis::MissionResult m = analysis::RunMission(c.profile);
+    ASSERT_EQ(o.termination, integrators::Termination::kReachedEnd);
+    ASSERT_EQ(m.termination, integrators::Termination::kReachedEnd);
+    // Hinge events.
+    double shock = 0.0, impulse = 0.0, dissipated = 0.0, first_release = 1e300;
+    std::int64_t latches = 0;
+    for (const HingeEvent& e : m.hinge_events) {
+      if (e.kind == HingeEvent::Kind::kRelease) {
+        first_release = std::min(first_release, e.t);
+        continue;
+      }
+      latches += e.kind == HingeEvent::Kind::kLatch ? 1 : 0;
+      shock = std::max(shock, e.w_jump_B.norm());
+      impulse = std::max(impulse, std::abs(e.impulse));
+      dissipated += e.energy_dissipated;
+    }
+    EXPECT_EQ(latches, 2);
+    EXPECT_EQ(o.latched_count, 2);
+    EXPECT_EQ(o.all_latched, 1);
+    // The outcome-only run takes the same steps: equal to rounding (measured: bit-equal).
+    EXPECT_NEAR(o.max_latch_w_jump, shock, 1e-12 * shock);
+    EXPECT_NEAR(o.max_latch_impulse, impulse, 1e-12 * impulse);
+    EXPECT_NEAR(o.energy_dissipated_events, dissipated, 1e-12 * dissipated);
+    const double last_latch = std::max(m.latch_times[0], m.latch_times[1]);
+    EXPECT_NEAR(o.deploy_end_time, last_latch, 1e-9);
+    EXPECT_NEAR(o.deploy_duration, last_latch - first_release, 1e-9);
+    EXPECT_NEAR(o.energy_initial, m.energy_initial, 1e-12 * m.energy_initial);
+    EXPECT_NEAR(o.energy_final, m.energy_final, 1e-12 * m.energy_final);
+    EXPECT_NEAR(o.max_spin_axis_angle, m.max_spin_axis_angle, 1e-9);
+    ASSERT_EQ(static_cast<std::size_t>(o.flip_count), m.flip_times.size());
+    if (o.flip_count > 0) {
+      EXPECT_NEAR(o.first_flip_time, m.flip_times[0], 1e-9);
+    }
+    // The deployed craft spins about its intermediate axis y: it will flip.
+    const analysis::StageReport& last = m.stages.back();
+    EXPECT_EQ(last.spin_axis_end, analysis::AxisRole::kIntermediate);
+    EXPECT_NEAR(o.final_separatrix_distance, last.separatrix_distance,
+                1e-15);  // measured 1.7e-16
+    ASSERT_TRUE(WillFlip(o));
+    // The last phase's prediction is made at its start, this one at the end: the same
+    // rigid motion to the integration error (measured 1e-11 relative).
+    EXPECT_NEAR(o.predicted_flip_half_period, last.predicted_flip_half_period,
+                1e-10 * o.predicted_flip_half_period);
+    int after = 0;
+    for (std::size_t k = 1; k < m.flip_times.size(); ++k) {
+      if (m.flip_times[k - 1] < last_latch) continue;
+      EXPECT_NEAR(m.flip_times[k] - m.flip_times[k - 1], o.predicted_flip_half_period,
+                  1e-10 * o.predicted_flip_half_period);  // measured 4e-12 relative
+      ++after;
+    }
+    if (c.parameters.values[1] > 0.5) {
+      EXPECT_GE(after, 1);  // 8 rpm: several flips in 600 s
+    }
+  }
+}
+
+// Failure modes reach the outcome: a failed latch of the first wing leaves the second
+// stowed (never released), so does a jam of the first wing part-way; a weak spring
+// softens the shock. With one wing stowed, y stays the minor axis: no flip.
+TEST_F(SweepDirTest, HingeFailureModesInTheOutcome) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", "name: t\nbase: " + SpringProfile() + R"(
+integrator: {rtol: 1.0e-10, atol: 1.0e-12}
+grid:
+  - {parameter: latch_fails, panel: wing_plus_x, values: [no, yes]}
+  - {parameter: stick_fraction, panel: wing_plus_x, values: [0, 0.5]}
+  - {parameter: spring_stiffness_scale, values: [1, 0.3]}
+)"));
+  auto run = [&spec](std::size_t i) { return SimulateOutcome(BuildCase(spec, i), spec.outcome); };
+  const CaseOutcome nominal = run(0);  // no, 0, 1
+  const CaseOutcome weak = run(1);     // no, 0, 0.3
+  const CaseOutcome jam = run(2);      // no, 0.5, 1
+  const CaseOutcome failed = run(4);   // yes, 0, 1
+  EXPECT_EQ(nominal.latched_count, 2);
+  EXPECT_EQ(nominal.all_latched, 1);
+  EXPECT_TRUE(WillFlip(nominal));  // deployed: y is the intermediate axis
+  EXPECT_LT(weak.max_latch_w_jump, nominal.max_latch_w_jump);
+  EXPECT_GT(weak.deploy_duration, nominal.deploy_duration);
+  // wing_plus_x jams half-way (45 deg) and wing_minus_x is never released.
+  EXPECT_EQ(jam.latched_count, 0);
+  EXPECT_EQ(jam.all_latched, 0);
+  EXPECT_FALSE(WillFlip(jam));
+  EXPECT_EQ(jam.final_class, MotionClass::kSpinMinor);
+  EXPECT_EQ(run(6).max_latch_w_jump, jam.max_latch_w_jump);  // a jam before a failed latch
+  // wing_plus_x's latch fails: it hits its stop and rests there; wing_minus_x never moves.
+  EXPECT_EQ(failed.latched_count, 0);
+  EXPECT_EQ(failed.all_latched, 0);
+  EXPECT_TRUE(std::isfinite(failed.deploy_end_time));  // the rest on the stop
+  EXPECT_GT(failed.max_latch_w_jump, 0.0);
+  EXPECT_FALSE(WillFlip(failed));  // one wing stowed: y stays the minor axis
+}
+
+// The shipped sweep's answer on a few of its cases (the whole sweep is for the README).
+TEST(SpringSweepTest, ShockLimitAndTumbleOfTheShippedSweep) {
+  const SweepSpec spec =
+      LoadSweep(std::string(DEPLOYSIM_SOURCE_DIR) + "/sweeps/smallsat_spring_stiffness_spin.yaml");
+  const std::size_t samples = spec.samples();
+  const std::size_t spins = spec.grid[1].values.size();
+  const double limit = *spec.outcome.latch_shock_limit;
+  // Sample 0 (no failure drawn) at the softest spring and slowest spin, and at the
+  // stiffest spring and fastest spin.
+  const Case soft = BuildCase(spec, 0);
+  const Case stiff = BuildCase(spec, spec.case_count() - samples);
+  ASSERT_EQ(soft.parameters.sample_index, 0u);
+  ASSERT_EQ(stiff.parameters.grid_index, spec.grid_points() - 1);
+  ASSERT_EQ(spins, 10u);
+  const CaseOutcome a = SimulateOutcome(soft, spec.outcome);
+  const CaseOutcome b = SimulateOutcome(stiff, spec.outcome);
+  EXPECT_LT(a.max_latch_w_jump, limit);
+  EXPECT_GT(b.max_latch_w_jump, limit);
+  // Both deploy and will flip: no stiffness or spin rate keeps the deployed craft out of
+  // a tumble. The slow one does not flip within the profile's 600 s.
+  EXPECT_EQ(a.all_latched, 1);
+  EXPECT_EQ(b.all_latched, 1);
+  EXPECT_TRUE(WillFlip(a));
+  EXPECT_TRUE(WillFlip(b));
+  EXPECT_EQ(a.flip_count, 0);
+  EXPECT_GT(b.flip_count, 0);
+  EXPECT_GT(a.predicted_flip_half_period, 600.0);
 }
 
 }  // namespace

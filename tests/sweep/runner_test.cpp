@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -32,6 +33,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::ExpectSameCases;
 using testing::SmallsatProfile;
+using testing::SpringProfile;
 using testing::SweepDirTest;
 
 /// A sweep over the small satellite with grid and Monte Carlo parameters:
@@ -52,6 +54,29 @@ monte_carlo:
     - {parameter: nutation_deg, uniform: [0.2, 4]}
     - {parameter: panel_mass_scale, panel: wing_minus_x, normal: {mean: 1, sigma: 0.03, min: 0.9, max: 1.1}}
     - {parameter: law, choice: [smoothstep, minimum-jerk]}
+)";
+}
+
+/// A sweep over the spring deployment (a hinge profile) with failure modes:
+/// grid x grid x samples cases.
+std::string HingeSweepText(int grid, int samples) {
+  return "name: hinge runner test\nbase: " + SpringProfile() + R"(
+integrator: {method: exact, rtol: 1.0e-9, atol: 1.0e-11}
+grid:
+  - {parameter: spring_stiffness, logspace: [0.3, 3, )" +
+         std::to_string(grid) + R"(]}
+  - {parameter: spin_rate_rpm, linspace: [1, 8, )" +
+         std::to_string(grid) + R"(]}
+monte_carlo:
+  samples: )" +
+         std::to_string(samples) + R"(
+  seed: 78
+  parameters:
+    - {parameter: nutation_deg, uniform: [0.2, 3]}
+    - {parameter: stick_fraction, panel: wing_plus_x, choice: [0, 0.8], weights: [0.8, 0.2]}
+    - {parameter: latch_fails, panel: wing_minus_x, choice: [no, yes], weights: [0.7, 0.3]}
+    - {parameter: release_delay, panel: wing_minus_x, uniform: [0, 20]}
+outcome: {latch_shock_limit_deg_s: 15}
 )";
 }
 
@@ -96,6 +121,49 @@ TEST_F(SweepDirTest, ResultsAreBitIdenticalForOneTwoAndFourThreads) {
   EXPECT_GT(*std::min_element(t.run_time.begin(), t.run_time.end()), 0.0);
   const std::vector<double>& flipped = t.numbers.at("flipped");
   EXPECT_GT(std::count(flipped.begin(), flipped.end(), 1.0), 0);
+}
+
+TEST_F(SweepDirTest, HingeSweepIsBitIdenticalForOneAndTwoThreadsAndAfterAResume) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", HingeSweepText(3, 4)));  // 36 cases
+  const std::string one = Path("one.h5");
+  const std::string two = Path("two.h5");
+  ASSERT_TRUE(RunSweep(spec, Options(one, 1)).complete);
+  ASSERT_TRUE(RunSweep(spec, Options(two, 2)).complete);
+  const SweepTable t = ReadSweepResults(one);
+  ExpectSameCases(t, ReadSweepResults(two));
+  // Interrupted after 10 cases and resumed: every column through the journal.
+  const std::string out = Path("resumed.h5");
+  std::atomic<bool> cancel{false};
+  std::atomic<int> finished{0};
+  RunOptions o = Options(out, 2);
+  o.cancel = &cancel;
+  o.on_case_done = [&](std::size_t) {
+    if (++finished >= 10) cancel = true;
+  };
+  ASSERT_FALSE(RunSweep(spec, o).complete);
+  RunOptions r = Options(out, 2);
+  r.resume = true;
+  const RunSummary resumed = RunSweep(spec, r);
+  ASSERT_TRUE(resumed.complete);
+  EXPECT_GE(resumed.resumed, 10u);
+  ExpectSameCases(t, ReadSweepResults(out));
+  // The hinge columns, with units; the failure modes show in them.
+  EXPECT_EQ(t.units.at("max_latch_w_jump"), "rad/s");
+  EXPECT_EQ(t.units.at("max_latch_impulse"), "N m s");
+  EXPECT_EQ(t.units.at("energy_dissipated_events"), "J");
+  EXPECT_EQ(t.units.at("predicted_flip_half_period"), "s");
+  EXPECT_EQ(t.units.at("latch_fails[wing_minus_x]"), "none");
+  EXPECT_NEAR(std::stod(t.attributes.at("latch_shock_limit")), 15.0 * M_PI / 180.0, 1e-15);
+  const std::vector<double>& all = t.numbers.at("all_latched");
+  const std::vector<double>& latched = t.numbers.at("latched_count");
+  EXPECT_GT(std::count(all.begin(), all.end(), 1.0), 0);
+  EXPECT_GT(std::count(all.begin(), all.end(), 0.0), 0);
+  for (std::size_t i = 0; i < t.rows; ++i) {
+    EXPECT_EQ(all[i] == 1.0, latched[i] == 2.0) << "case " << i;
+  }
+  EXPECT_EQ(resumed.will_flip,
+            static_cast<std::size_t>(std::count(t.numbers.at("will_flip").begin(),
+                                                t.numbers.at("will_flip").end(), 1.0)));
 }
 
 TEST_F(SweepDirTest, CsvHasOneLinePerCase) {
@@ -353,14 +421,15 @@ TEST(SweepMpiWorker, Run) {
   EXPECT_EQ(summary.ranks, 2);
 }
 
-TEST_F(SweepDirTest, MpiRunWithTwoRanksMatchesTheThreadedRun) {
-  if (!MpiBuilt()) GTEST_SKIP() << "built without MPI (cmake -DDEPLOYSIM_WITH_MPI=ON)";
-  const std::string sweep = Write("s.yaml", SweepText(4, 5));  // 80 cases
+/// Runs `sweep_text` with 2 threads and under mpirun with 2 ranks x 1 thread; the two
+/// results tables must be bit-identical.
+void ExpectMpiRunMatchesTheThreadedRun(const SweepDirTest& t, const std::string& sweep_text) {
+  const std::string sweep = t.Write("s.yaml", sweep_text);
   const SweepSpec spec = LoadSweep(sweep);
-  const std::string reference = Path("threads.h5");
+  const std::string reference = t.Path("threads.h5");
   ASSERT_TRUE(RunSweep(spec, Options(reference, 2)).complete);
 
-  const std::string out = Path("mpi.h5");
+  const std::string out = t.Path("mpi.h5");
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   ASSERT_EQ(::setenv("DEPLOYSIM_SWEEP_MPI_WORKER", (sweep + "|" + out).c_str(), 1), 0);
   // As root mpirun needs --allow-run-as-root; TCP on the loopback interface. mpirun exits
@@ -369,20 +438,30 @@ TEST_F(SweepDirTest, MpiRunWithTwoRanksMatchesTheThreadedRun) {
                           "' --allow-run-as-root --oversubscribe -np 2 --mca btl self,tcp "
                           "--mca btl_tcp_if_include lo --mca oob_tcp_if_include lo "
                           "-x DEPLOYSIM_SWEEP_MPI_WORKER '" +
-                          self + "' --gtest_filter=SweepMpiWorker.Run > '" + Path("mpi.log") +
+                          self + "' --gtest_filter=SweepMpiWorker.Run > '" + t.Path("mpi.log") +
                           "' 2>&1";
   const int status = std::system(cmd.c_str());
   ::unsetenv("DEPLOYSIM_SWEEP_MPI_WORKER");
-  std::ifstream log(Path("mpi.log"));
+  std::ifstream log(t.Path("mpi.log"));
   const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   // Not the exit status: mpirun reports 0 when it refuses to run, and a rank's exit code
   // may reflect the MPI library (e.g. leak reports under sanitizers) rather than the sweep.
   ASSERT_TRUE(fs::exists(out)) << "mpirun (status " << status << ") wrote no results:\n" << text;
-  const SweepTable t = ReadSweepResults(out);
-  EXPECT_EQ(t.timing.at("ranks"), "2");
-  ExpectSameCases(ReadSweepResults(reference), t);
+  const SweepTable table = ReadSweepResults(out);
+  EXPECT_EQ(table.timing.at("ranks"), "2");
+  ExpectSameCases(ReadSweepResults(reference), table);
   EXPECT_FALSE(fs::exists(JournalPath(out, 0)));
   EXPECT_FALSE(fs::exists(JournalPath(out, 1)));
+}
+
+TEST_F(SweepDirTest, MpiRunWithTwoRanksMatchesTheThreadedRun) {
+  if (!MpiBuilt()) GTEST_SKIP() << "built without MPI (cmake -DDEPLOYSIM_WITH_MPI=ON)";
+  ExpectMpiRunMatchesTheThreadedRun(*this, SweepText(4, 5));  // 80 cases
+}
+
+TEST_F(SweepDirTest, MpiRunOfAHingeSweepMatchesTheThreadedRun) {
+  if (!MpiBuilt()) GTEST_SKIP() << "built without MPI (cmake -DDEPLOYSIM_WITH_MPI=ON)";
+  ExpectMpiRunMatchesTheThreadedRun(*this, HingeSweepText(2, 5));  // 20 cases
 }
 
 }  // namespace

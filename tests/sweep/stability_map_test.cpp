@@ -1,5 +1,6 @@
 // tools/plot_stability_map.py renders a results file of a small sweep (grid with Monte
-// Carlo samples, a third grid axis held fixed) as a PNG.
+// Carlo samples, a third grid axis held fixed) as a PNG: the flip map of a stage sweep
+// and the hinge map (latch shock with its limit, tumble) of a sweep over a hinge profile.
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -17,6 +18,7 @@ namespace deploysim::sweep {
 namespace {
 
 using testing::SmallsatProfile;
+using testing::SpringProfile;
 using testing::SweepDirTest;
 
 int Shell(const std::string& cmd) {
@@ -61,6 +63,56 @@ monte_carlo:
   ASSERT_TRUE(RunSweep(one, o).complete);
   EXPECT_NE(Shell("/usr/bin/python3 '" + script + "' '" + Path("one.h5") + "' > '" + Path("log") +
                   "' 2>&1"),
+            0);
+}
+
+bool IsPng(const std::string& path) {
+  std::ifstream png(path, std::ios::binary);
+  char magic[8] = {};
+  png.read(magic, 8);
+  return std::string(magic + 1, 3) == "PNG" && std::filesystem::file_size(path) > 20000u;
+}
+
+TEST_F(SweepDirTest, HingeMapRendersAsPng) {
+  if (Shell("/usr/bin/python3 -c 'import matplotlib, h5py, numpy' 2>/dev/null") != 0) {
+    GTEST_SKIP() << "python3-matplotlib, python3-h5py or python3-numpy missing";
+  }
+  const SweepSpec spec =
+      LoadSweep(Write("s.yaml", "name: hinge map test\nbase: " + SpringProfile() + R"(
+integrator: {method: exact, rtol: 1.0e-9, atol: 1.0e-11}
+grid:
+  - {parameter: spring_stiffness, logspace: [0.2, 5, 3]}
+  - {parameter: spin_rate_rpm, logspace: [0.5, 8, 3]}
+monte_carlo:
+  samples: 2
+  seed: 3
+  parameters:
+    - {parameter: stick_fraction, panel: wing_plus_x, choice: [0, 0.7]}
+outcome: {latch_shock_limit_deg_s: 15}
+)"));
+  RunOptions o;
+  o.output = Path("r.h5");
+  ASSERT_TRUE(RunSweep(spec, o).complete);
+  const std::string script = std::string(DEPLOYSIM_SOURCE_DIR) + "/tools/plot_stability_map.py";
+  const std::string run = "/usr/bin/python3 '" + script + "' '" + Path("r.h5") + "' -o ";
+  ASSERT_EQ(Shell(run + "'" + Path("hinges.png") + "' > '" + Path("log") + "' 2>&1"), 0);
+  EXPECT_TRUE(IsPng(Path("hinges.png")));
+  // The flip map of the same sweep, and another shock limit.
+  ASSERT_EQ(Shell(run + "'" + Path("flips.png") + "' --map flips > '" + Path("log") + "' 2>&1"), 0);
+  EXPECT_TRUE(IsPng(Path("flips.png")));
+  ASSERT_EQ(
+      Shell(run + "'" + Path("limit.png") + "' --shock-limit 40 > '" + Path("log") + "' 2>&1"), 0);
+  EXPECT_TRUE(IsPng(Path("limit.png")));
+  // A stage sweep has no latch columns: --map hinges is refused.
+  const SweepSpec stage = LoadSweep(Write("t.yaml", "name: t\nbase: " + SmallsatProfile() + R"(
+grid:
+  - {parameter: spin_rate_rpm, values: [1, 2]}
+  - {parameter: deploy_duration_scale, values: [1, 2]}
+)"));
+  o.output = Path("stage.h5");
+  ASSERT_TRUE(RunSweep(stage, o).complete);
+  EXPECT_NE(Shell("/usr/bin/python3 '" + script + "' '" + Path("stage.h5") + "' --map hinges > '" +
+                  Path("log") + "' 2>&1"),
             0);
 }
 

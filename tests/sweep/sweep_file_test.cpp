@@ -26,6 +26,7 @@ namespace deploysim::sweep {
 namespace {
 
 using testing::SmallsatProfile;
+using testing::SpringProfile;
 using testing::SweepDirTest;
 
 constexpr double kRpm = 2.0 * M_PI / 60.0;
@@ -36,6 +37,9 @@ std::string Header() {
   return "name: test\nbase: " + SmallsatProfile() +
          "\nintegrator: {method: exact, rtol: 1.0e-9, atol: 1.0e-11}\n";
 }
+
+/// The start of a sweep over the spring deployment (a hinge profile).
+std::string HingeHeader() { return "name: test\nbase: " + SpringProfile() + "\n"; }
 
 const char* const kGridAndMonteCarlo = R"(
 grid:
@@ -208,6 +212,192 @@ TEST_F(SweepDirTest, TheExampleSweepLoads) {
   EXPECT_EQ(spec.grid.size(), 2u);
 }
 
+// ---- Hinge profiles (issue 9) ----
+
+TEST_F(SweepDirTest, HingeParametersAreApplied) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", HingeHeader() + R"(
+grid:
+  - {parameter: spring_stiffness, values: [0.5, 2]}
+  - {parameter: spin_rate_rpm, values: [2, 7]}
+  - {parameter: damping, panel: wing_plus_x, values: [0.1]}
+monte_carlo:
+  samples: 3
+  seed: 5
+  parameters:
+    - {parameter: latch_angle_deg, panel: wing_minus_x, uniform: [-1, 1]}
+    - {parameter: friction_torque, uniform: [0, 0.05]}
+    - {parameter: release_time, panel: wing_plus_x, uniform: [30, 90]}
+    - {parameter: release_delay, panel: wing_minus_x, uniform: [0, 10]}
+    - {parameter: stick_fraction, panel: wing_minus_x, uniform: [0.5, 0.9]}
+    - {parameter: spring_stiffness_scale, panel: wing_minus_x, normal: {mean: 1, sigma: 0.1, min: 0.5, max: 1.5}}
+    - {parameter: motor_torque, panel: wing_plus_x, uniform: [-0.1, 0]}
+)"));
+  EXPECT_EQ(spec.case_count(), 12u);
+  std::vector<std::string> columns, units;
+  for (const Target& t : spec.targets()) {
+    columns.push_back(t.column);
+    units.push_back(UnitsOf(t.parameter));
+  }
+  EXPECT_EQ(columns,
+            (std::vector<std::string>{
+                "spring_stiffness", "spin_rate", "damping[wing_plus_x]",
+                "latch_angle[wing_minus_x]", "friction_torque", "release_time[wing_plus_x]",
+                "release_delay[wing_minus_x]", "stick_fraction[wing_minus_x]",
+                "spring_stiffness_scale[wing_minus_x]", "motor_torque[wing_plus_x]"}));
+  EXPECT_EQ(units, (std::vector<std::string>{"N m/rad", "rad/s", "N m s/rad", "rad", "N m", "s",
+                                             "s", "1", "1", "N m"}));
+  const schedule::Profile& base = spec.base;
+  for (std::size_t i = 0; i < spec.case_count(); ++i) {
+    const Case c = BuildCase(spec, i);
+    SCOPED_TRACE(DescribeParameters(spec, c.parameters));
+    const std::vector<double>& v = c.parameters.values;
+    const schedule::FreeDrive& plus = c.profile.hinges[0].drive;
+    const schedule::FreeDrive& minus = c.profile.hinges[1].drive;
+    EXPECT_EQ(c.schedule, nullptr);  // hinge profiles run without a DeploymentSchedule
+    EXPECT_EQ(c.latches_expected, 2);
+    EXPECT_EQ(plus.spring.stiffness, v[0]);
+    EXPECT_EQ(minus.spring.stiffness, v[0] * v[8]);  // set, then scaled
+    EXPECT_EQ(plus.spring.rest_angle, base.hinges[0].drive.spring.rest_angle);
+    EXPECT_EQ(plus.damping, 0.1);
+    EXPECT_EQ(minus.damping, base.hinges[1].drive.damping);
+    EXPECT_EQ(plus.latch.angle, base.hinges[0].drive.latch.angle);
+    EXPECT_EQ(minus.latch.angle, v[3]);
+    EXPECT_GE(v[3], -kDeg);
+    EXPECT_LT(v[3], kDeg);
+    EXPECT_EQ(plus.friction.torque, v[4]);
+    EXPECT_EQ(minus.friction.torque, v[4]);
+    EXPECT_EQ(plus.friction.regularization_speed,
+              base.hinges[0].drive.friction.regularization_speed);
+    EXPECT_EQ(plus.release.kind, schedule::Release::Kind::kAtTime);
+    EXPECT_EQ(plus.release.time, v[5]);
+    EXPECT_EQ(minus.release.kind, schedule::Release::Kind::kAfterLatch);
+    EXPECT_EQ(minus.release.panel, 0);
+    EXPECT_EQ(minus.release.delay, v[6]);
+    EXPECT_EQ(plus.latch.jam_fraction, 0.0);
+    EXPECT_EQ(minus.latch.jam_fraction, v[7]);
+    EXPECT_EQ(plus.motor.kind, schedule::Motor::Kind::kConstant);
+    EXPECT_EQ(plus.motor.torque, v[9]);
+    EXPECT_EQ(minus.motor.kind, schedule::Motor::Kind::kNone);
+    // Initial state: the spin rate about s, with J_B(t0) and h_rel_B(t0) of the hinges.
+    const dynamics::InertiaSample s0 = InitialInertia(c.profile);
+    const math::Vec3 w = s0.J_inv_B * (*c.profile.initial.H_B - s0.h_rel_B);
+    EXPECT_NEAR(w.dot(c.spin_axis_B), v[1], kTight * v[1]);
+    EXPECT_NEAR(c.spin_axis_B.y(), 1.0, kTight);
+  }
+}
+
+TEST_F(SweepDirTest, AFailedLatchNeverReleasesThePanelWaitingForIt) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", HingeHeader() + R"(
+grid:
+  - {parameter: latch_fails, panel: wing_plus_x, values: [no, yes]}
+  - {parameter: stick_fraction, panel: wing_plus_x, values: [0, 0.8]}
+)"));
+  const schedule::Profile& base = spec.base;
+  const Case ok = BuildCase(spec, 0);      // no, 0
+  const Case failed = BuildCase(spec, 2);  // yes, 0
+  const Case jammed = BuildCase(spec, 3);  // yes, 0.8: the jam comes first
+  EXPECT_TRUE(ok.profile.hinges[0].drive.latch.enabled);
+  EXPECT_EQ(ok.profile.hinges[1].drive.release.kind, schedule::Release::Kind::kAfterLatch);
+  EXPECT_FALSE(failed.profile.hinges[0].drive.latch.enabled);
+  const schedule::Release& never = failed.profile.hinges[1].drive.release;
+  EXPECT_EQ(never.kind, schedule::Release::Kind::kAtTime);
+  EXPECT_GT(never.time, base.t_end());
+  EXPECT_TRUE(jammed.profile.hinges[0].drive.latch.enabled);
+  EXPECT_EQ(jammed.profile.hinges[0].drive.latch.jam_fraction, 0.8);
+  EXPECT_EQ(jammed.profile.hinges[1].drive.release.kind, schedule::Release::Kind::kAfterLatch);
+  // Both cases still expect two latches: the failure shows as all_latched = 0.
+  EXPECT_EQ(failed.latches_expected, 2);
+  EXPECT_EQ(jammed.latches_expected, 2);
+}
+
+TEST_F(SweepDirTest, HingeParametersNeedAFreePanelWithWhatTheyAct) {
+  // wing_minus_x locked (left out); wing_plus_x driven by a torque-speed motor.
+  Write("p.yaml", "name: p\nmodel: " + std::string(DEPLOYSIM_SOURCE_DIR) + R"(/models/smallsat.yaml
+initial: {configuration: closed, angular_velocity: [0, 0.3, 0]}
+until: 100
+hinges:
+  wing_plus_x:
+    free:
+      motor: {stall_torque: -0.2, no_load_speed_deg_s: -30}
+      stops: {min_deg: -2, max_deg: 92}
+      latch: {angle_deg: 0}
+)");
+  const SweepSpec spec = LoadSweep(Write("s.yaml", R"(name: s
+base: p.yaml
+grid:
+  - {parameter: motor_torque_scale, values: [0.5, 2]}
+  - {parameter: damping, values: [0.1]}
+)"));
+  const Case c = BuildCase(spec, 1);
+  EXPECT_EQ(c.profile.hinges[0].drive.motor.stall_torque, -0.4);
+  EXPECT_EQ(c.profile.hinges[0].drive.motor.no_load_speed,
+            spec.base.hinges[0].drive.motor.no_load_speed);
+  EXPECT_EQ(c.profile.hinges[0].drive.damping, 0.1);
+  EXPECT_EQ(c.profile.hinges[1].kind, schedule::HingePlan::Kind::kLocked);
+  EXPECT_EQ(c.latches_expected, 1);
+  auto message = [this](const std::string& grid) {
+    try {
+      (void)LoadSweep(Write("bad.yaml", "name: s\nbase: p.yaml\ngrid:\n" + grid));
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(
+      message("  - {parameter: damping, panel: wing_minus_x, values: [1]}\n")
+          .find("bad.yaml: grid[0].panel = wing_minus_x: the panel is locked in " + Path("p.yaml") +
+                ": damping applies to free hinges (free panels: wing_plus_x)"),
+      std::string::npos)
+      << message("  - {parameter: damping, panel: wing_minus_x, values: [1]}\n");
+  EXPECT_NE(message("  - {parameter: motor_torque, values: [1]}\n")
+                .find("grid[0].parameter = motor_torque: motor_torque applies to every free "
+                      "panel without `panel:`, but free panel 'wing_plus_x' has a torque-speed "
+                      "motor (vary it with motor_torque_scale)"),
+            std::string::npos);
+  EXPECT_NE(message("  - {parameter: spring_stiffness, values: [1]}\n").find("has no spring"),
+            std::string::npos);
+  EXPECT_NE(message("  - {parameter: friction_torque, values: [1]}\n").find("has no friction"),
+            std::string::npos);
+  EXPECT_NE(message("  - {parameter: motor_torque_scale, values: [1, 0]}\n")
+                .find("grid[0].values[1] = 0: motor_torque_scale must be > 0"),
+            std::string::npos);
+  EXPECT_NE(message("  - {parameter: release_delay, values: [1]}\n")
+                .find("is not released after another panel's latch"),
+            std::string::npos);
+}
+
+TEST_F(SweepDirTest, WeightedChoicesFollowTheirWeights) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", HingeHeader() + R"(
+monte_carlo:
+  samples: 4000
+  seed: 11
+  parameters:
+    - {parameter: latch_fails, panel: wing_minus_x, choice: [no, yes], weights: [0.9, 0.1]}
+    - {parameter: stick_fraction, panel: wing_minus_x, choice: [0, 0.75, 0.85], weights: [2, 0, 1]}
+)"));
+  ASSERT_EQ(spec.monte_carlo->parameters[1].distribution.cumulative.back(), 1.0);
+  int yes = 0, jams = 0, impossible = 0;
+  for (std::size_t i = 0; i < spec.case_count(); ++i) {
+    const CaseParameters p = ParametersOf(spec, i);
+    yes += p.values[0] == 1.0 ? 1 : 0;
+    jams += p.values[1] == 0.85 ? 1 : 0;
+    impossible += p.values[1] == 0.75 ? 1 : 0;
+  }
+  EXPECT_NEAR(yes, 400, 60);    // binomial sd 19
+  EXPECT_NEAR(jams, 1333, 90);  // sd 30
+  EXPECT_EQ(impossible, 0);
+}
+
+TEST_F(SweepDirTest, TheSpringSweepLoads) {
+  const SweepSpec spec =
+      LoadSweep(std::string(DEPLOYSIM_SOURCE_DIR) + "/sweeps/smallsat_spring_stiffness_spin.yaml");
+  EXPECT_TRUE(spec.base.is_hinge_profile());
+  EXPECT_EQ(spec.grid.size(), 2u);
+  EXPECT_EQ(spec.case_count(), 11u * 10u * 32u);
+  ASSERT_TRUE(spec.outcome.latch_shock_limit.has_value());
+  EXPECT_NEAR(*spec.outcome.latch_shock_limit, 15.0 * kDeg, kTight);
+}
+
 struct BadSweep {
   const char* name;
   std::string body;      // appended to the header (or the whole file if `whole`)
@@ -330,13 +520,110 @@ INSTANTIATE_TEST_SUITE_P(
                  "0}\n",
                  "outcome.tumble_angle_deg = 0: must be in (0, 90) [deg]"},
         BadSweep{"YamlSyntax", "grid: [\n", "YAML syntax error"},
-        // Hinge profiles (issue 9) load, but sweeps vary stage profiles only (for now).
-        BadSweep{"HingeBase",
-                 "name: t\nbase: " + std::string(DEPLOYSIM_SOURCE_DIR) +
-                     "/deployment_profiles/smallsat_spring_deploy.yaml\ngrid:\n  - "
-                     "{parameter: spin_rate, values: [1]}\n",
-                 ": a hinge profile (`hinges:`) cannot be a sweep base yet (rule: sweeps "
-                 "vary stage profiles, `stages:`)",
+        // Hinge profiles (issue 9): parameters that do not apply, values out of range.
+        BadSweep{"StageParameterOnHingeBase",
+                 HingeHeader() + "grid:\n  - {parameter: law, values: [linear]}\n",
+                 "grid[0].parameter = law: law applies to stage profiles (`stages:`); the base ",
+                 true},
+        BadSweep{"DurationOnHingeBase",
+                 HingeHeader() + "grid:\n  - {parameter: deploy_duration_scale, values: [2]}\n",
+                 "is a hinge profile (`hinges:`)", true},
+        BadSweep{"HingeParameterOnStageBase",
+                 "grid:\n  - {parameter: spring_stiffness, values: [1]}\n",
+                 "grid[0].parameter = spring_stiffness: spring_stiffness applies to the free "
+                 "hinges of hinge profiles (`hinges:`); the base "},
+        BadSweep{"NegativeDamping",
+                 HingeHeader() + "grid:\n  - {parameter: damping, values: [0.2, -0.1]}\n",
+                 "grid[0].values[1] = -0.1: damping must be >= 0 [N m s/rad]", true},
+        BadSweep{"NegativeStiffness",
+                 HingeHeader() + "grid:\n  - {parameter: spring_stiffness, linspace: [-1, 1, 3]}\n",
+                 "grid[0].linspace[0] = -1: spring_stiffness must be >= 0 [N m/rad]", true},
+        BadSweep{"StickFractionOne",
+                 HingeHeader() + "grid:\n  - {parameter: stick_fraction, values: [0.5, 1]}\n",
+                 "grid[0].values[1] = 1: stick_fraction must be in [0, 1) (0: no jam)", true},
+        BadSweep{"NegativeSpringScale",
+                 HingeHeader() + "grid:\n  - {parameter: spring_stiffness_scale, values: [-0.5]}\n",
+                 "grid[0].values[0] = -0.5: spring_stiffness_scale must be >= 0", true},
+        BadSweep{"ReleaseBeforeStart",
+                 HingeHeader() +
+                     "grid:\n  - {parameter: release_time, panel: wing_plus_x, values: [-5]}\n",
+                 "grid[0].values[0] = -5: release_time must be >= the base profile's start (0 s)",
+                 true},
+        BadSweep{"ReleaseTimeOnAfterLatchPanel",
+                 HingeHeader() + "grid:\n  - {parameter: release_time, values: [30]}\n",
+                 "grid[0].parameter = release_time: release_time applies to every free panel "
+                 "without `panel:`, but free panel 'wing_minus_x' is released after panel "
+                 "'wing_plus_x' latches (vary that with release_delay)",
+                 true},
+        BadSweep{"ReleaseDelayOnTimedPanel",
+                 HingeHeader() +
+                     "grid:\n  - {parameter: release_delay, panel: wing_plus_x, values: [3]}\n",
+                 "grid[0].panel = wing_plus_x: release_delay: the panel is not released after "
+                 "another panel's latch (vary its release with release_time)",
+                 true},
+        BadSweep{"MotorScaleWithoutMotor",
+                 HingeHeader() +
+                     "grid:\n  - {parameter: motor_torque_scale, panel: wing_minus_x, values: "
+                     "[2]}\n",
+                 "grid[0].panel = wing_minus_x: motor_torque_scale: the panel has no motor", true},
+        BadSweep{"UnknownHingePanel",
+                 HingeHeader() + "grid:\n  - {parameter: damping, panel: wing_z, values: [1]}\n",
+                 "grid[0].panel = wing_z: no panel of that name (panels: wing_plus_x, "
+                 "wing_minus_x)",
+                 true},
+        BadSweep{"UnknownLatchFailure",
+                 HingeHeader() + "grid:\n  - {parameter: latch_fails, values: [no, maybe]}\n",
+                 "grid[0].values[1] = maybe: unknown latch_fails (valid: no, yes)", true},
+        BadSweep{"LatchOutsideTheStops",
+                 HingeHeader() +
+                     "grid:\n  - {parameter: latch_angle_deg, panel: wing_plus_x, values: [0, 10, "
+                     "-5]}\n",
+                 ": case 2 {latch_angle[wing_plus_x]=-0.08726646259971647}: " + SpringProfile() +
+                     ": hinges.wing_plus_x.free.latch.angle_deg = -5: the latch angle must lie "
+                     "within the stops [-2, 92] deg",
+                 true},
+        BadSweep{"LatchAtTheInitialAngle",
+                 HingeHeader() + "grid:\n  - {parameter: latch_angle_deg, values: [90]}\n",
+                 "the latch angle must differ from the hinge's initial angle", true},
+        BadSweep{"NutationPastTheNextAxis",
+                 HingeHeader() + "grid:\n  - {parameter: nutation_deg, values: [10, 60]}\n",
+                 ": case 1 {nutation=1.0471975511965976}: initial: H_B(t0) is nearer another "
+                 "principal axis than the spin axis s",
+                 true},
+        BadSweep{"WeightsWithoutChoice",
+                 HingeHeader() +
+                     "monte_carlo: {samples: 2, seed: 1, parameters: [{parameter: damping, "
+                     "uniform: [0, 1], weights: [1, 2]}]}\n",
+                 "monte_carlo.parameters[0].weights = [1, 2]: weights go with choice", true},
+        BadSweep{"WeightsOfAnotherLength",
+                 HingeHeader() +
+                     "monte_carlo: {samples: 2, seed: 1, parameters: [{parameter: latch_fails, "
+                     "panel: wing_minus_x, choice: [no, yes], weights: [1]}]}\n",
+                 "monte_carlo.parameters[0].weights = [1]: one weight per choice is required (2 "
+                 "choices)",
+                 true},
+        BadSweep{"NegativeWeight",
+                 HingeHeader() +
+                     "monte_carlo: {samples: 2, seed: 1, parameters: [{parameter: latch_fails, "
+                     "panel: wing_minus_x, choice: [no, yes], weights: [1, -1]}]}\n",
+                 "monte_carlo.parameters[0].weights[1] = -1: a weight must be >= 0", true},
+        BadSweep{"AllWeightsZero",
+                 HingeHeader() +
+                     "monte_carlo: {samples: 2, seed: 1, parameters: [{parameter: stick_fraction, "
+                     "choice: [0, 0.5], weights: [0, 0]}]}\n",
+                 "monte_carlo.parameters[0].weights = [0, 0]: at least one weight must be > 0",
+                 true},
+        BadSweep{"ShockLimitOnStageBase",
+                 "grid:\n  - {parameter: spin_rate, values: [1]}\noutcome: "
+                 "{latch_shock_limit_deg_s: 10}\n",
+                 "outcome.latch_shock_limit_deg_s = 10: a latch shock limit needs a hinge profile "
+                 "as the base"},
+        BadSweep{"NonShapeMethodForFreeHinges",
+                 "name: t\nbase: " + SpringProfile() +
+                     "\nintegrator: {method: rkf78}\ngrid:\n  - {parameter: damping, values: "
+                     "[1]}\n",
+                 "integrator.method = rkf78: the base " + SpringProfile() +
+                     " has free hinges: free hinges need a Lie-group method (rule: one of ",
                  true},
         // Hostile input (issue 10).
         BadSweep{"BaseIsADevice", "name: t\nbase: /dev/zero\n",

@@ -23,6 +23,11 @@ inline std::string SmallsatProfile() {
   return std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/smallsat_three_stage.yaml";
 }
 
+/// The repository's spring deployment of the small satellite (a hinge profile, 600 s).
+inline std::string SpringProfile() {
+  return std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/smallsat_spring_deploy.yaml";
+}
+
 /// A scratch directory per test (tests/temp_dir_test.h).
 class SweepDirTest : public deploysim::testing::TempDirTest {};
 

@@ -21,7 +21,7 @@ constexpr std::size_t kMagicStem = 7;  // "DSWPJRN": a journal of any format ver
 constexpr std::size_t kFixedHeaderSize = 8 + 8 + 8 + 4 + 4;
 constexpr std::size_t kMaxBuildIdLength = 4096;
 // Bump when CaseOutcome's record layout or its meaning changes.
-constexpr std::uint64_t kRecordLayoutVersion = 1;
+constexpr std::uint64_t kRecordLayoutVersion = 2;  // 2: horizon-independent and hinge outcomes
 
 constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ULL;
 constexpr std::uint64_t kFnvPrime = 0x100000001b3ULL;
@@ -81,6 +81,13 @@ void PutOutcome(Writer& w, const CaseOutcome& o) {
   w.Put(o.end_time);
   w.Put(o.steps);
   w.Put(o.rejected);
+  w.Put(o.final_separatrix_distance);
+  w.Put(o.predicted_flip_half_period);
+  w.Put(o.latched_count);
+  w.Put(o.all_latched);
+  w.Put(o.max_latch_w_jump);
+  w.Put(o.max_latch_impulse);
+  w.Put(o.energy_dissipated_events);
   w.Put(o.run_time);
 }
 
@@ -102,6 +109,13 @@ CaseOutcome GetOutcome(Reader& r) {
   o.end_time = r.Get<double>();
   o.steps = r.Get<std::int64_t>();
   o.rejected = r.Get<std::int64_t>();
+  o.final_separatrix_distance = r.Get<double>();
+  o.predicted_flip_half_period = r.Get<double>();
+  o.latched_count = r.Get<std::int64_t>();
+  o.all_latched = r.Get<std::int32_t>();
+  o.max_latch_w_jump = r.Get<double>();
+  o.max_latch_impulse = r.Get<double>();
+  o.energy_dissipated_events = r.Get<double>();
   o.run_time = r.Get<double>();
   return o;
 }

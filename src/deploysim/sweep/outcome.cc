@@ -177,7 +177,51 @@ struct FinalMotion {
   std::int32_t axis = 0;
   std::int32_t regime = 0;
   double cone = 0.0;
+  FinalPrediction prediction;
 };
+
+FinalPrediction Predict(const analysis::FreeBodySolution& sol,
+                        const math::Mat3& J_B,
+                        const math::Vec3& H_B,
+                        const math::Vec3& s) {
+  FinalPrediction f;
+  const math::PrincipalAxes& pa = sol.principal_axes();
+  const math::Vec3& I = pa.moments;
+  const math::Vec3 h = pa.axes.transpose() * H_B;
+  const double two_T = 2.0 * sol.energy();
+  const double mc = sol.complementary_parameter();
+  switch (sol.regime()) {
+    case analysis::Regime::kMinorAxis: {
+      // P3 = 2T I3 - M^2 (a sum of non-negative terms); P2 = 2T I2 - M^2 > 0.
+      const double P3 = h[0] * h[0] * (I[2] - I[0]) / I[0] + h[1] * h[1] * (I[2] - I[1]) / I[1];
+      const double P2 = mc * (I[1] - I[0]) * P3 / (I[2] - I[0]);
+      f.separatrix_distance = -P2 / two_T / (I[2] - I[0]);
+      break;
+    }
+    case analysis::Regime::kMajorAxis: {
+      // P1 = M^2 - 2T I1 (non-negative terms); -P2 = M^2 - 2T I2 > 0.
+      const double P1 = h[1] * h[1] * (I[1] - I[0]) / I[1] + h[2] * h[2] * (I[2] - I[0]) / I[2];
+      const double minus_P2 = mc * (I[2] - I[1]) * P1 / (I[2] - I[0]);
+      f.separatrix_distance = minus_P2 / two_T / (I[2] - I[0]);
+      break;
+    }
+    case analysis::Regime::kSeparatrix:
+    case analysis::Regime::kIntermediateAxisSpin:
+      f.separatrix_distance = 0.0;
+      break;
+    case analysis::Regime::kAxisymmetric:
+      f.separatrix_distance = (sol.D() - I[1]) / (I[2] - I[0]);
+      break;
+    case analysis::Regime::kSpherical:
+    case analysis::Regime::kAtRest:
+      f.separatrix_distance = std::numeric_limits<double>::quiet_NaN();
+      break;
+  }
+  f.flip_half_period = analysis::LocateSpinAxis(J_B, s).role == analysis::AxisRole::kIntermediate
+                           ? sol.flip_half_period()
+                           : std::numeric_limits<double>::infinity();
+  return f;
+}
 
 std::int32_t NearestBodyAxis(const math::Vec3& a) {
   Eigen::Index i = 0;
@@ -185,7 +229,10 @@ std::int32_t NearestBodyAxis(const math::Vec3& a) {
   return static_cast<std::int32_t>(i) + (a[i] < 0.0 ? 3 : 0);
 }
 
-FinalMotion ClassifyFinal(const math::Mat3& J_B, const math::Vec3& H_B, double tumble_angle) {
+FinalMotion ClassifyFinal(const math::Mat3& J_B,
+                          const math::Vec3& H_B,
+                          const math::Vec3& s,
+                          double tumble_angle) {
   const analysis::FreeBodySolution sol(math::InertiaTensor::FromMatrix(J_B), H_B);
   const math::PrincipalAxes& pa = sol.principal_axes();
   const math::Vec3& I = pa.moments;
@@ -238,6 +285,7 @@ FinalMotion ClassifyFinal(const math::Mat3& J_B, const math::Vec3& H_B, double t
   } else {
     f.motion = circulation == 0 ? MotionClass::kSpinMinor : MotionClass::kSpinMajor;
   }
+  f.prediction = Predict(sol, J_B, H_B, s);
   return f;
 }
 
@@ -263,13 +311,107 @@ std::string ToString(MotionClass c) {
   return "?";
 }
 
+bool WillFlip(const CaseOutcome& o) {
+  return o.final_class != MotionClass::kFailed && std::isfinite(o.predicted_flip_half_period);
+}
+
 std::string AxisName(std::int32_t final_axis) {
   static const char* const kNames[] = {"+x", "+y", "+z", "-x", "-y", "-z"};
   return final_axis >= 0 && final_axis < 6 ? kNames[final_axis] : "?";
 }
 
-CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings) {
-  const auto wall0 = std::chrono::steady_clock::now();
+namespace {
+
+/// Discards the samples of a mission run (none come when sample_trajectory is false).
+class NoSamples final : public analysis::SampleSink {
+ public:
+  void Append(const analysis::Trajectory& /*block*/) override {}
+};
+
+/// The final motion's columns of `out` from the end state (a run that reached the end).
+void SetFinal(CaseOutcome& out,
+              const math::Mat3& J_B,
+              const math::Vec3& H_B,
+              const math::Vec3& s,
+              const OutcomeSettings& settings) {
+  if (out.termination == integrators::Termination::kReachedEnd) {
+    const FinalMotion f = ClassifyFinal(J_B, H_B, s, settings.tumble_angle);
+    out.final_class = f.motion;
+    out.final_axis = f.axis;
+    out.final_regime = f.regime;
+    out.final_cone_angle = f.cone;
+    out.final_separatrix_distance = f.prediction.separatrix_distance;
+    out.predicted_flip_half_period = f.prediction.flip_half_period;
+  } else {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    out.final_class = MotionClass::kFailed;
+    out.final_cone_angle = nan;
+    out.final_separatrix_distance = nan;
+    out.predicted_flip_half_period = nan;
+  }
+}
+
+CaseOutcome SimulateHingeOutcome(const Case& c, const OutcomeSettings& settings) {
+  using analysis::HingeEvent;
+  const schedule::Profile& p = c.profile;
+  NoSamples sink;
+  analysis::HingeRunOptions options;
+  options.sample_trajectory = false;
+  const analysis::MissionResult m = analysis::RunHingeMission(p, sink, {}, options);
+  const math::Vec3& s = m.spin_axis_B;
+
+  CaseOutcome out;
+  out.end_time = p.t_end();
+  out.termination = m.termination;
+  out.steps = m.stats.steps;
+  out.rejected = m.stats.rejected;
+  out.flip_count = static_cast<std::int64_t>(m.flip_times.size());
+  out.first_flip_time =
+      m.flip_times.empty() ? std::numeric_limits<double>::quiet_NaN() : m.flip_times.front();
+  out.max_spin_axis_angle = m.max_spin_axis_angle;
+  out.final_spin_axis_angle = Angle(s, m.final_state.H_B);
+  out.energy_initial = m.energy_initial;
+  out.energy_final = m.energy_final;
+
+  // The deployment: from the first release to the last lock of a released panel (NaN if
+  // a released panel is still free at the end); t0 and 0 when nothing was released.
+  double first_release = std::numeric_limits<double>::infinity();
+  std::vector<char> released(p.hinges.size(), 0);
+  for (const HingeEvent& e : m.hinge_events) {
+    switch (e.kind) {
+      case HingeEvent::Kind::kRelease:
+        first_release = std::min(first_release, e.t);
+        released[static_cast<std::size_t>(e.panel)] = 1;
+        break;
+      case HingeEvent::Kind::kLatch:
+        ++out.latched_count;
+        [[fallthrough]];
+      case HingeEvent::Kind::kJam:
+      case HingeEvent::Kind::kStop:
+      case HingeEvent::Kind::kRest:
+        out.max_latch_w_jump = std::max(out.max_latch_w_jump, e.w_jump_B.norm());
+        out.max_latch_impulse = std::max(out.max_latch_impulse, std::abs(e.impulse));
+        out.energy_dissipated_events += e.energy_dissipated;
+        break;
+    }
+  }
+  out.all_latched = out.latched_count == c.latches_expected ? 1 : 0;
+  out.deploy_end_time = p.t_begin();
+  if (std::isfinite(first_release)) {
+    for (std::size_t k = 0; k < released.size(); ++k) {
+      if (released[k]) out.deploy_end_time = std::max(out.deploy_end_time, m.latch_times[k]);
+      if (released[k] && std::isnan(m.latch_times[k])) {
+        out.deploy_end_time = std::numeric_limits<double>::quiet_NaN();
+        break;
+      }
+    }
+    out.deploy_duration = out.deploy_end_time - first_release;
+  }
+  SetFinal(out, m.final_J_B, m.final_state.H_B, s, settings);
+  return out;
+}
+
+CaseOutcome SimulateStageOutcome(const Case& c, const OutcomeSettings& settings) {
   const schedule::Profile& p = c.profile;
   const schedule::DeploymentSchedule& sched = *c.schedule;
   const double t0 = p.t_begin();
@@ -324,16 +466,21 @@ CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings) {
   out.final_spin_axis_angle = Angle(s, H1);
   const dynamics::InertiaSample s1 = sched.Evaluate(run.final_state.t, dynamics::Side::kLeft);
   out.energy_final = Energy(s1, H1);
-  if (run.termination == integrators::Termination::kReachedEnd) {
-    const FinalMotion f = ClassifyFinal(s1.J_B, H1, settings.tumble_angle);
-    out.final_class = f.motion;
-    out.final_axis = f.axis;
-    out.final_regime = f.regime;
-    out.final_cone_angle = f.cone;
-  } else {
-    out.final_class = MotionClass::kFailed;
-    out.final_cone_angle = std::numeric_limits<double>::quiet_NaN();
-  }
+  SetFinal(out, s1.J_B, H1, s, settings);
+  return out;
+}
+
+}  // namespace
+
+FinalPrediction PredictFinal(const math::Mat3& J_B, const math::Vec3& H_B, const math::Vec3& s) {
+  const analysis::FreeBodySolution sol(math::InertiaTensor::FromMatrix(J_B), H_B);
+  return Predict(sol, J_B, H_B, s);
+}
+
+CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  CaseOutcome out = c.profile.is_hinge_profile() ? SimulateHingeOutcome(c, settings)
+                                                 : SimulateStageOutcome(c, settings);
   out.run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return out;
 }

@@ -21,6 +21,24 @@
 /// H_B along the intermediate axis: "spin-intermediate" (an unstable equilibrium).
 /// An axisymmetric body spins about its symmetry axis (minor or major), a spherical one
 /// about H_B.
+///
+/// Outcomes that do not depend on the simulated horizon, from the same torque-free motion
+/// after the end (J_B(t_end), H_B(t_end); exact when nothing moves after the end):
+///   - the separatrix distance (D - I2) / (I3 - I1), D = M^2 / (2T): < 0 circulating about
+///     the minor axis, > 0 about the major axis, 0 on the separatrix (and for a pure spin
+///     about the intermediate axis). Formed without cancellation from FreeBodySolution's
+///     1 - k^2 (D - I2 = -P2 / (2T), P2 = (1 - k^2) (I2 - I1) P3 / (I3 - I1) below the
+///     separatrix, -(1 - k^2) (I3 - I2) P1 / (I3 - I1) above), so its sign is the regime's;
+///   - the predicted time between flips: FreeBodySolution::flip_half_period() when the
+///     body spin axis s is then the intermediate principal axis (the flip rule,
+///     analysis/flip_rule.h), +inf otherwise. Finite: the body will flip, every that many
+///     seconds, however long the final hold (a slow spin that did not flip within the
+///     simulated time still will).
+///
+/// Hinge profiles (schedule::Profile::is_hinge_profile()) run analysis::RunHingeMission
+/// without output samples (HingeRunOptions::sample_trajectory = false): flips, the
+/// largest spin-axis angle (located exactly), the hinge events and the final state come
+/// from the mission itself; energies are totals T + V (kinetic plus spring).
 
 #include <cstdint>
 #include <string>
@@ -61,14 +79,41 @@ struct CaseOutcome {
   double end_time = 0.0;          ///< [s] t_end of the case.
   std::int64_t steps = 0;         ///< Accepted integrator steps.
   std::int64_t rejected = 0;      ///< Rejected step attempts.
-  double run_time = 0.0;          ///< [s] wall time of the case (not deterministic).
+  /// (D - I2) / (I3 - I1) of the final torque-free motion (NaN: failed, or no separatrix:
+  /// three equal moments or at rest).
+  double final_separatrix_distance = 0.0;
+  /// [s] time between flips of the final torque-free motion (+inf: it will not flip; NaN:
+  /// failed).
+  double predicted_flip_half_period = 0.0;
+  // Hinge profiles only (0 for stage profiles): the hinge events of the run.
+  std::int64_t latched_count = 0;  ///< Latch events (a jam or a rest on a stop is not one).
+  std::int32_t all_latched = 0;    ///< 1 if latched_count == Case::latches_expected.
+  /// [rad/s] largest |hub w jump| over the impulsive hinge events (latch, jam, stop
+  /// impact, rest on a stop): the latch shock (or the shock of what caught the panel).
+  double max_latch_w_jump = 0.0;
+  double max_latch_impulse = 0.0;         ///< [N m s] largest |impulse| over those events.
+  double energy_dissipated_events = 0.0;  ///< [J] energy dissipated by all hinge events.
+  double run_time = 0.0;                  ///< [s] wall time of the case (not deterministic).
 };
+
+/// Whether the case's final torque-free motion flips, whatever the simulated horizon: a
+/// finite predicted_flip_half_period of a run that reached the end.
+bool WillFlip(const CaseOutcome& o);
 
 /// "+x", "+y", "+z", "-x", "-y", "-z".
 std::string AxisName(std::int32_t final_axis);
 
-/// Runs one case on the lean path. Thread-safe: everything it touches is its own (one
-/// stepper per call). Throws std::invalid_argument for invalid settings.
+/// Runs one case on the lean path (stage profiles) or the outcome-only hinge mission
+/// (hinge profiles). Thread-safe: everything it touches is its own (one stepper per
+/// call). Throws std::invalid_argument for invalid settings.
 CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings);
+
+/// The horizon-independent outcomes of the torque-free motion with inertia J_B and
+/// momentum H_B, for the body spin axis s (see the file comment).
+struct FinalPrediction {
+  double separatrix_distance = 0.0;  ///< (D - I2) / (I3 - I1); NaN without a separatrix.
+  double flip_half_period = 0.0;     ///< [s] +inf: no flip.
+};
+FinalPrediction PredictFinal(const math::Mat3& J_B, const math::Vec3& H_B, const math::Vec3& s);
 
 }  // namespace deploysim::sweep

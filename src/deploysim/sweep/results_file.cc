@@ -106,13 +106,51 @@ std::vector<Column> BuildColumns(const SweepSpec& spec, const std::vector<CaseOu
   outcome("final_cone_angle", "rad",
           "largest half-angle of the final momentum cone about its circulation axis",
           ColumnType::kDouble);
-  outcome("energy_initial", "J", "total kinetic energy at the start", ColumnType::kDouble);
-  outcome("energy_final", "J", "total kinetic energy at the end", ColumnType::kDouble);
+  const bool hinges = spec.base.is_hinge_profile();
+  outcome("final_separatrix_distance", "1",
+          "(D - I2) / (I3 - I1) of the torque-free motion after the end (D = M^2 / 2T): < 0 "
+          "about the minor axis, > 0 about the major axis, 0 on the separatrix",
+          ColumnType::kDouble);
+  outcome("predicted_flip_half_period", "s",
+          "time between flips of the torque-free motion after the end (closed form; inf: it "
+          "will not flip)",
+          ColumnType::kDouble);
+  outcome("will_flip", "1",
+          "1 if the torque-free motion after the end flips (the spin axis is then the "
+          "intermediate axis), whatever the simulated time",
+          ColumnType::kInt);
+  outcome(
+      "energy_initial", "J",
+      hinges ? "total energy (kinetic + spring) at the start" : "total kinetic energy at the start",
+      ColumnType::kDouble);
+  outcome("energy_final", "J",
+          hinges ? "total energy (kinetic + spring) at the end" : "total kinetic energy at the end",
+          ColumnType::kDouble);
   outcome("energy_change", "1", "(energy_final - energy_initial) / energy_initial",
           ColumnType::kDouble);
-  outcome("deploy_end_time", "s", "end of the last move stage", ColumnType::kDouble);
-  outcome("deploy_duration", "s", "total duration of the move stages", ColumnType::kDouble);
-  outcome("end_time", "s", "end of the case's last stage", ColumnType::kDouble);
+  outcome("deploy_end_time", "s",
+          hinges ? "last lock (latch, jam or rest on a stop) of a released panel (NaN: a released "
+                   "panel is still free at the end; start: nothing released)"
+                 : "end of the last move stage",
+          ColumnType::kDouble);
+  outcome("deploy_duration", "s",
+          hinges ? "deploy_end_time - the first release (0: nothing released)"
+                 : "total duration of the move stages",
+          ColumnType::kDouble);
+  outcome("end_time", "s", "end of the case's run", ColumnType::kDouble);
+  if (hinges) {
+    outcome("latched_count", "1", "latch events (panels caught by their latch)", ColumnType::kInt);
+    outcome("all_latched", "1",
+            "1 if every free panel that has a latch in the base profile latched", ColumnType::kInt);
+    outcome("max_latch_w_jump", "rad/s",
+            "latch shock: largest |hub angular-velocity jump| over the latch, jam, stop and rest "
+            "events",
+            ColumnType::kDouble);
+    outcome("max_latch_impulse", "N m s",
+            "largest |impulse| over the latch, jam, stop and rest events", ColumnType::kDouble);
+    outcome("energy_dissipated_events", "J", "energy dissipated by all hinge events",
+            ColumnType::kDouble);
+  }
   outcome("termination", "none", "why the integration stopped", ColumnType::kText);
   outcome("steps", "1", "accepted integrator steps", ColumnType::kInt);
   outcome("rejected", "1", "rejected integrator step attempts", ColumnType::kInt);
@@ -145,12 +183,22 @@ std::vector<Column> BuildColumns(const SweepSpec& spec, const std::vector<CaseOu
                               ? "none"
                               : analysis::ToString(static_cast<analysis::Regime>(o.final_regime)));
     cols[j++].d.push_back(o.final_cone_angle);
+    cols[j++].d.push_back(o.final_separatrix_distance);
+    cols[j++].d.push_back(o.predicted_flip_half_period);
+    cols[j++].i.push_back(WillFlip(o) ? 1 : 0);
     cols[j++].d.push_back(o.energy_initial);
     cols[j++].d.push_back(o.energy_final);
     cols[j++].d.push_back((o.energy_final - o.energy_initial) / o.energy_initial);
     cols[j++].d.push_back(o.deploy_end_time);
     cols[j++].d.push_back(o.deploy_duration);
     cols[j++].d.push_back(o.end_time);
+    if (hinges) {
+      cols[j++].i.push_back(o.latched_count);
+      cols[j++].i.push_back(o.all_latched);
+      cols[j++].d.push_back(o.max_latch_w_jump);
+      cols[j++].d.push_back(o.max_latch_impulse);
+      cols[j++].d.push_back(o.energy_dissipated_events);
+    }
     cols[j++].s.push_back(integrators::ToString(o.termination));
     cols[j++].i.push_back(o.steps);
     cols[j++].i.push_back(o.rejected);
@@ -230,6 +278,9 @@ void WriteContents(io::Hdf5Writer& out,
       {"monte_carlo_samples", std::to_string(spec.samples())},
       {"monte_carlo_seed", spec.monte_carlo ? std::to_string(spec.monte_carlo->seed) : ""},
       {"tumble_angle", FormatNumber(spec.outcome.tumble_angle)},
+      {"latch_shock_limit", spec.outcome.latch_shock_limit
+                                ? FormatNumber(*spec.outcome.latch_shock_limit)
+                                : std::string()},
   };
   for (const auto& [name, value] : root) out.Attribute("/", name, value);
 }

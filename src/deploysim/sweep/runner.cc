@@ -243,6 +243,7 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
       }
       summary.flipped += outcomes[i].flip_count > 0 ? 1 : 0;
       summary.tumbling += outcomes[i].final_class == MotionClass::kTumbling ? 1 : 0;
+      summary.will_flip += WillFlip(outcomes[i]) ? 1 : 0;
       summary.failed += outcomes[i].final_class == MotionClass::kFailed ? 1 : 0;
     }
     RunInfo info;
@@ -267,9 +268,9 @@ std::string FormatSummary(const RunSummary& s, const RunOptions& options) {
            " cases finished (journal " + s.journal +
            "); run the same command with --resume to finish the sweep";
   }
-  return std::to_string(s.cases) + " cases: " + std::to_string(s.flipped) + " flipped, " +
-         std::to_string(s.tumbling) + " tumbling at the end, " + std::to_string(s.failed) +
-         " failed; wrote " + options.output +
+  return std::to_string(s.cases) + " cases: " + std::to_string(s.flipped) + " flipped (" +
+         std::to_string(s.will_flip) + " will flip), " + std::to_string(s.tumbling) +
+         " tumbling at the end, " + std::to_string(s.failed) + " failed; wrote " + options.output +
          (options.csv ? " and " + options.output + ".csv" : "");
 }
 

@@ -58,9 +58,10 @@ struct RunSummary {
   double parallel_seconds = 0.0;  ///< The worker phase alone (the rest is serial).
   std::string journal;            ///< This process's journal path.
   // Rank 0 of a complete sweep: counts over all cases.
-  std::size_t flipped = 0;   ///< Cases with at least one flip.
-  std::size_t tumbling = 0;  ///< Cases whose final class is tumbling.
-  std::size_t failed = 0;    ///< Cases whose integration did not reach the end.
+  std::size_t flipped = 0;    ///< Cases with at least one flip.
+  std::size_t tumbling = 0;   ///< Cases whose final class is tumbling.
+  std::size_t will_flip = 0;  ///< Cases whose final motion flips (whatever the horizon).
+  std::size_t failed = 0;     ///< Cases whose integration did not reach the end.
 };
 
 /// Journal path of `rank` for results file `output`.
@@ -77,7 +78,8 @@ std::string JournalPath(const std::string& output, int rank);
 /// message did not name the sweep file.
 RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options);
 
-/// One line for the user: "N cases: F flipped, T tumbling, X failed; wrote PATH".
+/// One line for the user: "N cases: F flipped (W will flip), T tumbling at the end, X
+/// failed; wrote PATH".
 std::string FormatSummary(const RunSummary& s, const RunOptions& options);
 
 }  // namespace deploysim::sweep

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "deploysim/analysis/exact_flow.h"
+#include "deploysim/integrators/shape_integrate.h"
 #include "deploysim/io/yaml_fields.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/number_format.h"
@@ -65,6 +66,33 @@ const ParameterInfo kParameters[] = {
     {"law", Parameter::kLaw, "law", 1.0, 0.0, false, kInf, "", "interpolation law of move stages"},
     {"coupling", Parameter::kCoupling, "coupling", 1.0, 0.0, false, kInf, "",
      "coupling of the panels' relative momentum"},
+    // Free hinges (hinge profiles).
+    {"spring_stiffness", Parameter::kSpringStiffness, "spring_stiffness", 1.0, 0.0, false, kInf,
+     "must be >= 0 [N m/rad]", "torsion spring stiffness of the free hinge [N m/rad]"},
+    {"spring_stiffness_scale", Parameter::kSpringStiffnessScale, "spring_stiffness_scale", 1.0, 0.0,
+     false, kInf, "must be >= 0",
+     "factor on the spring stiffness of the free hinge (< 1: a weak spring)"},
+    {"damping", Parameter::kDamping, "damping", 1.0, 0.0, false, kInf, "must be >= 0 [N m s/rad]",
+     "viscous damper coefficient of the free hinge [N m s/rad]"},
+    {"latch_angle_deg", Parameter::kLatchAngle, "latch_angle", kDegree, -kInf, false, kInf,
+     "must be finite [deg]", "latch angle of the free hinge [rad]"},
+    {"motor_torque", Parameter::kMotorTorque, "motor_torque", 1.0, -kInf, false, kInf,
+     "must be finite [N m]",
+     "torque of a constant motor on the free hinge [N m] (> 0 turns towards increasing angle)"},
+    {"motor_torque_scale", Parameter::kMotorTorqueScale, "motor_torque_scale", 1.0, 0.0, true, kInf,
+     "must be > 0",
+     "factor on the motor torque (constant motor) or stall torque (torque-speed motor)"},
+    {"release_time", Parameter::kReleaseTime, "release_time", 1.0, -kInf, false, kInf,
+     "must be finite [s]", "release time of the free hinge [s]"},
+    {"release_delay", Parameter::kReleaseDelay, "release_delay", 1.0, 0.0, false, kInf,
+     "must be >= 0 [s]", "delay of the free hinge's release after the latch it waits for [s]"},
+    {"friction_torque", Parameter::kFrictionTorque, "friction_torque", 1.0, 0.0, false, kInf,
+     "must be >= 0 [N m]", "Coulomb friction torque of the free hinge [N m]"},
+    {"stick_fraction", Parameter::kStickFraction, "stick_fraction", 1.0, 0.0, false, 1.0,
+     "must be in [0, 1) (0: no jam)",
+     "fraction of the swing from release to latch at which the hinge jams (0: no jam)"},
+    {"latch_fails", Parameter::kLatchFails, "latch_fails", 1.0, 0.0, false, kInf, "",
+     "yes: the latch does not catch the panel (panels released after it never are)"},
 };
 
 std::string ParameterNames() {
@@ -79,15 +107,63 @@ std::string JoinNames(const std::vector<std::string>& v) { return io::yaml::Shor
 /// A name from an input file, for a message.
 std::string Short(const std::string& s) { return io::yaml::ShortValue(s); }
 
-bool InRange(const ParameterInfo& p, double v) {
-  return (p.lower_open ? v > p.lower : v >= p.lower) && v < p.upper;
-}
-
-/// One axis entry being read: its fields, parameter and target.
+/// One axis entry being read: its parameter, target and the valid range of its values
+/// (the parameter's, or narrower where the base profile says so).
 struct Entry {
   const ParameterInfo* info = nullptr;
   Target target;
+  double lower = 0.0;
+  bool lower_open = false;
+  double upper = 0.0;
+  std::string rule;
+
+  bool InRange(double v) const { return (lower_open ? v > lower : v >= lower) && v < upper; }
 };
+
+/// Why a hinge parameter does not apply to a free hinge's drive, or "" when it does.
+std::string NotApplicable(Parameter par,
+                          const schedule::FreeDrive& d,
+                          const schedule::Profile& base) {
+  using schedule::Motor;
+  using schedule::Release;
+  const bool spring =
+      d.spring.stiffness > 0.0 || d.spring.rest_angle != 0.0 || d.spring.preload != 0.0;
+  switch (par) {
+    case Parameter::kSpringStiffness:
+      return spring ? "" : "has no spring (give it one, with its rest angle, in the base profile)";
+    case Parameter::kSpringStiffnessScale:
+      return d.spring.stiffness > 0.0 ? "" : "has no spring stiffness to scale (stiffness 0)";
+    case Parameter::kLatchAngle:
+    case Parameter::kLatchFails:
+      return d.latch.enabled ? "" : "has no latch";
+    case Parameter::kStickFraction:
+      return d.latch.enabled ? ""
+                             : "has no latch (a jam is a fraction of the swing to the latch angle)";
+    case Parameter::kMotorTorque:
+      return d.motor.kind != Motor::Kind::kTorqueSpeed
+                 ? ""
+                 : "has a torque-speed motor (vary it with motor_torque_scale)";
+    case Parameter::kMotorTorqueScale:
+      return d.motor.kind != Motor::Kind::kNone ? "" : "has no motor";
+    case Parameter::kReleaseTime:
+      if (d.release.kind != Release::Kind::kAfterLatch) return "";
+      return "is released after panel '" +
+             base.model.hinged.panels[static_cast<std::size_t>(d.release.panel)].name +
+             "' latches (vary that with release_delay)";
+    case Parameter::kReleaseDelay:
+      return d.release.kind == Release::Kind::kAfterLatch
+                 ? ""
+                 : "is not released after another panel's latch (vary its release with "
+                   "release_time)";
+    case Parameter::kFrictionTorque:
+      return d.friction.regularization_speed > 0.0
+                 ? ""
+                 : "has no friction (give it friction with a regularization speed in the base "
+                   "profile)";
+    default:
+      return "";
+  }
+}
 
 bool IsMoveStage(const schedule::Profile& p, std::size_t i) {
   return i > 0 && p.stages[i].to != p.stages[i - 1].to;
@@ -124,6 +200,65 @@ int ReadStage(const Fields& f, const schedule::Profile& base) {
   return found;
 }
 
+/// The panel(s) of a free-hinge parameter: `panel` (a free panel) or every free panel;
+/// each must have what the parameter acts on (NotApplicable).
+void ReadHingeTarget(const Fields& f,
+                     const schedule::Profile& base,
+                     const std::string& name,
+                     Entry& e) {
+  using schedule::HingePlan;
+  Target& t = e.target;
+  const std::vector<model::Panel>& panels = base.model.hinged.panels;
+  const std::string base_name = base.source.empty() ? base.name : base.source;
+  std::vector<std::string> free;
+  for (std::size_t i = 0; i < panels.size(); ++i) {
+    if (base.hinges[i].kind == HingePlan::Kind::kFree) free.push_back(panels[i].name);
+  }
+  if (f.Has("panel")) {
+    const std::string panel = f.Text("panel");
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < panels.size(); ++i) {
+      names.push_back(panels[i].name);
+      if (names.back() == panel) t.panel = static_cast<int>(i);
+    }
+    if (t.panel < 0) f.Fail("panel", "no panel of that name (panels: " + JoinNames(names) + ")");
+    if (panel.find(',') != std::string::npos) {
+      f.Fail("panel", "panel names in sweeps must not contain ','");
+    }
+    const HingePlan& h = base.hinges[static_cast<std::size_t>(t.panel)];
+    if (h.kind != HingePlan::Kind::kFree) {
+      f.Fail("panel", "the panel is " + schedule::ToString(h.kind) + " in " + base_name + ": " +
+                          name + " applies to free hinges (free panels: " +
+                          (free.empty() ? std::string("none") : JoinNames(free)) + ")");
+    }
+    const std::string why = NotApplicable(t.parameter, h.drive, base);
+    if (!why.empty()) f.Fail("panel", name + ": the panel " + why + " in " + base_name);
+    t.column += "[" + panel + "]";
+    t.description += " (panel " + panel + ")";
+  } else {
+    if (free.empty()) {
+      f.Fail("parameter", name + " applies to free hinges; the base " + base_name +
+                              " has none (every panel is locked or prescribed)");
+    }
+    for (std::size_t i = 0; i < panels.size(); ++i) {
+      if (base.hinges[i].kind != HingePlan::Kind::kFree) continue;
+      const std::string why = NotApplicable(t.parameter, base.hinges[i].drive, base);
+      if (!why.empty()) {
+        f.Fail("parameter", name +
+                                " applies to every free panel without `panel:`, but free panel '" +
+                                panels[i].name + "' " + why + " in " + base_name +
+                                " (name the panels it applies to with `panel:`)");
+      }
+    }
+    t.description += " (every free panel: " + JoinNames(free) + ")";
+  }
+  if (t.parameter == Parameter::kReleaseTime) {
+    e.lower = base.start;
+    e.lower_open = false;
+    e.rule = "must be >= the base profile's start (" + FormatNumber(base.start) + " s)";
+  }
+}
+
 Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
   Entry e;
   const std::string name = f.Text("parameter");
@@ -131,7 +266,21 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
     if (name == p.name) e.info = &p;
   }
   if (e.info == nullptr) f.Fail("parameter", "unknown parameter (valid: " + ParameterNames() + ")");
+  e.lower = e.info->lower;
+  e.lower_open = e.info->lower_open;
+  e.upper = e.info->upper;
+  e.rule = e.info->rule;
   const Parameter par = e.info->parameter;
+  const std::string base_name = base.source.empty() ? base.name : base.source;
+  if (IsStageParameter(par) && base.is_hinge_profile()) {
+    f.Fail("parameter", name + " applies to stage profiles (`stages:`); the base " + base_name +
+                            " is a hinge profile (`hinges:`)");
+  }
+  if (IsHingeParameter(par) && !base.is_hinge_profile()) {
+    f.Fail("parameter", name +
+                            " applies to the free hinges of hinge profiles (`hinges:`); the base " +
+                            base_name + " is a stage profile (`stages:`)");
+  }
   Target& t = e.target;
   t.parameter = par;
   t.column = e.info->column;
@@ -140,7 +289,7 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
     if (f.Has(key) && !allowed) f.Fail(key, "not used by parameter " + name);
   };
   only_for("stage", par == Parameter::kStageDuration || par == Parameter::kLaw);
-  only_for("panel", par == Parameter::kPanelMassScale);
+  only_for("panel", par == Parameter::kPanelMassScale || IsHingeParameter(par));
   only_for("configuration", par == Parameter::kInertiaScale);
   only_for("axis", par == Parameter::kInertiaScale);
   if (par == Parameter::kStageDuration && !f.Has("stage")) {
@@ -175,6 +324,7 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
       t.description += " (panel " + panel + ")";
     }
   }
+  if (IsHingeParameter(par)) ReadHingeTarget(f, base, name, e);
   if (par == Parameter::kInertiaScale) {
     if (base.model.kind != model::ModelKind::kTensors) {
       f.Fail("parameter", "inertia_scale needs a tensors model (model '" + Short(base.model.name) +
@@ -207,13 +357,10 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
 }
 
 /// A number of the parameter's kind at `key` (file units), checked against its range.
-double ReadValue(const Fields& f,
-                 const YamlNode& node,
-                 const std::string& key,
-                 const ParameterInfo& p) {
+double ReadValue(const Fields& f, const YamlNode& node, const std::string& key, const Entry& e) {
   const double v = io::yaml::ReadNumber(f.doc(), node, key);
-  if (!InRange(p, v)) f.doc().Fail(key, node, std::string(p.name) + " " + p.rule);
-  return v * p.to_si;
+  if (!e.InRange(v)) f.doc().Fail(key, node, std::string(e.info->name) + " " + e.rule);
+  return v * e.info->to_si;
 }
 
 /// A category name of a categorical parameter -> its code.
@@ -242,7 +389,8 @@ double ReadCount(const Fields& f, const YamlNode& node, const std::string& key, 
 /// The values of one grid axis. `cases` is the number of cases of the axes before it: an
 /// axis that would take the sweep past kMaxCases is refused before its values are made (a
 /// few lines of linspace axes would otherwise allocate gigabytes).
-std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p, double cases) {
+std::vector<double> ReadGridValues(const Fields& f, const Entry& e, double cases) {
+  const ParameterInfo& p = *e.info;
   auto check_cases = [&f, cases](const std::string& key, double count) {
     if (cases * count > kMaxCases) {
       f.Fail(key, "gives " + FormatNumber(cases * count) +
@@ -267,7 +415,7 @@ std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p, doub
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       const std::string key = f.Key("values") + "[" + std::to_string(i) + "]";
       values.push_back(categorical ? ReadCategory(f, nodes[i], key, p)
-                                   : ReadValue(f, nodes[i], key, p));
+                                   : ReadValue(f, nodes[i], key, e));
     }
     if (static_cast<double>(values.size()) > kMaxAxisValues) {
       f.Fail("values", "at most " + FormatNumber(kMaxAxisValues) + " values per axis");
@@ -280,8 +428,8 @@ std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p, doub
   const std::vector<YamlNode> nodes =
       io::yaml::SequenceElements(f.doc(), f.Get(key), f.Key(key), key);
   if (nodes.size() != 3) f.Fail(key, "must be [first, last, count]");
-  const double a = ReadValue(f, nodes[0], f.Key(key) + "[0]", p);
-  const double b = ReadValue(f, nodes[1], f.Key(key) + "[1]", p);
+  const double a = ReadValue(f, nodes[0], f.Key(key) + "[0]", e);
+  const double b = ReadValue(f, nodes[1], f.Key(key) + "[1]", e);
   const double n = ReadCount(f, nodes[2], f.Key(key) + "[2]", 2.0);
   if (log && !(a > 0.0 && b > 0.0)) f.Fail(key, "logspace needs first and last > 0");
   if (a == b) f.Fail(key, "first and last must differ");
@@ -296,7 +444,8 @@ std::vector<double> ReadGridValues(const Fields& f, const ParameterInfo& p, doub
   return values;
 }
 
-Distribution ReadDistribution(const Fields& f, const ParameterInfo& p) {
+Distribution ReadDistribution(const Fields& f, const Entry& e) {
+  const ParameterInfo& p = *e.info;
   const bool categorical = IsCategorical(p.parameter);
   const char* keys[] = {"uniform", "normal", "choice"};
   int given = 0;
@@ -307,6 +456,7 @@ Distribution ReadDistribution(const Fields& f, const ParameterInfo& p) {
                      (given == 0 ? "none" : "several") + " given)");
   }
   Distribution d;
+  if (f.Has("weights") && !f.Has("choice")) f.Fail("weights", "weights go with choice");
   if (f.Has("choice")) {
     d.kind = Distribution::Kind::kChoice;
     const std::vector<YamlNode> nodes =
@@ -315,7 +465,26 @@ Distribution ReadDistribution(const Fields& f, const ParameterInfo& p) {
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       const std::string key = f.Key("choice") + "[" + std::to_string(i) + "]";
       d.choices.push_back(categorical ? ReadCategory(f, nodes[i], key, p)
-                                      : ReadValue(f, nodes[i], key, p));
+                                      : ReadValue(f, nodes[i], key, e));
+    }
+    if (f.Has("weights")) {
+      const std::vector<YamlNode> w =
+          io::yaml::SequenceElements(f.doc(), f.Get("weights"), f.Key("weights"), "weights");
+      if (w.size() != nodes.size()) {
+        f.Fail("weights",
+               "one weight per choice is required (" + std::to_string(nodes.size()) + " choices)");
+      }
+      double total = 0.0;
+      for (std::size_t i = 0; i < w.size(); ++i) {
+        const std::string key = f.Key("weights") + "[" + std::to_string(i) + "]";
+        const double x = io::yaml::ReadNumber(f.doc(), w[i], key);
+        if (!(x >= 0.0)) f.doc().Fail(key, w[i], "a weight must be >= 0");
+        total += x;
+        d.cumulative.push_back(total);
+      }
+      if (!(total > 0.0)) f.Fail("weights", "at least one weight must be > 0");
+      for (double& c : d.cumulative) c /= total;
+      d.cumulative.back() = 1.0;
     }
     return d;
   }
@@ -328,8 +497,8 @@ Distribution ReadDistribution(const Fields& f, const ParameterInfo& p) {
     const std::vector<YamlNode> nodes =
         io::yaml::SequenceElements(f.doc(), f.Get("uniform"), f.Key("uniform"), "uniform");
     if (nodes.size() != 2) f.Fail("uniform", "must be [low, high]");
-    d.a = ReadValue(f, nodes[0], f.Key("uniform") + "[0]", p);
-    d.b = ReadValue(f, nodes[1], f.Key("uniform") + "[1]", p);
+    d.a = ReadValue(f, nodes[0], f.Key("uniform") + "[0]", e);
+    d.b = ReadValue(f, nodes[1], f.Key("uniform") + "[1]", e);
     if (!(d.a < d.b)) f.Fail("uniform", "low must be < high");
     return d;
   }
@@ -340,21 +509,21 @@ Distribution ReadDistribution(const Fields& f, const ParameterInfo& p) {
   if (!(sigma > 0.0)) n.Fail("sigma", "must be > 0");
   d.a = mean * p.to_si;
   d.b = sigma * p.to_si;
-  const bool bounded_below = p.lower > -kInf;
-  const bool bounded_above = p.upper < kInf;
+  const bool bounded_below = e.lower > -kInf;
+  const bool bounded_above = e.upper < kInf;
   if (n.Has("min")) {
-    d.min = ReadValue(f, n.Get("min"), n.Key("min"), p);
+    d.min = ReadValue(f, n.Get("min"), n.Key("min"), e);
   } else if (bounded_below) {
     n.doc().Fail(n.Key("min"), std::string("required key is missing: a normal distribution of ") +
                                    p.name + " needs a truncation bound min (" + p.name + " " +
-                                   p.rule + ")");
+                                   e.rule + ")");
   }
   if (n.Has("max")) {
-    d.max = ReadValue(f, n.Get("max"), n.Key("max"), p);
+    d.max = ReadValue(f, n.Get("max"), n.Key("max"), e);
   } else if (bounded_above) {
     n.doc().Fail(n.Key("max"), std::string("required key is missing: a normal distribution of ") +
                                    p.name + " needs a truncation bound max (" + p.name + " " +
-                                   p.rule + ")");
+                                   e.rule + ")");
   }
   if (n.Has("min") && n.Has("max") && !(d.min < d.max)) n.Fail("max", "must be > min");
   // The bounds must keep a reasonable share of the distribution (rejection sampling).
@@ -400,6 +569,25 @@ void ReadIntegrator(const Fields& top, schedule::Profile& base) {
   }
 }
 
+/// Free hinges are integrated by a Lie-group method (analysis::RunHingeMission): a hinge
+/// base with a free hinge and another method would fail in every case.
+void RequireShapeMethod(const Fields& top, const schedule::Profile& base) {
+  bool any_free = false;
+  for (const schedule::HingePlan& h : base.hinges) {
+    any_free = any_free || h.kind == schedule::HingePlan::Kind::kFree;
+  }
+  const std::string& method = base.integrator.method;
+  if (!any_free || method == "exact" || integrators::IsShapeMethod(method)) return;
+  const std::string rule = ": free hinges need a Lie-group method (rule: one of " +
+                           JoinNames(integrators::ShapeMethodNames()) + ", exact)";
+  if (top.Has("integrator")) {
+    const Fields f = top.Mapping("integrator", {"method", "rtol", "atol", "step", "max_step"});
+    if (f.Has("method"))
+      f.Fail("method", "the base " + base.source + " has free hinges" + rule);
+  }
+  top.Fail("base", "integrator.method = " + method + " in the base profile" + rule);
+}
+
 }  // namespace
 
 void ValidateCases(const SweepSpec& spec) {
@@ -439,14 +627,9 @@ SweepSpec ReadSweep(const std::string& path) {
   spec.name = top.Name("name");
   spec.description = top.OptionalText("description").value_or("");
   spec.base = io::LoadProfile(top.FilePath("base"));
-  if (spec.base.is_hinge_profile()) {
-    // The sweep parameters act on stages (durations, laws) and on the initial spin.
-    top.Fail("base",
-             "a hinge profile (`hinges:`) cannot be a sweep base yet (rule: sweeps vary stage "
-             "profiles, `stages:`)");
-  }
   spec.model_text = io::yaml::ReadTextFile(spec.base.model.source);
   ReadIntegrator(top, spec.base);
+  RequireShapeMethod(top, spec.base);
   if (!top.Has("grid") && !top.Has("monte_carlo")) {
     doc.Fail("grid", "required key is missing: a sweep needs a grid, monte_carlo, or both");
   }
@@ -478,7 +661,7 @@ SweepSpec ReadSweep(const std::string& path) {
                      with({"values", "linspace", "logspace"}));
       const Entry e = ReadTarget(f, spec.base);
       claim(f, e.target);
-      GridAxis axis{e.target, ReadGridValues(f, *e.info, cases)};
+      GridAxis axis{e.target, ReadGridValues(f, e, cases)};
       cases *= static_cast<double>(axis.values.size());
       spec.grid.push_back(std::move(axis));
     }
@@ -497,10 +680,10 @@ SweepSpec ReadSweep(const std::string& path) {
     if (params.empty()) m.Fail("parameters", "at least one parameter is required");
     for (std::size_t k = 0; k < params.size(); ++k) {
       const Fields f(doc, params[k], m.Key("parameters") + "[" + std::to_string(k) + "]",
-                     with({"uniform", "normal", "choice"}));
+                     with({"uniform", "normal", "choice", "weights"}));
       const Entry e = ReadTarget(f, spec.base);
       claim(f, e.target);
-      mc.parameters.push_back({e.target, ReadDistribution(f, *e.info)});
+      mc.parameters.push_back({e.target, ReadDistribution(f, e)});
     }
     cases *= static_cast<double>(mc.samples);
     spec.monte_carlo = std::move(mc);
@@ -511,11 +694,21 @@ SweepSpec ReadSweep(const std::string& path) {
              "gives " + FormatNumber(cases) + " cases (at most " + FormatNumber(kMaxCases) + ")");
   }
   if (top.Has("outcome")) {
-    const Fields o = top.Mapping("outcome", {"tumble_angle_deg"});
+    const Fields o = top.Mapping("outcome", {"tumble_angle_deg", "latch_shock_limit_deg_s"});
     if (o.Has("tumble_angle_deg")) {
       const double a = o.Number("tumble_angle_deg");
       if (!(a > 0.0 && a < 90.0)) o.Fail("tumble_angle_deg", "must be in (0, 90) [deg]");
       spec.outcome.tumble_angle = a * kDegree;
+    }
+    if (o.Has("latch_shock_limit_deg_s")) {
+      const double a = o.Number("latch_shock_limit_deg_s");
+      if (!(a > 0.0)) o.Fail("latch_shock_limit_deg_s", "must be > 0 [deg/s]");
+      if (!spec.base.is_hinge_profile()) {
+        o.Fail("latch_shock_limit_deg_s",
+               "a latch shock limit needs a hinge profile as the base (stage profiles have no "
+               "latches)");
+      }
+      spec.outcome.latch_shock_limit = a * kDegree;
     }
   }
   spec.base_spin_axis_B = BaseSpinAxis(spec.base);

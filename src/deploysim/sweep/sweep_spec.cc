@@ -1,11 +1,14 @@
 #include "deploysim/sweep/sweep_spec.h"
 
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 #include "deploysim/analysis/mission.h"
 #include "deploysim/io/number_format.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/model/model.h"
+#include "deploysim/schedule/free_hinge_system.h"
 #include "deploysim/schedule/laws.h"
 #include "deploysim/sweep/rng.h"
 
@@ -34,8 +37,15 @@ double Draw(const Distribution& d, Rng& rng, const std::string& where) {
       throw std::invalid_argument(where +
                                   ": the truncation bounds of the normal distribution "
                                   "reject nearly every draw");
-    case Distribution::Kind::kChoice:
-      return d.choices.at(static_cast<std::size_t>(rng.Below(d.choices.size())));
+    case Distribution::Kind::kChoice: {
+      if (d.cumulative.empty()) {
+        return d.choices.at(static_cast<std::size_t>(rng.Below(d.choices.size())));
+      }
+      const double u = rng.Uniform();
+      std::size_t i = 0;
+      while (i + 1 < d.choices.size() && !(u < d.cumulative[i])) ++i;
+      return d.choices[i];
+    }
   }
   return 0.0;
 }
@@ -45,9 +55,182 @@ bool IsMove(const schedule::Profile& p, std::size_t i) {
   return !st.from.empty() ? st.from != st.to : (i > 0 && st.to != p.stages[i - 1].to);
 }
 
+// Two unit vectors closer than this are the same spin axis (both are columns of the same
+// principal decomposition, possibly negated: equal in practice to the last bit).
+constexpr double kSameAxis = 1e-12;
+
+/// Sets (pass 0) or scales (pass 1) what a hinge parameter acts on, for one free hinge.
+void ApplyToDrive(Parameter par, double v, int pass, schedule::FreeDrive& d) {
+  using schedule::Motor;
+  using schedule::Release;
+  if (pass == 1) {
+    if (par == Parameter::kSpringStiffnessScale) d.spring.stiffness *= v;
+    if (par == Parameter::kMotorTorqueScale) {
+      if (d.motor.kind == Motor::Kind::kTorqueSpeed) {
+        d.motor.stall_torque *= v;
+      } else {
+        d.motor.torque *= v;
+      }
+    }
+    return;
+  }
+  switch (par) {
+    case Parameter::kSpringStiffness:
+      d.spring.stiffness = v;
+      break;
+    case Parameter::kDamping:
+      d.damping = v;
+      break;
+    case Parameter::kLatchAngle:
+      d.latch.angle = v;
+      break;
+    case Parameter::kMotorTorque:
+      d.motor = Motor{};
+      d.motor.kind = Motor::Kind::kConstant;
+      d.motor.torque = v;
+      break;
+    case Parameter::kReleaseTime:
+      d.release.kind = Release::Kind::kAtTime;
+      d.release.time = v;
+      break;
+    case Parameter::kReleaseDelay:
+      d.release.delay = v;
+      break;
+    case Parameter::kFrictionTorque:
+      d.friction.torque = v;
+      break;
+    case Parameter::kStickFraction:
+      d.latch.jam_fraction = v;
+      break;
+    default:
+      break;
+  }
+}
+
+/// The free-hinge parameters of a hinge profile (step 2 of the file comment of
+/// sweep_spec.h).
+void ApplyHingeParameters(const std::vector<Target>& targets,
+                          const std::vector<double>& v,
+                          schedule::Profile& p) {
+  using schedule::HingePlan;
+  const std::size_t n = p.hinges.size();
+  auto each = [&](const Target& t, const std::function<void(std::size_t)>& f) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (p.hinges[i].kind != HingePlan::Kind::kFree) continue;
+      if (t.panel >= 0 && static_cast<std::size_t>(t.panel) != i) continue;
+      f(i);
+    }
+  };
+  // Values: all-panel targets, then per-panel ones; then the factors.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int all = 1; all >= 0; --all) {
+      for (std::size_t k = 0; k < targets.size(); ++k) {
+        const Target& t = targets[k];
+        if (!IsHingeParameter(t.parameter) || (t.panel < 0) != (all == 1)) continue;
+        each(t, [&](std::size_t i) { ApplyToDrive(t.parameter, v[k], pass, p.hinges[i].drive); });
+      }
+    }
+  }
+  // Failed latches, after every value (a jam drawn for the same panel wins: the panel
+  // sticks before it reaches the latch).
+  std::vector<char> failed(n, 0);
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    if (targets[k].parameter != Parameter::kLatchFails || v[k] == 0.0) continue;
+    each(targets[k], [&](std::size_t i) {
+      schedule::Latch& la = p.hinges[i].drive.latch;
+      if (la.jam_fraction > 0.0) return;
+      la.enabled = false;
+      failed[i] = 1;
+    });
+  }
+  // A release waiting for a latch that failed never comes: past the end of the run.
+  const double never = p.t_end() + (p.t_end() - p.t_begin());
+  for (HingePlan& h : p.hinges) {
+    schedule::Release& re = h.drive.release;
+    if (h.kind == HingePlan::Kind::kFree && re.kind == schedule::Release::Kind::kAfterLatch &&
+        re.panel >= 0 && failed[static_cast<std::size_t>(re.panel)]) {
+      re = schedule::Release{};
+      re.kind = schedule::Release::Kind::kAtTime;
+      re.time = never;
+    }
+  }
+}
+
+/// Coupling, law and timing of a stage profile (steps 2-3 of the file comment of
+/// sweep_spec.h).
+void ApplyStageParameters(const std::vector<Target>& targets,
+                          const std::vector<double>& v,
+                          schedule::Profile& p) {
+  // 2. Coupling, then law (all moves first, then single stages).
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    if (targets[k].parameter == Parameter::kCoupling) {
+      p.coupling =
+          io::ParseCoupling(CategoriesOf(Parameter::kCoupling).at(static_cast<std::size_t>(v[k])));
+    }
+  }
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      const Target& t = targets[k];
+      if (t.parameter != Parameter::kLaw || (pass == 0) != (t.stage < 0)) continue;
+      const schedule::Law law =
+          schedule::ParseLaw(CategoriesOf(Parameter::kLaw).at(static_cast<std::size_t>(v[k])));
+      for (std::size_t i = 0; i < p.stages.size(); ++i) {
+        if (t.stage >= 0 && static_cast<std::size_t>(t.stage) != i) continue;
+        if (IsMove(p, i)) p.stages[i].law = law;
+      }
+    }
+  }
+  // 3. Timing.
+  std::vector<double> durations;
+  for (const schedule::Stage& st : p.stages) durations.push_back(st.t_end - st.t_begin);
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    if (targets[k].parameter != Parameter::kDeployDurationScale) continue;
+    for (std::size_t i = 0; i < p.stages.size(); ++i) {
+      if (IsMove(p, i)) durations[i] *= v[k];
+    }
+  }
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    if (targets[k].parameter == Parameter::kStageDuration) {
+      durations.at(static_cast<std::size_t>(targets[k].stage)) = v[k];
+    }
+  }
+  double t = p.stages.front().t_begin;
+  for (std::size_t i = 0; i < p.stages.size(); ++i) {
+    p.stages[i].t_begin = t;
+    t += durations[i];
+    p.stages[i].t_end = t;
+  }
+}
+
 }  // namespace
 
-bool IsCategorical(Parameter p) { return p == Parameter::kLaw || p == Parameter::kCoupling; }
+bool IsCategorical(Parameter p) {
+  return p == Parameter::kLaw || p == Parameter::kCoupling || p == Parameter::kLatchFails;
+}
+
+bool IsStageParameter(Parameter p) {
+  return p == Parameter::kDeployDurationScale || p == Parameter::kStageDuration ||
+         p == Parameter::kLaw || p == Parameter::kCoupling;
+}
+
+bool IsHingeParameter(Parameter p) {
+  switch (p) {
+    case Parameter::kSpringStiffness:
+    case Parameter::kSpringStiffnessScale:
+    case Parameter::kDamping:
+    case Parameter::kLatchAngle:
+    case Parameter::kMotorTorque:
+    case Parameter::kMotorTorqueScale:
+    case Parameter::kReleaseTime:
+    case Parameter::kReleaseDelay:
+    case Parameter::kFrictionTorque:
+    case Parameter::kStickFraction:
+    case Parameter::kLatchFails:
+      return true;
+    default:
+      return false;
+  }
+}
 
 std::string UnitsOf(Parameter p) {
   switch (p) {
@@ -60,11 +243,27 @@ std::string UnitsOf(Parameter p) {
       return "rad";
     case Parameter::kLaw:
     case Parameter::kCoupling:
+    case Parameter::kLatchFails:
       return "none";
     case Parameter::kDeployDurationScale:
     case Parameter::kPanelMassScale:
     case Parameter::kInertiaScale:
+    case Parameter::kSpringStiffnessScale:
+    case Parameter::kMotorTorqueScale:
+    case Parameter::kStickFraction:
       return "1";
+    case Parameter::kSpringStiffness:
+      return "N m/rad";
+    case Parameter::kDamping:
+      return "N m s/rad";
+    case Parameter::kLatchAngle:
+      return "rad";
+    case Parameter::kMotorTorque:
+    case Parameter::kFrictionTorque:
+      return "N m";
+    case Parameter::kReleaseTime:
+    case Parameter::kReleaseDelay:
+      return "s";
   }
   return "1";
 }
@@ -77,9 +276,11 @@ const std::vector<std::string>& CategoriesOf(Parameter p) {
   static const std::vector<std::string> kCouplings = {
       schedule::ToString(schedule::Coupling::kQuasiRigid),
       schedule::ToString(schedule::Coupling::kExact)};
+  static const std::vector<std::string> kNoYes = {"no", "yes"};
   static const std::vector<std::string> kNone;
   if (p == Parameter::kLaw) return kLaws;
   if (p == Parameter::kCoupling) return kCouplings;
+  if (p == Parameter::kLatchFails) return kNoYes;
   return kNone;
 }
 
@@ -145,9 +346,18 @@ std::string DescribeParameters(const SweepSpec& spec, const CaseParameters& p) {
   return s + "}";
 }
 
+dynamics::InertiaSample InitialInertia(const schedule::Profile& p) {
+  if (!p.is_hinge_profile()) return schedule::DeploymentSchedule(p).Evaluate(p.t_begin());
+  const std::string where = p.source.empty() ? p.name : p.source;
+  const model::HingedBody body = model::ValidatedHingedBody(
+      p.model.hinged, p.model.source.empty() ? where + ": model" : p.model.source);
+  const schedule::FreeHingeSystem sys(body, p.hinges,
+                                      p.model.configuration(p.initial.configuration).hinge_angles);
+  return sys.Evaluate(p.t_begin());
+}
+
 math::Vec3 BaseSpinAxis(const schedule::Profile& base) {
-  const schedule::DeploymentSchedule sched(base);
-  const dynamics::InertiaSample s0 = sched.Evaluate(base.t_begin());
+  const dynamics::InertiaSample s0 = InitialInertia(base);
   const math::Vec3 H_B0 =
       base.initial.H_B ? *base.initial.H_B : math::Vec3(s0.J_B * *base.initial.w_NB_B + s0.h_rel_B);
   return analysis::InitialSpinAxis(s0.J_B, H_B0);
@@ -186,53 +396,24 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
         }
       }
     }
-    // 2. Coupling, 3. law (all moves first, then single stages).
-    for (std::size_t k = 0; k < targets.size(); ++k) {
-      if (targets[k].parameter == Parameter::kCoupling) {
-        p.coupling = io::ParseCoupling(
-            CategoriesOf(Parameter::kCoupling).at(static_cast<std::size_t>(v[k])));
-      }
+    dynamics::InertiaSample s0;
+    if (p.is_hinge_profile()) {
+      // 2. Free-hinge drives and failures; the plans are checked before J_B(t0) is
+      // formed from them.
+      ApplyHingeParameters(targets, v, p);
+      schedule::ValidateProfile(p);
+      s0 = InitialInertia(p);
+    } else {
+      ApplyStageParameters(targets, v, p);
+      // The schedule validates the profile (model, modes, stages) and gives J_B(t0).
+      c.schedule = std::make_shared<const schedule::DeploymentSchedule>(p);
+      s0 = c.schedule->Evaluate(p.t_begin());
     }
-    for (int pass = 0; pass < 2; ++pass) {
-      for (std::size_t k = 0; k < targets.size(); ++k) {
-        const Target& t = targets[k];
-        if (t.parameter != Parameter::kLaw || (pass == 0) != (t.stage < 0)) continue;
-        const schedule::Law law =
-            schedule::ParseLaw(CategoriesOf(Parameter::kLaw).at(static_cast<std::size_t>(v[k])));
-        for (std::size_t i = 0; i < p.stages.size(); ++i) {
-          if (t.stage >= 0 && static_cast<std::size_t>(t.stage) != i) continue;
-          if (IsMove(p, i)) p.stages[i].law = law;
-        }
-      }
-    }
-    // 4. Timing.
-    std::vector<double> durations;
-    for (const schedule::Stage& st : p.stages) durations.push_back(st.t_end - st.t_begin);
-    for (std::size_t k = 0; k < targets.size(); ++k) {
-      if (targets[k].parameter != Parameter::kDeployDurationScale) continue;
-      for (std::size_t i = 0; i < p.stages.size(); ++i) {
-        if (IsMove(p, i)) durations[i] *= v[k];
-      }
-    }
-    for (std::size_t k = 0; k < targets.size(); ++k) {
-      if (targets[k].parameter == Parameter::kStageDuration) {
-        durations.at(static_cast<std::size_t>(targets[k].stage)) = v[k];
-      }
-    }
-    double t = p.stages.front().t_begin;
-    for (std::size_t i = 0; i < p.stages.size(); ++i) {
-      p.stages[i].t_begin = t;
-      t += durations[i];
-      p.stages[i].t_end = t;
-    }
-    // The schedule validates the profile (model, modes, stages) and gives J_B(t0).
-    c.schedule = std::make_shared<const schedule::DeploymentSchedule>(p);
-    const dynamics::InertiaSample s0 = c.schedule->Evaluate(p.t_begin());
     const math::Vec3 base_axis =
         spec.base_spin_axis_B ? *spec.base_spin_axis_B : BaseSpinAxis(spec.base);
     c.spin_axis_B = analysis::InitialSpinAxis(s0.J_B, base_axis);
 
-    // 5. Initial state.
+    // 4. Initial state.
     math::Vec3 H =
         p.initial.H_B ? *p.initial.H_B : math::Vec3(s0.J_B * *p.initial.w_NB_B + s0.h_rel_B);
     const math::Vec3& s = c.spin_axis_B;
@@ -284,6 +465,22 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
     }
     p.initial.H_B = H;
     p.initial.w_NB_B.reset();
+    if (p.is_hinge_profile()) {
+      // RunHingeMission measures its angles from the principal axis nearest H_B(t0).
+      const math::Vec3 run_axis = analysis::InitialSpinAxis(s0.J_B, H);
+      if ((run_axis - c.spin_axis_B).norm() > kSameAxis) {
+        throw std::invalid_argument(
+            "initial: H_B(t0) is nearer another principal axis than the spin axis s (rule: a "
+            "hinge-profile run measures its angles from the principal axis nearest H_B(t0); "
+            "keep the nutation below the angle that takes H_B nearer another axis)");
+      }
+      c.latches_expected = 0;
+      for (const schedule::HingePlan& h : spec.base.hinges) {
+        if (h.kind == schedule::HingePlan::Kind::kFree && h.drive.latch.enabled) {
+          ++c.latches_expected;
+        }
+      }
+    }
     schedule::ValidateProfile(p);
     io::CheckRunSettings(p);
   } catch (const std::invalid_argument& e) {

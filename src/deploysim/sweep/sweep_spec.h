@@ -14,14 +14,23 @@
 /// Rng(seed, j, parameter position), so sample j has the same dispersions at every grid
 /// point (common random numbers: differences across the grid are the grid's alone).
 ///
-/// Application order in BuildCaseProfile, whatever the order in the file:
+/// Application order in BuildCase, whatever the order in the file (docs/sweeps.md):
 ///   1. model: panel_mass_scale (mass and inertia of the panel(s); all-panel and
-///      per-panel factors multiply), inertia_scale (tensor models; factors multiply);
-///   2. coupling; 3. law (all move stages, then per-stage values override);
-///   4. timing: every move stage's duration times deploy_duration_scale, then
-///      stage_duration values replace single stages' durations; stages stay contiguous
-///      from the first stage's start (later stages shift, holds keep their durations);
-///   5. initial state: nutation / nutation_azimuth tilt H_B(t0) about the spin axis
+///      per-panel factors multiply), inertia_scale (tensors models; factors multiply);
+///   2. stage profiles (`stages:`): coupling; law (all move stages, then per-stage values
+///      override);
+///      hinge profiles (`hinges:`; Target::panel -1 = every free panel): values that set
+///      a quantity (spring_stiffness, damping, latch_angle, motor_torque, release_time,
+///      release_delay, friction_torque, stick_fraction), all-panel targets first, then
+///      per-panel ones; then the factors (spring_stiffness_scale, motor_torque_scale;
+///      all-panel and per-panel multiply); then latch_fails = yes: the panel's latch is
+///      disabled (unless it jams first: stick_fraction > 0 keeps it), and a panel
+///      released after that latch (after_latch) is never released: its release moves
+///      past the end of the run;
+///   3. stage profiles: timing: every move stage's duration times deploy_duration_scale,
+///      then stage_duration values replace single stages' durations; stages stay
+///      contiguous from the first stage's start (later stages shift, holds keep theirs);
+///   4. initial state: nutation / nutation_azimuth tilt H_B(t0) about the spin axis
 ///      (|H_B| kept), then spin_rate scales H_B so that w_NB_B(t0) . s = spin_rate.
 /// The spin axis s is the principal axis of the case's J_B(t0) nearest the BASE
 /// profile's spin axis (analysis::InitialSpinAxis of the base), so that every case of a
@@ -51,10 +60,27 @@ enum class Parameter {
   kInertiaScale,         ///< [1] > 0: factor on configuration tensors (tensors models).
   kLaw,                  ///< categorical: interpolation law of move stages.
   kCoupling,             ///< categorical: quasi-rigid | exact.
+  // Free hinges of hinge profiles (schedule::FreeDrive), per panel (Target::panel).
+  kSpringStiffness,       ///< [N m/rad] >= 0: Spring::stiffness.
+  kSpringStiffnessScale,  ///< [1] >= 0: factor on Spring::stiffness (a weak spring).
+  kDamping,               ///< [N m s/rad] >= 0: FreeDrive::damping.
+  kLatchAngle,            ///< [rad]: Latch::angle (file: latch_angle_deg).
+  kMotorTorque,           ///< [N m]: a constant motor's torque (adds one where none).
+  kMotorTorqueScale,      ///< [1] > 0: factor on a constant torque or a stall torque.
+  kReleaseTime,           ///< [s]: release at this time (Release::kAtTime).
+  kReleaseDelay,          ///< [s] >= 0: delay of an after-latch release.
+  kFrictionTorque,        ///< [N m] >= 0: Friction::torque.
+  kStickFraction,         ///< [1] in [0, 1): Latch::jam_fraction (0: no jam).
+  kLatchFails,            ///< categorical: no | yes (Latch::enabled = false).
 };
 
-/// True for the categorical parameters (law, coupling).
+/// True for the categorical parameters (law, coupling, latch_fails).
 bool IsCategorical(Parameter p);
+/// True for the parameters of stage profiles only (deploy_duration_scale,
+/// stage_duration, law, coupling).
+bool IsStageParameter(Parameter p);
+/// True for the parameters of free hinges (hinge profiles only).
+bool IsHingeParameter(Parameter p);
 /// SI unit of the parameter's column ("1", "s", "rad/s", "rad", "none" for categorical).
 std::string UnitsOf(Parameter p);
 /// Category names of a categorical parameter (code = position), empty otherwise.
@@ -63,9 +89,11 @@ const std::vector<std::string>& CategoriesOf(Parameter p);
 /// One varied quantity: the parameter and what it applies to.
 struct Target {
   Parameter parameter = Parameter::kSpinRate;
-  std::string column;         ///< Result-table column name, unique within a sweep.
-  int stage = -1;             ///< kStageDuration (required), kLaw (-1: every move stage).
-  int panel = -1;             ///< kPanelMassScale: panel index, -1: every panel.
+  std::string column;  ///< Result-table column name, unique within a sweep.
+  int stage = -1;      ///< kStageDuration (required), kLaw (-1: every move stage).
+  /// kPanelMassScale: panel index, -1: every panel; hinge parameters: panel index, -1:
+  /// every free panel.
+  int panel = -1;
   std::string configuration;  ///< kInertiaScale: configuration name, empty: all.
   int axis = -1;              ///< kInertiaScale: body axis 0, 1, 2 or -1: the whole tensor.
   std::string description;    ///< For the results file: what the column means.
@@ -86,7 +114,12 @@ struct Distribution {
   /// normal: truncation bounds (resampled until inside), -inf/+inf when not given.
   double min = -1e308;
   double max = 1e308;
-  std::vector<double> choices;  ///< kChoice: category codes (or numbers), equally likely.
+  std::vector<double> choices;  ///< kChoice: category codes (or numbers), equally likely
+                                ///< unless `cumulative` is given.
+  /// kChoice with weights: cumulative probabilities of the choices (ascending, the last
+  /// exactly 1); empty: equally likely. A draw takes the first choice whose cumulative
+  /// probability exceeds a uniform number in [0, 1).
+  std::vector<double> cumulative;
 };
 
 struct MonteCarloParameter {
@@ -105,6 +138,10 @@ struct OutcomeSettings {
   /// [rad] A final motion whose momentum cone about its circulation axis is wider than
   /// this is "tumbling", else a spin about that axis.
   double tumble_angle = 0.3490658503988659;  // 20 deg
+  /// [rad/s] The largest acceptable latch shock (max_latch_w_jump) of the question a
+  /// sweep asks, if it states one (outcome.latch_shock_limit_deg_s): recorded in the
+  /// results file for the maps; it changes no outcome.
+  std::optional<double> latch_shock_limit;
 };
 
 struct SweepSpec {
@@ -147,8 +184,13 @@ struct Case {
   schedule::Profile profile;  ///< initial.H_B set (initial.w_NB_B cleared).
   /// The schedule of `profile` (built once: it validates the profile and precomputes the
   /// configurations).
+  /// Stage profiles only (null for hinge profiles, which RunHingeMission runs).
   std::shared_ptr<const schedule::DeploymentSchedule> schedule;
   math::Vec3 spin_axis_B = math::Vec3::UnitZ();  ///< Unit, B components.
+  /// Hinge profiles: the free panels that have a latch in the BASE profile (a latch that
+  /// fails in this case still counts: the outcome's all_latched asks whether each of
+  /// them latched).
+  std::int64_t latches_expected = 0;
 };
 
 /// Builds case `index` (application order in the file comment). Throws
@@ -158,6 +200,11 @@ Case BuildCase(const SweepSpec& spec, std::size_t index);
 
 /// The spin axis of the base profile: analysis::InitialSpinAxis of J_B(t0), H_B(t0).
 math::Vec3 BaseSpinAxis(const schedule::Profile& base);
+
+/// J_B, h_rel_B (and the rest of dynamics::InertiaSample) at the profile's start, for
+/// stage profiles (DeploymentSchedule) and hinge profiles (every hinge at its initial
+/// angle, free hinges at rest until released: schedule::FreeHingeSystem).
+dynamics::InertiaSample InitialInertia(const schedule::Profile& p);
 
 /// "{deploy_duration_scale=0.5, law=linear}" for messages (values as written, SI).
 std::string DescribeParameters(const SweepSpec& spec, const CaseParameters& p);
