@@ -153,7 +153,8 @@ def mark_events(ax, d, labels=True, xlim=None):
     bottom, one label per burst of bounces ('93 stops wing_plus_x'). Labels stand in a
     band at the top of the plot (reserve_label_bands makes room for it); labels of events
     closer than 1.8% of the time span are stacked into one block."""
-    evs = d["events"]
+    # A release at the run's start (a hinge free from the start) says nothing: not shown.
+    evs = [e for e in d["events"] if not (e["kind"] == "release" and e["t"] <= d["time"][0])]
     if not evs:
         return []
     handles = {}
@@ -307,8 +308,14 @@ def plot_spin_axis(d, out):
     if len(d["cross45"]):
         ax.plot(d["cross45"], np.full(len(d["cross45"]), 45.0), "o", color="tab:purple",
                 ms=4, mfc="white", label="45° crossing")
-    ax.set_ylim(-5, 185)
-    ax.set_yticks([0, 45, 90, 135, 180])
+    top = float(np.max(np.degrees(d["spin_axis_angle"])))
+    if top < 30.0 and not len(d["flips"]):
+        # A spin that stays near its axis (a stable spin, a decaying nutation): on the 0-180
+        # deg scale it would be a flat line at the bottom.
+        ax.set_ylim(0.0, 1.15 * max(top, 1e-6))
+    else:
+        ax.set_ylim(-5, 185)
+        ax.set_yticks([0, 45, 90, 135, 180])
     ax.set_xlabel("time [s]")
     ax.set_ylabel("angle between body spin axis and $h_N$ [deg]")
     legend(ax, d, ev, loc="upper right")
@@ -393,7 +400,10 @@ def plot_energy(d, out):
             note += " (integration error: nothing else dissipates)"
     else:
         worst = np.max(np.abs(dE))
-        note = f"max |E - E(t0)| = {worst:.2g} J ({worst / max(abs(E[0]), 1e-300):.2g} of E(t0))"
+        rel = worst / max(abs(E[0]), 1e-300)
+        note = f"max |E - E(t0)| = {worst:.2g} J ({rel:.2g} of E(t0))"
+        note += (":\nthe work of dampers, friction and motors (not itemized in the file)"
+                 if rel > 1e-9 else " (integration error: nothing dissipates)")
     scale = max(np.max(np.abs(E)), 1e-300)
     lo, hi = np.min(dE), np.max(dE)
     if hi - lo < 1e-6 * scale:  # rounding noise only: show it as the flat line it is
@@ -462,16 +472,32 @@ def plot_hinge_angles(d, out):
     ev = mark_events(axes[0], d, xlim=xlim)
     for a in axes[1:]:
         mark_events(a, d, labels=False)
+    # Rotors (a hinge that turns more than a full turn) would flatten every other curve:
+    # their angle is left out (its turns are named in the legend), their rate goes on a
+    # right-hand axis of its own.
+    deg = np.degrees(th)
+    spinning = [k for k in range(th.shape[1]) if np.ptp(deg[:, k]) > 360.0]
+    right = axes[1].twinx() if rates is not None and spinning else None
     # Line styles differ too: symmetric panels move alike and their curves coincide.
     styles = ["-", "--", "-.", ":"]
     for k in range(th.shape[1]):
         ls = styles[k % len(styles)]
-        axes[0].plot(t, np.degrees(th[:, k]), color=cmap(k % 10), lw=1.3, ls=ls,
-                     label=d["panel_names"][k])
+        name = d["panel_names"][k]
+        if k in spinning:
+            axes[0].plot([], [], color=cmap(k % 10), lw=1.3, ls=ls,
+                         label=f"{name}: {np.ptp(deg[:, k]) / 360.0:.4g} turns (not drawn; "
+                               "rate below, right axis)")
+        else:
+            axes[0].plot(t, deg[:, k], color=cmap(k % 10), lw=1.3, ls=ls, label=name)
         if rates is not None:
             tk, rk = rates_with_jumps(t, rates[:, k], [e for e in d["events"] if e["panel"] == k])
-            axes[1].plot(tk, np.degrees(rk), color=cmap(k % 10), lw=1.0, ls=ls,
-                         label=d["panel_names"][k])
+            (right if k in spinning else axes[1]).plot(tk, np.degrees(rk), color=cmap(k % 10),
+                                                        lw=1.0, ls=ls, label=name)
+    if right is not None:
+        right.set_ylabel("rate of " + ", ".join(d["panel_names"][k] for k in spinning) +
+                         " [deg/s]")
+        lo, hi = right.get_ylim()
+        right.set_ylim(min(lo, 0.0), max(hi, 0.0) + 0.1 * (hi - lo))
     # The latch-up rate, the figure a mechanism engineer looks for, next to each latch.
     if rates is not None:
         for e in d["events"]:
