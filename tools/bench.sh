@@ -2,7 +2,8 @@
 # The benchmark, one command: builds (Release) and prints every table, each measured side
 # by side in one run, with its conditions and the machine it ran on:
 #   1. wing-nut work-precision table, ratios against the seed's thesis-euler (h = 2e-5 s)
-#   2-3. deploysim against Simbody at matched accuracy (free body; satellite deployment)
+#   2-3. deploysim against Simbody at matched accuracy (free body; satellite deployment,
+#        prescribed (3) and spring-driven with free hinges (3b))
 #   4. sweep throughput with 1 and 2 threads and 2 MPI ranks, parallel efficiency
 #   and bench/pipeline_bench's table where that program exists;
 #   5. peak memory (RSS) of `deploysim simulate` for 1e5, 1e6 and 1e7 samples

@@ -76,7 +76,11 @@ def read(path):
                 events.append(dict(t=float(t), panel=int(g["panel"][i]),
                                    name=text(g["panel_name"][i]), kind=text(g["kind"][i]),
                                    angle=float(g["angle"][i]),
-                                   dissipated=float(g["energy_dissipated"][i])))
+                                   dissipated=float(g["energy_dissipated"][i]),
+                                   rate_before=(float(g["rate_before"][i]) if "rate_before"
+                                                in g else None),
+                                   rate_after=(float(g["rate_after"][i]) if "rate_after" in g
+                                               else None)))
         d["events"] = sorted(events, key=lambda e: e["t"])
         st = f["stages"]
         begin, end = st["t_begin"][()], st["t_end"][()]
@@ -103,18 +107,22 @@ def span(d):
     return max(d["time"][-1] - d["time"][0], 1e-300)
 
 
-def shade_stages(ax, d, label=True):
+def shade_stages(ax, d, label=True, xlim=None):
+    """Stages shaded by kind, with their names (at the middle of their part inside `xlim`,
+    the plot's time range when it shows only part of the run)."""
     # A hinge profile's phases are named after the events, which are marked themselves:
     # shade them without labels.
     label = label and not d["events"]
+    x0, x1 = xlim if xlim is not None else (d["stage_begin"][0], d["stage_end"][-1])
     for i, (a, b) in enumerate(zip(d["stage_begin"], d["stage_end"])):
         law = d["stage_law"][i]
         color = STAGE_COLORS["hold" if law == "hold" else "free" if law == "free" else "move"]
         ax.axvspan(a, b, color=color, zorder=0, lw=0)
-        if label and len(d["stage_begin"]) > 1:
-            ax.text((a + b) / 2, 0.985, d["stage_name"][i], transform=ax.get_xaxis_transform(),
+        va, vb = max(a, x0), min(b, x1)
+        if label and len(d["stage_begin"]) > 1 and vb > va:
+            ax.text((va + vb) / 2, 0.985, d["stage_name"][i], transform=ax.get_xaxis_transform(),
                     ha="center", va="top", fontsize=7, color="0.3", rotation=90 if
-                    (b - a) < 0.08 * (d["stage_end"][-1] - d["stage_begin"][0]) else 0,
+                    (vb - va) < 0.08 * (x1 - x0) else 0,
                     zorder=5, bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none",
                                         alpha=0.7))
     if label:
@@ -138,14 +146,15 @@ def stop_bursts(d):
     return bursts
 
 
-def mark_events(ax, d, labels=True):
+def mark_events(ax, d, labels=True, xlim=None):
     """Hinge events on a time axis. Returns legend handles for the kinds shown.
 
     Releases, latches, jams and rests: a vertical line each. Stop impacts: ticks at the
     bottom, one label per burst of bounces ('93 stops wing_plus_x'). Labels stand in a
     band at the top of the plot (reserve_label_bands makes room for it); labels of events
     closer than 1.8% of the time span are stacked into one block."""
-    evs = d["events"]
+    # A release at the run's start (a hinge free from the start) says nothing: not shown.
+    evs = [e for e in d["events"] if not (e["kind"] == "release" and e["t"] <= d["time"][0])]
     if not evs:
         return []
     handles = {}
@@ -171,7 +180,7 @@ def mark_events(ax, d, labels=True):
             items.append((b[0]["t"], f"{n} stops {b[0]['name']}" if n > 1
                           else f"stop {b[0]['name']}", STOP_COLOR))
         items.sort(key=lambda x: x[0])
-        t0, dt = d["time"][0], span(d)
+        t0, dt = (d["time"][0], span(d)) if xlim is None else (xlim[0], xlim[1] - xlim[0])
         # A label line is about 13 px thick, 1.8% of the plot's width: the labels of closer
         # events are stacked side by side in one block (at most 3 lines, then "+N").
         groups = []
@@ -182,15 +191,17 @@ def mark_events(ax, d, labels=True):
                     g.append(item)
                     continue
             groups.append([item])
+        ax._event_labels = []
         for group in groups:
             label = merge_labels([x[1] for x in group])
             t = group[0][0]
-            ax.text(t, 0.985, label, transform=tr, rotation=90,
+            if not t0 <= t <= t0 + dt:
+                continue
+            ax._event_labels.append(ax.text(t, 0.985, label, transform=tr, rotation=90,
                     ha="right" if t - t0 > 0.97 * dt else "left", va="top", fontsize=6.5,
                     linespacing=1.1, zorder=6, clip_on=True,
                     color=group[0][2] if len({x[2] for x in group}) == 1 else "0.15",
-                    bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8))
-        ax._event_labels = True
+                    bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8)))
     order = ["release", "latch", "jam", "rest", "stop"]
     return [handles[k] for k in order if k in handles]
 
@@ -207,16 +218,23 @@ def merge_labels(texts):
             lines.append((kind, [name]))
     shown = [f"{k} {', '.join(n)}" for k, n in lines[:3]]
     if len(lines) > 3:
-        shown[-1] += f" +{sum(len(n) for _, n in lines[3:])}"
+        shown[-1] += f" (+{sum(len(n) for _, n in lines[3:])} more)"
     return "\n".join(shown)
 
 
 def reserve_label_bands(fig):
-    """Raises the top of every axes with event labels so that the data stays below them."""
-    for ax in fig.axes:
-        if getattr(ax, "_event_labels", False):
-            lo, hi = ax.get_ylim()
-            ax.set_ylim(lo, hi + 0.38 * (hi - lo))
+    """Raises the top of every axes with event labels so that the data stays below them:
+    the labels' lowest edge is measured on the laid-out figure (a stack of long labels
+    reaches further down than a short one)."""
+    labelled = [ax for ax in fig.axes if getattr(ax, "_event_labels", False)]
+    if not labelled:
+        return
+    fig.canvas.draw()
+    for ax in labelled:
+        box = ax.get_window_extent()
+        low = min((t.get_window_extent().y0 - box.y0) / box.height for t in ax._event_labels)
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(lo, lo + (hi - lo) / max(low - 0.03, 0.3))
 
 
 def legend(ax, d, event_handles, **kw):
@@ -230,8 +248,8 @@ def legend(ax, d, event_handles, **kw):
     ax.legend(handles, labels, fontsize=8, framealpha=0.9, **kw)
 
 
-def finish(fig, ax, path, title, d):
-    ax.set_xlim(d["time"][0], d["time"][-1])
+def finish(fig, ax, path, title, d, xlim=None):
+    ax.set_xlim(*(xlim if xlim is not None else (d["time"][0], d["time"][-1])))
     laws = set(d["stage_law"])
     notes = []
     if laws & {"free"}:
@@ -244,9 +262,9 @@ def finish(fig, ax, path, title, d):
         ax.text(1.0, -0.13, "; ".join(notes), transform=ax.transAxes, ha="right", va="top",
                 fontsize=7, color="0.4")
     ax.grid(True, lw=0.3, alpha=0.6)
-    reserve_label_bands(fig)
     fig.suptitle(f"{d['name']}: {title}", fontsize=11)
     fig.tight_layout()
+    reserve_label_bands(fig)
     fig.savefig(path, dpi=120)
     plt.close(fig)
 
@@ -290,8 +308,14 @@ def plot_spin_axis(d, out):
     if len(d["cross45"]):
         ax.plot(d["cross45"], np.full(len(d["cross45"]), 45.0), "o", color="tab:purple",
                 ms=4, mfc="white", label="45° crossing")
-    ax.set_ylim(-5, 185)
-    ax.set_yticks([0, 45, 90, 135, 180])
+    top = float(np.max(np.degrees(d["spin_axis_angle"])))
+    if top < 30.0 and not len(d["flips"]):
+        # A spin that stays near its axis (a stable spin, a decaying nutation): on the 0-180
+        # deg scale it would be a flat line at the bottom.
+        ax.set_ylim(0.0, 1.15 * max(top, 1e-6))
+    else:
+        ax.set_ylim(-5, 185)
+        ax.set_yticks([0, 45, 90, 135, 180])
     ax.set_xlabel("time [s]")
     ax.set_ylabel("angle between body spin axis and $h_N$ [deg]")
     legend(ax, d, ev, loc="upper right")
@@ -368,11 +392,18 @@ def plot_energy(d, out):
                  label="$-$ energy dissipated at hinge events (cumulative)")
         k = np.searchsorted(times, t, side="right")
         resid = np.max(np.abs(dE - steps[k]))
-        note = (f"max |E - E(t0) + dissipated at events| = {resid:.2g} J "
-                "(the rest: dampers, friction, motors, or integration error)")
+        note = f"max |E - E(t0) + dissipated at events| = {resid:.2g} J"
+        if resid > 1e-9 * max(abs(E[0]), 1e-300):
+            note += (":\nthe work of dampers, friction and motors between the events "
+                     "(not itemized in the file)")
+        else:
+            note += " (integration error: nothing else dissipates)"
     else:
         worst = np.max(np.abs(dE))
-        note = f"max |E - E(t0)| = {worst:.2g} J ({worst / max(abs(E[0]), 1e-300):.2g} of E(t0))"
+        rel = worst / max(abs(E[0]), 1e-300)
+        note = f"max |E - E(t0)| = {worst:.2g} J ({rel:.2g} of E(t0))"
+        note += (":\nthe work of dampers, friction and motors (not itemized in the file)"
+                 if rel > 1e-9 else " (integration error: nothing dissipates)")
     scale = max(np.max(np.abs(E)), 1e-300)
     lo, hi = np.min(dE), np.max(dE)
     if hi - lo < 1e-6 * scale:  # rounding noise only: show it as the flat line it is
@@ -383,35 +414,98 @@ def plot_energy(d, out):
     labels.append(note)
     ax2.set_ylabel("change of $E$ [J]")
     ax2.set_xlabel("time [s]")
-    ax2.legend(handles, labels, fontsize=7.5, framealpha=0.9, loc="best")
+    # Right of the middle: the curves run along the top (0, the event losses) and, once
+    # the hinges are done, along the bottom; the deployment's drop is usually early.
+    ax2.legend(handles, labels, fontsize=7.5, framealpha=0.9, loc="center right")
     title = ("kinetic, stored (spring) and total energy" if springs
              else "kinetic energy (no springs)")
     finish(fig, ax2, os.path.join(out, "energy.png"), title, d)
+
+
+def hinge_activity_window(d):
+    """(t_a, t_b) around the hinge motion and events when they fill less than a quarter of
+    the run (a few seconds of deployment in a 600 s run are a sliver otherwise), else None.
+    Outside the window no hinge moves (the rates are exactly 0: locked or latched)."""
+    t, rates = d["time"], d["hinge_rates"]
+    times = [e["t"] for e in d["events"]]
+    if rates is not None:
+        moving = np.nonzero(np.any(rates != 0.0, axis=1))[0]
+        if len(moving):
+            times += [t[max(moving[0] - 1, 0)], t[min(moving[-1] + 1, len(t) - 1)]]
+    if not times:
+        return None
+    a, b = min(times), max(times)
+    if b - a > 0.25 * span(d):
+        return None
+    pad = max(0.25 * (b - a), 0.01 * span(d))
+    return max(t[0], a - pad), min(t[-1], b + pad)
+
+
+def rates_with_jumps(t, rate, events):
+    """One panel's rate samples with its impulsive events inserted (the rate before and after
+    each latch, jam, stop or rest, at the event's time): the jump is drawn at the event
+    instead of as a ramp to the next output sample."""
+    jumps = [e for e in events if e["kind"] != "release" and e["rate_before"] is not None]
+    if not jumps:
+        return t, rate
+    tt = np.concatenate([t, [e["t"] for e in jumps], [e["t"] for e in jumps]])
+    rr = np.concatenate([rate, [e["rate_before"] for e in jumps],
+                         [e["rate_after"] for e in jumps]])
+    # At equal times: before, after, then the output sample (which holds the value after).
+    order = np.concatenate([np.full(len(t), 2), np.zeros(len(jumps)), np.ones(len(jumps))])
+    idx = np.lexsort((order, tt))
+    return tt[idx], rr[idx]
 
 
 def plot_hinge_angles(d, out):
     th = d["hinge_angles"]
     t = d["time"]
     rates = d["hinge_rates"]
+    xlim = hinge_activity_window(d)
     rows = 2 if rates is not None else 1
     fig, axes = plt.subplots(rows, 1, figsize=(10, 3.4 + 2.6 * rows), sharex=True,
                              squeeze=False)
     axes = axes[:, 0]
     cmap = plt.get_cmap("tab10")
     for a in axes:
-        shade_stages(a, d, label=a is axes[0])
-    ev = mark_events(axes[0], d)
+        shade_stages(a, d, label=a is axes[0], xlim=xlim)
+    ev = mark_events(axes[0], d, xlim=xlim)
     for a in axes[1:]:
         mark_events(a, d, labels=False)
+    # Rotors (a hinge that turns more than a full turn) would flatten every other curve:
+    # their angle is left out (its turns are named in the legend), their rate goes on a
+    # right-hand axis of its own.
+    deg = np.degrees(th)
+    spinning = [k for k in range(th.shape[1]) if np.ptp(deg[:, k]) > 360.0]
+    right = axes[1].twinx() if rates is not None and spinning else None
     # Line styles differ too: symmetric panels move alike and their curves coincide.
     styles = ["-", "--", "-.", ":"]
     for k in range(th.shape[1]):
         ls = styles[k % len(styles)]
-        axes[0].plot(t, np.degrees(th[:, k]), color=cmap(k % 10), lw=1.3, ls=ls,
-                     label=d["panel_names"][k])
+        name = d["panel_names"][k]
+        if k in spinning:
+            axes[0].plot([], [], color=cmap(k % 10), lw=1.3, ls=ls,
+                         label=f"{name}: {np.ptp(deg[:, k]) / 360.0:.4g} turns (not drawn; "
+                               "rate below, right axis)")
+        else:
+            axes[0].plot(t, deg[:, k], color=cmap(k % 10), lw=1.3, ls=ls, label=name)
         if rates is not None:
-            axes[1].plot(t, np.degrees(rates[:, k]), color=cmap(k % 10), lw=1.0, ls=ls,
-                         label=d["panel_names"][k])
+            tk, rk = rates_with_jumps(t, rates[:, k], [e for e in d["events"] if e["panel"] == k])
+            (right if k in spinning else axes[1]).plot(tk, np.degrees(rk), color=cmap(k % 10),
+                                                        lw=1.0, ls=ls, label=name)
+    if right is not None:
+        right.set_ylabel("rate of " + ", ".join(d["panel_names"][k] for k in spinning) +
+                         " [deg/s]")
+        lo, hi = right.get_ylim()
+        right.set_ylim(min(lo, 0.0), max(hi, 0.0) + 0.1 * (hi - lo))
+    # The latch-up rate, the figure a mechanism engineer looks for, next to each latch.
+    if rates is not None:
+        for e in d["events"]:
+            if e["kind"] in ("latch", "jam") and e["rate_before"] is not None:
+                rb = np.degrees(e["rate_before"])
+                axes[1].annotate(f"{e['kind']} at {abs(rb):.3g} deg/s", (e["t"], rb),
+                                 xytext=(4, 0), textcoords="offset points", fontsize=7,
+                                 va="center", color=cmap(e["panel"] % 10))
     # Each event as a marker on its panel's curve (shape by kind, colour by panel).
     for kind, marker in EVENT_MARKERS.items():
         sel = [e for e in d["events"] if e["kind"] == kind]
@@ -433,7 +527,12 @@ def plot_hinge_angles(d, out):
     title = "hinge angles" + (" and rates" if rates is not None else "")
     if latched:
         title += " (locked: " + ", ".join(latched) + ")"
-    finish(fig, axes[-1], os.path.join(out, "hinge_angles.png"), title, d)
+    if xlim is not None:
+        axes[-1].text(0.0, -0.13, f"zoom on {xlim[0]:.4g}-{xlim[1]:.4g} s of the run "
+                      f"({t[0]:.4g}-{t[-1]:.4g} s): no hinge moves outside it",
+                      transform=axes[-1].transAxes, ha="left", va="top", fontsize=7,
+                      color="0.4")
+    finish(fig, axes[-1], os.path.join(out, "hinge_angles.png"), title, d, xlim=xlim)
 
 
 def separatrix_circles(J):

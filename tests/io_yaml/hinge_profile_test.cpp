@@ -274,9 +274,9 @@ TEST_F(HingeProfileTest, ShippedSpringDeploymentLoadsAndValidates) {
   ASSERT_EQ(p.hinges.size(), 2u);
   for (const HingePlan& h : p.hinges) {
     ASSERT_EQ(h.kind, HingePlan::Kind::kFree);
-    EXPECT_EQ(h.drive.spring.stiffness, 1.0);
+    EXPECT_EQ(h.drive.spring.stiffness, 0.2);
     EXPECT_DOUBLE_EQ(h.drive.spring.rest_angle, -30.0 * kDeg);
-    EXPECT_EQ(h.drive.damping, 0.3);
+    EXPECT_EQ(h.drive.damping, 1.0);
     EXPECT_TRUE(h.drive.latch.enabled);
     EXPECT_EQ(h.drive.latch.angle, 0.0);
     EXPECT_DOUBLE_EQ(h.drive.stops.min_angle, -2.0 * kDeg);
