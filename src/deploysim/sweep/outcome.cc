@@ -10,6 +10,7 @@
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/analysis/mission.h"
+#include "deploysim/math/cubic_hermite.h"
 #include "deploysim/math/inertia.h"
 
 namespace deploysim::sweep {
@@ -136,31 +137,7 @@ class AngleTracker {
   }
 
   static double HermiteMinimum(const Sample& a, const Sample& b) {
-    // p(u) on u in [0, 1], h = step: p(0) = f0, p(1) = f1, p'(0) = h d0, p'(1) = h d1.
-    const double h = b.state.t - a.state.t;
-    const double f0 = a.f, f1 = b.f, m0 = h * a.rate_start, m1 = h * b.rate_end;
-    // p(u) = c0 + c1 u + c2 u^2 + c3 u^3.
-    const double c1 = m0;
-    const double c2 = 3.0 * (f1 - f0) - 2.0 * m0 - m1;
-    const double c3 = 2.0 * (f0 - f1) + m0 + m1;
-    auto p = [&](double u) { return f0 + u * (c1 + u * (c2 + u * c3)); };
-    double best = std::min(f0, f1);
-    // p'(u) = c1 + 2 c2 u + 3 c3 u^2 = 0.
-    const double A = 3.0 * c3, B = 2.0 * c2, C = c1;
-    if (std::abs(A) < 1e-300) {
-      if (B != 0.0) {
-        const double u = -C / B;
-        if (u > 0.0 && u < 1.0) best = std::min(best, p(u));
-      }
-      return best;
-    }
-    const double disc = B * B - 4.0 * A * C;
-    if (disc < 0.0) return best;
-    const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
-    for (const double u : {q / A, q != 0.0 ? C / q : -1.0}) {
-      if (u > 0.0 && u < 1.0) best = std::min(best, p(u));
-    }
-    return best;
+    return math::CubicHermiteMinimum(a.state.t, a.f, a.rate_start, b.state.t, b.f, b.rate_end);
   }
 
   const schedule::DeploymentSchedule& sched_;
