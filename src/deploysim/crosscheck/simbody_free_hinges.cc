@@ -21,6 +21,7 @@
 #include <utility>
 
 #include "deploysim/analysis/flip_rule.h"
+#include "deploysim/crosscheck/simtk_support.h"
 #include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/schedule/laws.h"
@@ -29,10 +30,17 @@ namespace deploysim::crosscheck {
 
 namespace {
 
+using simtk::AboutOrigin;
+using simtk::ThrowIfOver;
+using simtk::ToEigen;
+using simtk::ToInertia;
+using simtk::ToRotation;
+using simtk::ToSimTK;
+using simtk::Vec6;
+
 using analysis::HingeEvent;
 using schedule::HingePlan;
 using SimTK::Real;
-using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -52,34 +60,6 @@ constexpr int kHubU = 6;
 constexpr auto& Exact = math::FormatNumber;
 
 double SameTime(double t) { return kSameTime * std::max(1.0, std::abs(t)); }
-
-// Conversions between Eigen and SimTK (small copies of simbody_satellite.cc's, which
-// another change owns; they could move to a shared private header).
-SimTK::Vec3 ToSimTK(const math::Vec3& v) { return SimTK::Vec3(v[0], v[1], v[2]); }
-math::Vec3 ToEigen(const SimTK::Vec3& v) { return math::Vec3(v[0], v[1], v[2]); }
-math::Mat3 ToEigen(const SimTK::Mat33& m) {
-  math::Mat3 r;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) r(i, j) = m(i, j);
-  }
-  return r;
-}
-SimTK::Rotation ToRotation(const math::Mat3& R) {
-  SimTK::Mat33 m;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) m(i, j) = R(i, j);
-  }
-  return SimTK::Rotation(m);  // re-orthogonalizes an approximate rotation matrix
-}
-SimTK::Inertia ToInertia(const math::Mat3& I) {
-  return SimTK::Inertia(I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
-}
-/// Mass properties of a body whose CoM is at `com` (body frame) with inertia I_cm about
-/// the CoM in body axes: Simbody wants the inertia about the body origin.
-SimTK::MassProperties AboutOrigin(double mass, const math::Vec3& com, const math::Mat3& I_cm) {
-  const SimTK::Inertia about_origin = ToInertia(I_cm).shiftFromMassCenter(-ToSimTK(com), mass);
-  return SimTK::MassProperties(mass, ToSimTK(com), about_origin);
-}
 
 /// Which restart point the integration is heading for: prescribed hinges are evaluated
 /// from the left there (a rate may jump), from the right elsewhere.
@@ -297,11 +277,7 @@ void AddBodies(FreeSystem& sys, const model::HingedBody& body, const std::string
 
 /// The system's central momentum (angular, linear) in Ground.
 Vec6 CentralMomentum(const FreeSystem& sys, const SimTK::State& s) {
-  sys.system.realize(s, SimTK::Stage::Velocity);
-  const SimTK::SpatialVec m = sys.matter.calcSystemCentralMomentum(s);
-  Vec6 r;
-  r << m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2];
-  return r;
+  return simtk::CentralMomentum(sys.system, sys.matter, s);
 }
 
 /// Kinetic energy about the system CoM: Simbody's less that of the CoM's translation.
@@ -407,15 +383,6 @@ void AppendSample(const FreeSystem& sys,
   run.stored_energy.push_back(V);
   run.total_energy.push_back(T + V);
   run.J_B.push_back(SystemInertia_B(sys, s));
-}
-
-/// Throws std::runtime_error if Simbody's integrator gave up.
-void ThrowIfOver(const SimTK::Integrator& integ) {
-  if (integ.isSimulationOver()) {
-    throw std::runtime_error(
-        "Simbody: integration ended at t = " + Exact(integ.getTime()) +
-        " s: " + SimTK::Integrator::getTerminationReasonString(integ.getTerminationReason()));
-  }
 }
 
 /// An event witness of a free hinge: value = direction (theta - angle), crossing from

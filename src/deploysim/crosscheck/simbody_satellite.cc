@@ -17,6 +17,7 @@
 #include <string>
 
 #include "deploysim/analysis/mission.h"
+#include "deploysim/crosscheck/simtk_support.h"
 #include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/schedule/deployment_schedule.h"
@@ -25,8 +26,15 @@ namespace deploysim::crosscheck {
 
 namespace {
 
+using simtk::AboutOrigin;
+using simtk::ThrowIfOver;
+using simtk::ToEigen;
+using simtk::ToInertia;
+using simtk::ToRotation;
+using simtk::ToSimTK;
+using simtk::Vec6;
+
 using SimTK::Real;
-using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 // Two report times closer than this (relative to max(1, |t|)) are the same instant: a
@@ -42,33 +50,6 @@ constexpr double kConstantInertiaTolerance = 1e-14;
 
 /// The project's number formatting (math/number_format.h) under a short local name.
 constexpr auto& Exact = math::FormatNumber;
-
-SimTK::Vec3 ToSimTK(const math::Vec3& v) { return SimTK::Vec3(v[0], v[1], v[2]); }
-math::Vec3 ToEigen(const SimTK::Vec3& v) { return math::Vec3(v[0], v[1], v[2]); }
-math::Mat3 ToEigen(const SimTK::Mat33& m) {
-  math::Mat3 r;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) r(i, j) = m(i, j);
-  }
-  return r;
-}
-SimTK::Rotation ToRotation(const math::Mat3& R) {
-  SimTK::Mat33 m;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) m(i, j) = R(i, j);
-  }
-  return SimTK::Rotation(m);  // re-orthogonalizes an approximate rotation matrix
-}
-SimTK::Inertia ToInertia(const math::Mat3& I) {
-  return SimTK::Inertia(I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
-}
-
-/// Mass properties of a body whose CoM is at `com` (body frame) with inertia I_cm about
-/// the CoM in body axes: Simbody wants the inertia about the body origin.
-SimTK::MassProperties AboutOrigin(double mass, const math::Vec3& com, const math::Mat3& I_cm) {
-  const SimTK::Inertia about_origin = ToInertia(I_cm).shiftFromMassCenter(-ToSimTK(com), mass);
-  return SimTK::MassProperties(mass, ToSimTK(com), about_origin);
-}
 
 /// Which stage boundary the prescribed hinge motion is integrating towards: at that time
 /// the schedule is evaluated from the left (a rate may jump there), elsewhere from the
@@ -164,13 +145,9 @@ void AddHingedBodies(Satellite& sat, const model::HingedBody& body) {
   }
 }
 
-/// The system's central momentum (angular, linear) in Ground as a 6-vector.
+/// The system's central momentum (angular, linear) in Ground.
 Vec6 CentralMomentum(const Satellite& sat, const SimTK::State& s) {
-  sat.system.realize(s, SimTK::Stage::Velocity);
-  const SimTK::SpatialVec m = sat.matter.calcSystemCentralMomentum(s);
-  Vec6 r;
-  r << m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2];
-  return r;
+  return simtk::CentralMomentum(sat.system, sat.matter, s);
 }
 
 /// Sets the hub's generalized speeds so that the system's central angular momentum in
@@ -276,15 +253,6 @@ FlipValue Flip(const Satellite& sat, const SimTK::State& s, const math::Vec3& sp
   const analysis::SpinAxisRole r = analysis::LocateSpinAxis(J_B, spin_axis_B);
   return {snap.H_B.dot(r.axis_B), r.role == analysis::AxisRole::kIntermediate,
           analysis::IsFlip(J_B, spin_axis_B, snap.H_B)};
-}
-
-/// Throws std::runtime_error if Simbody's integrator gave up.
-void ThrowIfOver(const SimTK::Integrator& integ) {
-  if (integ.isSimulationOver()) {
-    throw std::runtime_error(
-        "Simbody: integration ended at t = " + Exact(integ.getTime()) +
-        " s: " + SimTK::Integrator::getTerminationReasonString(integ.getTerminationReason()));
-  }
 }
 
 /// Advances `integ` exactly to t (interpolated reports are off).

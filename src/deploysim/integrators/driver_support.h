@@ -38,6 +38,41 @@ inline double AcceptedStepFactor(double err, int q) {
              : std::min(kMaxGrow, std::max(kMinShrink, kSafety * std::pow(err, -1.0 / (q + 1))));
 }
 
+// The steps across one segment [a, b] between breakpoints. Adaptive methods: the
+// proposed step, cut so that a step that would end within eps of b ends on b exactly.
+// Fixed-step methods: the largest step <= the requested one that divides the segment;
+// step k of n ends at a + k (b - a) / n, computed afresh so that times do not drift.
+class SegmentSteps {
+ public:
+  SegmentSteps(double a, double b, bool adaptive, double fixed_step)
+      : a_(a),
+        b_(b),
+        eps_(kTimeEps * std::max(b - a, std::abs(b))),
+        adaptive_(adaptive),
+        n_fixed_(adaptive ? 0.0 : std::max(1.0, std::ceil((b - a) / fixed_step * (1.0 - 1e-12)))) {}
+
+  // Times within eps of b count as b.
+  double eps() const { return eps_; }
+  bool Done(double t) const { return !(t < b_ - eps_); }
+
+  // The next step from t (adaptive: at most h_proposed); *last is set if it ends on b.
+  double Next(double t, double h_proposed, bool* last) {
+    if (adaptive_) {
+      *last = t + h_proposed >= b_ - eps_;
+      return *last ? b_ - t : h_proposed;
+    }
+    k_fixed_ += 1.0;
+    *last = k_fixed_ >= n_fixed_;
+    return (*last ? b_ : a_ + (b_ - a_) * (k_fixed_ / n_fixed_)) - t;
+  }
+
+ private:
+  double a_, b_, eps_;
+  bool adaptive_;
+  double n_fixed_;
+  double k_fixed_ = 0.0;
+};
+
 // The time of the sign change of g over the step [t0, t1] (g0, g1 of opposite signs,
 // g1 != 0): bracketed on the continuous extension (no right-hand sides), then, unless
 // the stepper's dense output is exact, finished on exact partial steps inside a narrow

@@ -202,12 +202,8 @@ IntegrationResult Integrate(const Stepper& stepper,
     const double a = bounds[seg];
     const double b = bounds[seg + 1];
     problem.SetSegment(a, b);
-    const double eps = kTimeEps * std::max(b - a, std::abs(b));
-    // Fixed-step methods: the largest step <= settings.step that divides the segment.
-    // Step k of n ends at a + k (b - a) / n, computed afresh so times do not drift.
-    const double n_fixed =
-        info.adaptive ? 0.0 : std::max(1.0, std::ceil((b - a) / settings.step * (1.0 - 1e-12)));
-    double k_fixed = 0.0;
+    driver::SegmentSteps steps(a, b, info.adaptive, settings.step);
+    const double eps = steps.eps();
     if (info.adaptive && h_adapt <= 0.0) {
       // Automatic first step: a small fraction of the rotation time scale.
       const math::Vec3 w = problem.Sample(a).J_inv_B * (y.H_B - problem.Sample(a).h_rel_B);
@@ -223,19 +219,12 @@ IntegrationResult Integrate(const Stepper& stepper,
         result.stats.dense_steps = ws.dense_steps + event_partial_steps;
         return result;
       }
-      double h;
       bool last = false;
-      if (info.adaptive) {
-        h = std::min({h_adapt, settings.max_step, stepper.MaxStep(problem, y, ws)});
-        if (y.t + h >= b - eps) {
-          h = b - y.t;
-          last = true;
-        }
-      } else {
-        k_fixed += 1.0;
-        last = k_fixed >= n_fixed;
-        h = (last ? b : a + (b - a) * (k_fixed / n_fixed)) - y.t;
-      }
+      const double h = steps.Next(
+          y.t,
+          info.adaptive ? std::min({h_adapt, settings.max_step, stepper.MaxStep(problem, y, ws)})
+                        : 0.0,
+          &last);
       StepAttempt att = stepper.Step(problem, y, h, tol, ws);
       if (info.adaptive) {
         const double err = att.error_norm;

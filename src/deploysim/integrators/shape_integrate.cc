@@ -369,10 +369,8 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
     const double a = bounds[seg];
     const double b = bounds[seg + 1];
     stepper.SetSegmentEnd(b);
-    const double eps = driver::kTimeEps * std::max(b - a, std::abs(b));
-    const double n_fixed =
-        adaptive ? 0.0 : std::max(1.0, std::ceil((b - a) / settings.step * (1.0 - 1e-12)));
-    double k_fixed = 0.0;
+    driver::SegmentSteps steps(a, b, adaptive, settings.step);
+    const double eps = steps.eps();
     if (adaptive && h_adapt <= 0.0) {
       // Automatic first step: a small fraction of the rotation time scale.
       const double rate = std::max(1.0, 1.0 / (b - a));
@@ -382,19 +380,9 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
       if (++attempts > settings.max_steps) {
         return finish(Termination::kMaxSteps, "max_steps reached at t = " + std::to_string(y.t));
       }
-      double h;
       bool last = false;
-      if (adaptive) {
-        h = std::min(h_adapt, settings.max_step);
-        if (y.t + h >= b - eps) {
-          h = b - y.t;
-          last = true;
-        }
-      } else {
-        k_fixed += 1.0;
-        last = k_fixed >= n_fixed;
-        h = (last ? b : a + (b - a) * (k_fixed / n_fixed)) - y.t;
-      }
+      const double h =
+          steps.Next(y.t, adaptive ? std::min(h_adapt, settings.max_step) : 0.0, &last);
       double err = 0.0;
       ShapeState y1 = stepper.Step(y, h, tol, &err);
       if (adaptive) {
