@@ -133,13 +133,25 @@ void FreeHingeSystem::Setup(double t, const Eigen::VectorXd& x, dynamics::Side s
   for (int a = 0; a < m; ++a) theta_[free_[static_cast<std::size_t>(a)]] = x[a];
   cols_.assign(free_.begin(), free_.end());
   cols_.insert(cols_.end(), moving_.begin(), moving_.end());
-  model::ComputePose(body_, tree_, theta_, pose_);
+  if (!pose_valid_ || theta_ != pose_theta_) {
+    model::ComputePose(body_, tree_, theta_, pose_);
+    pose_theta_ = theta_;
+    pose_valid_ = true;
+    mass_valid_ = false;
+  }
+}
+
+void FreeHingeSystem::UpdateMassMatrix() const {
+  if (mass_valid_ && cols_ == mass_cols_) return;
+  model::ComputeMassMatrix(body_, tree_, pose_, cols_, M_);
+  mass_cols_ = cols_;
+  mass_valid_ = true;
 }
 
 void FreeHingeSystem::Solve(const Vec3& H_B, const Eigen::VectorXd& x) const {
   const int m = free_count();
   const int q = static_cast<int>(moving_.size());
-  model::ComputeMassMatrix(body_, tree_, pose_, cols_, M_);
+  UpdateMassMatrix();
   const int u = 3 + m;
   rhs_.resize(u);
   rhs_.head<3>() = H_B;
@@ -216,6 +228,7 @@ dynamics::InertiaSample FreeHingeSystem::Evaluate(double t, dynamics::Side side)
     throw std::logic_error("FreeHingeSystem: evaluated as an inertia source with free hinges");
   }
   Setup(t, Eigen::VectorXd(), side);
+  if (sample_valid_ && theta_ == sample_theta_ && theta_dot_ == sample_theta_dot_) return sample_;
   const model::MassProperties mp = model::ComputeMassProperties(body_, theta_, theta_dot_);
   dynamics::InertiaSample s;
   s.J_B = mp.J_B;
@@ -223,6 +236,10 @@ dynamics::InertiaSample FreeHingeSystem::Evaluate(double t, dynamics::Side side)
   s.h_rel_B = mp.h_rel_B;
   s.J_inv_B = mp.J_B.inverse();
   s.relative_kinetic_energy = mp.relative_kinetic_energy;
+  sample_ = s;
+  sample_theta_ = theta_;
+  sample_theta_dot_ = theta_dot_;
+  sample_valid_ = true;
   return s;
 }
 
@@ -285,7 +302,7 @@ Eigen::VectorXd FreeHingeSystem::ShapeState(double t,
   Setup(t, x, side);
   // Full velocity vector over (w, cols_): the free hinges' rates as given, the
   // prescribed ones from their moves; w from H_B = J w + B theta'.
-  model::ComputeMassMatrix(body_, tree_, pose_, cols_, M_);
+  UpdateMassMatrix();
   const int c = static_cast<int>(cols_.size());
   Eigen::VectorXd rates(c);
   for (int b = 0; b < c; ++b) {

@@ -111,6 +111,8 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   void Setup(double t, const Eigen::VectorXd& x, dynamics::Side side) const;
   /// Mass matrix over cols_ and the solve for (w, theta'_f) into w_, theta_dot_.
   void Solve(const math::Vec3& H_B, const Eigen::VectorXd& x) const;
+  /// M_ over cols_ at pose_ (kept while neither the angles nor cols_ change).
+  void UpdateMassMatrix() const;
 
   model::HingedBody body_;
   model::PanelTree tree_;
@@ -128,6 +130,17 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   mutable std::vector<int> cols_, moving_;
   mutable Eigen::MatrixXd M_, A_;
   mutable Eigen::VectorXd rhs_, sol_, grad_, rates_;
+  // What pose_, M_ and the last inertia sample were computed from: while every hinge is
+  // locked (or at rest) the outputs and events of a rigid phase ask for the same
+  // configuration again and again, and the tree's kinematics need not be redone. Keyed
+  // on the exact values, so a Lock(), Free() or a moving hinge is seen without a signal.
+  mutable Eigen::VectorXd pose_theta_;
+  mutable bool pose_valid_ = false;
+  mutable std::vector<int> mass_cols_;
+  mutable bool mass_valid_ = false;
+  mutable Eigen::VectorXd sample_theta_, sample_theta_dot_;
+  mutable bool sample_valid_ = false;
+  mutable dynamics::InertiaSample sample_;
   mutable math::Vec3 w_ = math::Vec3::Zero();
   /// The drive's generalized force on free hinge k at time t (DriveTorque + ServoTorque).
   double Torque(int k, double t, dynamics::Side side, double theta, double theta_dot) const;
