@@ -64,7 +64,8 @@ TEST(HingeMissionTest, UndampedSpringsConserveEnergyAndMomentum) {
   }
   std::printf("undamped: max |E - E0| / E0 = %.3g, h_N drift %.3g, %ld steps\n", worst,
               r.max_h_N_drift, r.stats.steps);
-  EXPECT_LT(worst, 1e-10);
+  // Acceptance 1 asks for <= 1e-10; measured 3.2e-12 (h_N 1.9e-15).
+  EXPECT_LT(worst, 1e-11);
   EXPECT_LT(r.max_h_N_drift, 1e-14);
   // The wings really swing (not a trivial run).
   double swing = 0.0;
@@ -99,7 +100,7 @@ TEST(HingeMissionTest, DampedEnergyDecreasesByTheDampersWork) {
   std::printf("damped: loss %.12g J, integral of c theta'^2 %.12g J, relative %.3g\n", loss,
               dissipated, std::abs(loss - dissipated) / loss);
   EXPECT_GT(loss, 0.1 * TotalEnergy(tr, 0));
-  EXPECT_NEAR(loss, dissipated, 1e-8 * loss);
+  EXPECT_NEAR(loss, dissipated, 2e-12 * loss);  // measured 5.0e-13 (Simpson, rtol 1e-12)
   EXPECT_LT(r.max_h_N_drift, 1e-14);
 }
 
@@ -132,12 +133,19 @@ TEST(HingeMissionTest, LatchDissipatesTheClosedFormAndReleasesTheNextWing) {
   const double inv1 = InverseMassEntry(p.model.hinged, Eigen::Vector2d(0.0, 0.0), {1}, 1);
   for (const auto& [ev, inv] : {std::pair{latch0, inv0}, std::pair{latch1, inv1}}) {
     const double expected = ev.rate_before * ev.rate_before / (2.0 * inv);
-    EXPECT_NEAR(ev.energy_dissipated, expected, 1e-12 * expected);
-    EXPECT_NEAR(ev.impulse, -ev.rate_before / inv, 1e-12 * std::abs(ev.impulse));
+    std::printf("latch at %.6f s: dissipated %.3g relative to the closed form, impulse %.3g\n",
+                ev.t, std::abs(ev.energy_dissipated - expected) / expected,
+                std::abs(ev.impulse + ev.rate_before / inv) / std::abs(ev.impulse));
+    // Measured 1.5e-16 and 1.8e-16 (energy), 0 (impulse): rounding.
+    EXPECT_NEAR(ev.energy_dissipated, expected, 2e-15 * expected);
+    EXPECT_NEAR(ev.impulse, -ev.rate_before / inv, 2e-15 * std::abs(ev.impulse));
   }
   const Trajectory& tr = r.trajectory;
   const double loss = TotalEnergy(tr, 0) - TotalEnergy(tr, tr.size() - 1);
-  EXPECT_NEAR(loss, latch0.energy_dissipated + latch1.energy_dissipated, 1e-10 * loss);
+  std::printf("energy lost over the run against the latches' sum: %.3g relative\n",
+              std::abs(loss - latch0.energy_dissipated - latch1.energy_dissipated) / loss);
+  EXPECT_NEAR(loss, latch0.energy_dissipated + latch1.energy_dissipated,
+              1e-12 * loss);  // measured 3.2e-13 (the integration between the latches)
   EXPECT_LT(r.max_h_N_drift, 1e-14);
   EXPECT_DOUBLE_EQ(r.latch_times[0], latch0.t);
   EXPECT_DOUBLE_EQ(r.latch_times[1], latch1.t);
