@@ -182,8 +182,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer(
       "Examples:\n"
+      "  deploysim simulate deployment_profiles/smallsat_spring_deploy.yaml -o spring.h5\n"
+      "      (free hinges: springs, dampers, latches; prints the deployment timeline)\n"
       "  deploysim simulate deployment_profiles/smallsat_three_stage.yaml -o out/smallsat.h5\n"
       "  deploysim simulate deployment_profiles/wing_nut.yaml --method exact -o wing_nut.h5\n"
+      "  deploysim analyze deployment_profiles/minor_axis_flat_spin.yaml   (energy sink)\n"
       "  deploysim analyze deployment_profiles/seed_satellite.yaml\n"
       "  deploysim analyze deployment_profiles/smallsat_three_stage.yaml --json\n"
       "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml -o smallsat_cc.h5\n"
@@ -207,8 +210,11 @@ int main(int argc, char** argv) {
                 "also run the other coupling and report the difference (geometry mode)");
   AddOverrideOptions(sim, ov);
   sim->footer(
-      "Example: deploysim simulate deployment_profiles/wing_nut.yaml -o wing_nut.h5 --method rkf78 "
-      "--rtol 1e-12");
+      "Examples:\n"
+      "  deploysim simulate deployment_profiles/wing_nut.yaml -o wing_nut.h5 --method rkf78 "
+      "--rtol 1e-12\n"
+      "  deploysim simulate deployment_profiles/smallsat_spring_deploy.yaml -o spring.h5\n"
+      "  (a hinge profile: the deployment timeline is printed; the file holds the hinge events)");
 
   CLI::App* ana =
       app.add_subcommand("analyze", "stability per stage, predicted flips, danger windows");
