@@ -582,8 +582,7 @@ void RequireShapeMethod(const Fields& top, const schedule::Profile& base) {
                            JoinNames(integrators::ShapeMethodNames()) + ", exact)";
   if (top.Has("integrator")) {
     const Fields f = top.Mapping("integrator", {"method", "rtol", "atol", "step", "max_step"});
-    if (f.Has("method"))
-      f.Fail("method", "the base " + base.source + " has free hinges" + rule);
+    if (f.Has("method")) f.Fail("method", "the base " + base.source + " has free hinges" + rule);
   }
   top.Fail("base", "integrator.method = " + method + " in the base profile" + rule);
 }
