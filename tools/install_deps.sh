@@ -13,6 +13,8 @@ packages=(
   python3-matplotlib python3-h5py python3-numpy python3-mpmath
   libopenmpi-dev openmpi-bin        # optional MPI sweeps (cmake -DDEPLOYSIM_WITH_MPI=ON)
   clang libfuzzer-14-dev            # fuzz targets (tools/fuzz.sh, cmake -DDEPLOYSIM_FUZZ=ON)
+  chromium                          # headless page tests (tools/headless_chromium.py)
+  libjs-three ffmpeg                # 3D viewer (three.js r111) and animations (MP4, GIF)
 )
 
 missing=()
