@@ -19,6 +19,7 @@
 #include "deploysim/analysis/coupling_comparison.h"
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/mission.h"
+#include "deploysim/cli/python_tool.h"
 #include "deploysim/cli/report.h"
 #include "deploysim/io/atomic_file.h"
 #include "deploysim/io/trajectory_file.h"
@@ -192,6 +193,8 @@ int main(int argc, char** argv) {
       "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml -o smallsat_cc.h5\n"
       "  deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5\n"
       "  deploysim methods\n"
+      "  deploysim report deployment_profiles/smallsat_spring_deploy.yaml -o report.html\n"
+      "  deploysim view spring.h5 -o spring.html   (3D viewer; open it in a browser)\n"
       "File formats: docs/file_formats.md. Plots: /usr/bin/python3 tools/plot_trajectory.py "
       "OUT.h5");
 
@@ -291,7 +294,29 @@ int main(int argc, char** argv) {
 
   CLI::App* meth = app.add_subcommand("methods", "list the integrators");
 
+  // Python tools (python_tool.h): their arguments, --help included, go to the script.
+  CLI::App* rep = app.add_subcommand(
+      "report",
+      "a self-contained HTML mission report for a design review (deploysim report PROFILE -o "
+      "REPORT.html; runs tools/report.py, see deploysim report --help)");
+  CLI::App* view = app.add_subcommand(
+      "view",
+      "a self-contained 3D viewer page of a trajectory (deploysim view RESULT.h5 -o "
+      "RESULT.html; runs tools/view.py, see deploysim view --help)");
+  for (CLI::App* tool : {rep, view}) {
+    tool->prefix_command();
+    tool->set_help_flag();
+  }
+
   CLI11_PARSE(app, argc, argv);
+
+  for (const auto& [tool, script] : {std::pair{rep, "report.py"}, std::pair{view, "view.py"}}) {
+    if (!tool->parsed()) continue;
+    std::string error;
+    deploysim::cli::ExecPythonTool(script, tool->remaining(), error);
+    std::cerr << "deploysim: error: " << error << "\n";
+    return kExitBadInput;
+  }
 
   try {
     if (meth->parsed()) {
