@@ -162,7 +162,7 @@ class Browser:
         self.wait_event("Page.loadEventFired", session)
         load_seconds = time.monotonic() - t0
         self.drain(settle)
-        return Page(self, session, load_seconds)
+        return Page(self, session, load_seconds, target)
 
     def close(self):
         if self._proc.poll() is None:
@@ -193,9 +193,10 @@ def _remote_object_text(obj):
 
 
 class Page:
-    def __init__(self, browser, session, load_seconds):
+    def __init__(self, browser, session, load_seconds, target):
         self.browser = browser
         self.session = session
+        self.target = target
         self.load_seconds = load_seconds  # navigation start to the load event [s]
 
     def evaluate(self, expression, await_promise=True):
@@ -214,6 +215,10 @@ class Page:
                                  session=self.session)["data"]
         pathlib.Path(path).write_bytes(base64.b64decode(data))
         return path
+
+    def close(self):
+        """Closes the tab (its events stay readable through errors())."""
+        self.browser.call("Target.closeTarget", {"targetId": self.target})
 
     def errors(self):
         """Console errors, uncaught exceptions and failed loads of this page, one line each."""
