@@ -58,7 +58,8 @@ from matplotlib.lines import Line2D  # noqa: E402
 assert plot_trajectory  # imported for its backend choice and helpers
 
 DPI = 150
-N_POINTS = 721            # samples of the angle parameter per closed polhode
+N_POINTS = 721            # samples of the angle parameter per closed polhode (odd: the
+#                           angles 0, pi/2, pi, 3 pi/2 are all samples)
 RUN_COLOR = "#00a651"     # the run's own polhode (not in the dbar colour map)
 SEP_COLOR = "k"
 CMAP = plt.get_cmap("coolwarm")  # blue: dbar < 1 (about H3), red: dbar > 1 (about H1)
@@ -152,7 +153,7 @@ def separatrix(J):
     code's order), columns reversed to thesis order.
     """
     j1, j3 = ratios(J)
-    return [c[:, ::-1] for c in separatrix_circles(np.diag([j3, 1.0, j1]))]
+    return [c[:, ::-1] for c in separatrix_circles(np.diag([j3, 1.0, j1]), N_POINTS)]
 
 
 def asymptote_slope(J):
