@@ -100,6 +100,20 @@ def figure(num, caption, name, num_run, exact_run, scheme):
     return fig, float(np.abs(diff).max())
 
 
+def build_figures(deploysim, method, step):
+    """[(png name, figure, max |numerical - closed form|)] for the three seed figures."""
+    scheme = f"--method {method}" + (f" --step {step:g} s" if step is not None else "")
+    figs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for num, stem, caption in FIGURES:
+            profile = os.path.join(SOURCE, "deployment_profiles", stem + ".yaml")
+            num_run = simulate(deploysim, profile, os.path.join(tmp, "num.h5"), method, step)
+            exact = simulate(deploysim, profile, os.path.join(tmp, "exact.h5"), "exact")
+            fig, err = figure(num, caption, stem, num_run, exact, scheme)
+            figs.append((f"seed_fig{num.replace('.', '_')}_{stem}.png", fig, err))
+    return figs
+
+
 def main(argv):
     ap = argparse.ArgumentParser(
         prog="plot_seed_figures.py", description=__doc__.split("\n")[0],
@@ -117,16 +131,8 @@ def main(argv):
         print("plot_seed_figures: no deploysim binary (--deploysim)", file=sys.stderr)
         return 1
     step = a.step if a.step is not None else SEED_STEP if a.method == "thesis-euler" else None
-    scheme = f"--method {a.method}" + (f" --step {step:g} s" if step is not None else "")
-    figs = []
     try:
-        with tempfile.TemporaryDirectory() as tmp:
-            for num, stem, caption in FIGURES:
-                profile = os.path.join(SOURCE, "deployment_profiles", stem + ".yaml")
-                num_run = simulate(exe, profile, os.path.join(tmp, "num.h5"), a.method, step)
-                exact = simulate(exe, profile, os.path.join(tmp, "exact.h5"), "exact")
-                fig, err = figure(num, caption, stem, num_run, exact, scheme)
-                figs.append((f"seed_fig{num.replace('.', '_')}_{stem}.png", fig, err))
+        figs = build_figures(exe, a.method, step)
     except (RuntimeError, OSError, KeyError) as e:
         print(f"plot_seed_figures: {e}", file=sys.stderr)
         return 1

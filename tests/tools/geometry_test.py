@@ -37,6 +37,9 @@ TOL_AXIS = 1e-15         # separatrix through (0, +-1, 0); measured 1.2e-16
 TOL_SLOPE = 1e-14        # asymptote slope, relative; measured 0 (same formula, fixed typo)
 TOL_RUN = 1e-14          # the run's polhode (rkmk-rkf78, rtol 1e-12); measured 2.9e-15
 CONIC_MARGIN = 1e-2      # |B^2 - 4AC| / (A^2 + B^2 + C^2) must exceed it; measured 0.13
+TOL_SEED_RK4 = 1e-9      # seed Figs. 3.1-3.3, rk4 h = 1e-3 s vs closed form, relative to
+#                          max |H|; measured 2.3e-10 (the wing nut)
+TOL_NORM = 1e-14         # closed-form |H| constant over 40 s, relative; measured 2.7e-15
 CONIC_FIT = 1e-13        # smallest / largest singular value of the fit; measured 8.5e-16
 
 
@@ -249,6 +252,32 @@ class GeometryRunTest(unittest.TestCase):
             data = (out / name).read_bytes()
             self.assertEqual(data[:8], b"\x89PNG\r\n\x1a\n")
             self.assertGreater(len(data), 50000)
+
+    def test_seed_time_series_beside_their_closed_form(self):
+        """tools/plot_seed_figures.py: three figures; the closed-form panel conserves |H|
+        and a 4th-order run (rk4, h = 1e-3 s) draws the same curves as the closed form."""
+        import plot_seed_figures
+        figs = plot_seed_figures.build_figures(DEPLOYSIM, "rk4", 1e-3)
+        self.assertEqual([n for n, _, _ in figs],
+                         ["seed_fig3_1_wing_nut.png", "seed_fig3_2_seed_limit_j2_to_j1.png",
+                          "seed_fig3_3_seed_limit_j2_to_j3.png"])
+        worst_diff = worst_norm = 0.0
+        for name, fig, _ in figs:
+            num, exact, diff = fig.axes[:3]
+            colors = [ln.get_color() for ln in exact.get_lines()]
+            self.assertEqual(colors, ["red", "green", "blue", "k"], name)
+            norm = exact.get_lines()[3].get_ydata()
+            scale = max(np.abs(ln.get_ydata()).max() for ln in exact.get_lines())
+            worst_norm = max(worst_norm, np.ptp(norm) / norm.mean())
+            for a, b in zip(num.get_lines(), exact.get_lines()):
+                worst_diff = max(worst_diff,
+                                 np.abs(a.get_ydata() - b.get_ydata()).max() / scale)
+            for a, b, c in zip(num.get_lines()[:3], exact.get_lines(), diff.get_lines()):
+                self.assertTrue(np.array_equal(c.get_ydata(), a.get_ydata() - b.get_ydata()))
+        report("seed figures: rk4 vs closed form, relative", worst_diff, TOL_SEED_RK4)
+        report("seed figures: closed-form |H| spread, relative", worst_norm, TOL_NORM)
+        self.assertLess(worst_diff, TOL_SEED_RK4)
+        self.assertLess(worst_norm, TOL_NORM)
 
     def test_bad_input_one_line_nonzero_no_files(self):
         """Each bad input: exit status 1, one line on stderr, no output folder. Run through
