@@ -35,7 +35,7 @@ Examples:
   deploysim simulate deployment_profiles/smallsat_spring_deploy.yaml -q -o spring.h5
   /usr/bin/python3 tools/plot_geometry.py spring.h5 --stage 4 -o geo_spring
   /usr/bin/python3 tools/plot_geometry.py deployment_profiles/smallsat_three_stage.yaml \\
-      --deploysim build/src/cli/deploysim --stage 0 -o geo_stowed
+      --deploysim build/release/bin/deploysim --stage 0 -o geo_stowed
 Needs Debian's python3-matplotlib, python3-h5py, python3-numpy (run with /usr/bin/python3).
 """
 import argparse
@@ -213,7 +213,7 @@ def read_trajectory(path, stage=None):
     if not 0 <= k < nstage:
         raise GeometryError(f"{path}: --stage {stage} out of range (the file has "
                             f"{nstage} stage{'s' if nstage != 1 else ''}: 0..{nstage - 1})")
-    J = thesis_moments(moments[k])
+    J = _moments(path, k, moments[k])
     sel = (t >= tb[k]) & (t <= te[k])
     if np.count_nonzero(sel) < 2:
         raise GeometryError(f"{path}: stage {k} has fewer than 2 samples")
@@ -238,16 +238,31 @@ def profile_moments(path, deploysim, stage=None):
     exe = deploysim or os.environ.get("DEPLOYSIM_BIN") or shutil.which("deploysim")
     if not exe:
         raise GeometryError(f"{path}: a profile needs the deploysim binary (--deploysim)")
-    r = subprocess.run([exe, "analyze", path, "--json"], capture_output=True, text=True)
+    try:
+        r = subprocess.run([exe, "analyze", path, "--json"], capture_output=True, text=True)
+    except OSError as e:
+        raise GeometryError(f"{path}: cannot run {exe}: {e.strerror}") from None
     if r.returncode != 0:
         err = (r.stderr.strip().splitlines() or ["failed"])[-1]
         raise GeometryError(f"{path}: deploysim analyze: {err}")
-    stages = json.loads(r.stdout)["stages"]
+    try:
+        stages = json.loads(r.stdout)["stages"]
+    except (ValueError, KeyError, TypeError):
+        raise GeometryError(f"{path}: deploysim analyze --json gave no stages") from None
     k = len(stages) - 1 if stage is None else stage
     if not 0 <= k < len(stages):
         raise GeometryError(f"{path}: --stage {stage} out of range (the profile has "
-                            f"{len(stages)} stages: 0..{len(stages) - 1})")
-    return thesis_moments(stages[k]["principal_moments_end"]), k, stages[k]["name"]
+                            f"{len(stages)} stage{'s' if len(stages) != 1 else ''}: "
+                            f"0..{len(stages) - 1})")
+    return _moments(path, k, stages[k]["principal_moments_end"]), k, stages[k]["name"]
+
+
+def _moments(path, k, moments):
+    """thesis_moments() with the file and stage named in the error."""
+    try:
+        return thesis_moments(moments)
+    except GeometryError as e:
+        raise GeometryError(f"{path}: stage {k}: {e}") from None
 
 
 # --- drawing ------------------------------------------------------------------------

@@ -13,7 +13,7 @@ In these three models the body axes x, y, z carry J1 >= J2 >= J3, so the body co
 of H_B are the thesis's H1C, H2C, H3C (checked; a profile without it is refused).
 
 Examples:
-  /usr/bin/python3 tools/plot_seed_figures.py --deploysim build/src/cli/deploysim -o seed
+  /usr/bin/python3 tools/plot_seed_figures.py --deploysim build/release/bin/deploysim -o seed
   /usr/bin/python3 tools/plot_seed_figures.py --deploysim BIN --method rk4 --step 1e-3 -o seed
 Needs Debian's python3-matplotlib, python3-h5py, python3-numpy (run with /usr/bin/python3).
 """

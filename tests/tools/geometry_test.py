@@ -290,6 +290,10 @@ class GeometryRunTest(unittest.TestCase):
         other = self.dir / "other.h5"
         with h5py.File(other, "w") as f:
             f["time"] = np.zeros(3)
+        limit = self.dir / "j2_to_j3.h5"
+        subprocess.run([DEPLOYSIM, "simulate", "-q", "-o", str(limit),
+                        str(SOURCE / "deployment_profiles/seed_limit_j2_to_j3.yaml")],
+                       check=True, capture_output=True)
         text_file = self.dir / "notes.txt"
         text_file.write_text("not a profile\n")
         cases = {
@@ -303,6 +307,13 @@ class GeometryRunTest(unittest.TestCase):
             "two equal to round-off": ["--inertia", "2.741e-6", repr(2.741e-6 * (1 + 4e-16)),
                                        "0.699e-6"],
             "neither HDF5 nor YAML": [str(text_file)],
+            "profile with J2 = J1": [str(SOURCE / "deployment_profiles/seed_limit_j2_to_j1.yaml"),
+                                     "--deploysim", DEPLOYSIM],
+            "trajectory with J2 = J3": [str(limit)],
+            "profile stage out of range": [str(SOURCE / "deployment_profiles/wing_nut.yaml"),
+                                           "--deploysim", DEPLOYSIM, "--stage", "2"],
+            "not a deploysim binary": [str(SOURCE / "deployment_profiles/wing_nut.yaml"),
+                                       "--deploysim", str(self.dir / "no_such_binary")],
             "nothing to draw": [],
         }
         for what, args in cases.items():
