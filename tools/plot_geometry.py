@@ -353,7 +353,7 @@ def figure_ellipsoid(J, run=None, count=5, title=""):
     fig.suptitle(_suptitle(J, title), fontsize=11)
     fig.subplots_adjust(left=0.02, right=0.9, bottom=0.03, top=0.90, wspace=0.05,
                         hspace=0.12)
-    _colorbar(fig, J, [0.92, 0.08, 0.012, 0.35])
+    _colorbar(fig, J, [0.935, 0.08, 0.012, 0.35])
     return fig
 
 
