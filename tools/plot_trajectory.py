@@ -535,8 +535,11 @@ def plot_hinge_angles(d, out):
     finish(fig, axes[-1], os.path.join(out, "hinge_angles.png"), title, d, xlim=xlim)
 
 
-def separatrix_circles(J):
-    """Great circles on the unit momentum sphere separating the polhode families of J."""
+def separatrix_circles(J, n=400):
+    """Great circles on the unit momentum sphere separating the polhode families of J.
+
+    Each circle is n points from the angle 0 to 2 pi, starting at the intermediate axis;
+    an odd n also has a sample exactly on its opposite end (plot_geometry uses that)."""
     vals, vecs = np.linalg.eigh(J)
     i1, i2, i3 = vals
     if not (i2 - i1 > 1e-9 * i3 and i3 - i2 > 1e-9 * i3):
@@ -544,7 +547,7 @@ def separatrix_circles(J):
     # x1^2 (1/i1 - 1/i2) = x3^2 (1/i2 - 1/i3) on the unit sphere: two planes through axis 2.
     a = np.sqrt(1 / i1 - 1 / i2)
     b = np.sqrt(1 / i2 - 1 / i3)
-    s = np.linspace(0, 2 * np.pi, 400)
+    s = np.linspace(0, 2 * np.pi, n)
     circles = []
     for sign in (1, -1):
         n = np.array([a, 0.0, -sign * b])  # plane normal in the principal frame
