@@ -26,6 +26,7 @@ MAX_PAGE_BYTES = 5_000_000   # issue 12: the main job's page under 5 MB
 MAX_READY_SECONDS = 2.0      # ... and drawn within 2 s of the navigation start
 MIN_CHANGED_FRACTION = 0.02  # of the pixels around the body between two times
 MIN_SCENE_STDDEV = 0.02      # grey-level spread of a scene that is not blank (0..1)
+MAX_DRAWN_ATTITUDE_ERROR_DEG = 0.5   # slerp between kept samples vs every sample (0.04)
 
 
 def run(*args, **kw):
@@ -71,6 +72,19 @@ class ViewerTest(unittest.TestCase):
         self.assertLess(worst, INERTIA_REL_TOL)
         # The panels do swing: the inertia changes from closed to open.
         self.assertGreater(np.abs(r["J"][0] - r["J"][-1]).max(), 1.0)
+
+    def test_decimation_keeps_what_the_eye_needs(self):
+        """The attitude the page draws between kept samples (slerp) is within half a
+        degree of every sample; the hinge events' swings are kept."""
+        r = self.scene.read_run(str(self.h5))
+        idx = self.scene.decimate(r)
+        err = np.degrees(self.scene.interpolation_error(r, idx))
+        print(f"\n  kept {len(idx)} of {len(r['time'])} samples; drawn attitude within "
+              f"{err:.3f} deg of every sample")
+        self.assertLess(err, MAX_DRAWN_ATTITUDE_ERROR_DEG)
+        self.assertLess(len(idx), len(r["time"]) // 2)
+        steps = np.abs(np.diff(r["hinge"][idx], axis=0)).max()
+        self.assertLessEqual(steps, np.radians(1.0) + np.abs(np.diff(r["hinge"], axis=0)).max())
 
     def test_page_offline_no_errors_and_moving_body(self):
         size = self.html.stat().st_size
