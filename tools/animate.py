@@ -9,7 +9,8 @@ RESULT.h5 is a trajectory or a cross-check file (then both models side by side).
 video shows the run from --t0 to --t1 (default: all of it) in --seconds at --fps: the
 body (hub and panels at their hinge angles, or the equivalent box of a tensors model)
 with its axes (x red, y green, z blue), the fixed h_N (gold, pointing up), the spin axis
-and its trail (magenta), flips (white dots) and, beside it, H_B / |H| and the angle
+and its trail (magenta), flips (white dots), hinge releases (green) and latches
+(orange) and, beside it, H_B / |H| and the angle
 between the spin axis and h_N with a moving marker, and the stage timeline (danger window
 shaded). --gif also writes OUT.gif (same frames, 256-colour palette).
 
@@ -119,7 +120,7 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
 
     polys = Poly3DCollection([], edgecolor="k", linewidths=0.3)
     ax.add_collection3d(polys)
-    axis_lines, spin_lines, trails, flip_pts = [], [], [], []
+    axis_lines, spin_lines, trails, flip_pts, event_pts = [], [], [], [], []
     for si in range(nS):
         o = offsets[si]
         hN = P @ (run["sides"][si]["h_N"][0] / np.linalg.norm(run["sides"][si]["h_N"][0]))
@@ -129,6 +130,8 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
         spin_lines.append(ax.plot([], [], [], color="#ff60ff", lw=2)[0])
         trails.append(ax.plot([], [], [], color="#ff60ff", lw=0.8)[0])
         flip_pts.append(ax.plot([], [], [], "o", color="white", ms=4)[0])
+        event_pts.append({kind: ax.plot([], [], [], "o", color=c, ms=3)[0]
+                          for kind, c in (("release", "#33cc99"), ("latch", "#ff9933"))})
         # The spin-axis tip over the whole run (plot frame), for the trail.
         R_all = scene.quat_to_matrix(run["sides"][si]["q"])
         run["sides"][si]["_tip"] = o + 1.25 * L * (R_all @ sB) @ P.T
@@ -210,6 +213,12 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
                 flip_pts[si].set_data_3d(fp[:, 0], fp[:, 1], fp[:, 2])
             else:
                 flip_pts[si].set_data_3d([], [], [])
+            for kind, pts_line in event_pts[si].items():
+                te = [e["t"] for e in run["events"] if e["t"] <= t and
+                      (e["kind"] == "release") == (kind == "release")]
+                ek = np.clip(np.searchsorted(ts, te), 0, len(ts) - 1).astype(int)
+                ep = run["sides"][si]["_tip"][ek] if len(te) else np.zeros((0, 3))
+                pts_line.set_data_3d(ep[:, 0], ep[:, 1], ep[:, 2])
         polys.set_verts(verts)
         polys.set_facecolor(cols)
         lines = [f"t = {t:.2f} s"]

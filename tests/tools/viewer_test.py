@@ -90,6 +90,8 @@ class ViewerTest(unittest.TestCase):
         size = self.html.stat().st_size
         page = self.browser.open(self.html.as_uri())
         self.assertTrue(page.evaluate("window.deploysimReady === true"))
+        # Self-contained: the page fetched nothing (no script, style, image or data file).
+        self.assertEqual(page.evaluate("performance.getEntriesByType('resource').length"), 0)
         ready = page.evaluate("window.deploysimReadyMs") / 1000
         print(f"\n  page {size / 1e6:.2f} MB; load event {page.load_seconds:.3f} s, "
               f"scene drawn {ready:.3f} s")
@@ -174,7 +176,7 @@ class AnimationTest(unittest.TestCase):
         mp4 = ART / "wing_nut.mp4"
         t0 = time.monotonic()
         r = run(PY, SRC / "tools/animate.py", h5, "-o", mp4, "--fps", self.FPS,
-                "--seconds", self.SECONDS, "--size", "320x240")
+                "--seconds", self.SECONDS, "--size", "320x240", "--gif")
         self.assertEqual(r.returncode, 0, r.stderr)
         print(f"\n  animate.py: {time.monotonic() - t0:.1f} s for "
               f"{int(self.FPS * self.SECONDS)} frames")
@@ -191,6 +193,11 @@ class AnimationTest(unittest.TestCase):
         self.assertAlmostEqual(num / den, self.FPS)
         self.assertAlmostEqual(duration, self.SECONDS, delta=1.0 / self.FPS)
         self.assertEqual(int(st["nb_read_frames"]), int(self.FPS * self.SECONDS))
+        gif = ART / "wing_nut.gif"
+        self.assertEqual(gif.read_bytes()[:6], b"GIF89a")
+        g = run("ffprobe", "-v", "error", "-count_frames", "-show_entries",
+                "stream=nb_read_frames", "-of", "csv=p=0", gif)
+        self.assertEqual(int(g.stdout.strip()), int(self.FPS * self.SECONDS), g.stderr)
         # Frames change: the grey means of a few frames are not all equal.
         frames = ART / "wing_nut_frame_%d.png"
         for old in ART.glob("wing_nut_frame_*.png"):
