@@ -1,0 +1,473 @@
+#!/usr/bin/python3
+"""The scene of a deploysim run, shared by tools/view.py (the 3D HTML viewer) and
+tools/animate.py (MP4/GIF): read a trajectory or cross-check file, rebuild the drawn
+body from the model and decimate the samples to what the eye needs.
+
+One place for each rule (docs/viewer.md):
+- the body is drawn as boxes: a `hinged` model's hub and panels at their hinge angles
+  (DESIGN.md 2.5: R_Bk = R_B,parent Rot(a_k, theta_k), hinge o_k = o_parent + R_B,parent p_k,
+  CoM o_k + R_Bk r_k), every position relative to the system CoM c(t); an element given by
+  `inertia:` instead of `box:` is drawn as its equivalent box; a `tensors` model (or a run in
+  tensor mode) as the uniform box with the principal moments of J_B(t) (the mass is only a
+  scale: the largest edge is 1);
+- the spin axis is that of docs/file_formats.md "Flips" step 1 (the principal axis of
+  J_B(t0) nearest H_B(t0), signed along it), fixed in B;
+- frames as DESIGN.md 1: q_NB (w, x, y, z) maps B components to N components.
+
+Needs Debian's python3-h5py, python3-numpy, python3-yaml (run with /usr/bin/python3).
+"""
+import math
+import os
+
+import numpy as np
+
+# Decimation: a sample is kept when, since the last kept one, the body turned by more than
+# this angle, a hinge by more than HINGE_STEP, or J_B changed by more than J_STEP (relative),
+# or when MAX_GAP of the run has passed (smooth charts on quiet stretches). Between kept
+# samples the viewer interpolates (slerp): exact for a turn at a constant rate about a
+# fixed axis, the error is the change of the rate over a step (interpolation_error; the
+# main job: 0.04 deg).
+ROTATION_STEP = math.radians(10.0)
+HINGE_STEP = math.radians(1.0)
+J_STEP = 0.005
+MAX_GAP = 1.0 / 500
+
+
+class SceneError(Exception):
+    """Bad input: the message is one line, naming the file and what is wrong."""
+
+
+def _text(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+# --- rotations ----------------------------------------------------------------------------
+def quat_to_matrix(q):
+    """R (..., 3, 3) of unit quaternions q (..., 4), scalar first, Hamilton."""
+    q = np.asarray(q, dtype=float)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    R = np.empty(q.shape[:-1] + (3, 3))
+    R[..., 0, 0] = 1 - 2 * (y * y + z * z)
+    R[..., 0, 1] = 2 * (x * y - w * z)
+    R[..., 0, 2] = 2 * (x * z + w * y)
+    R[..., 1, 0] = 2 * (x * y + w * z)
+    R[..., 1, 1] = 1 - 2 * (x * x + z * z)
+    R[..., 1, 2] = 2 * (y * z - w * x)
+    R[..., 2, 0] = 2 * (x * z - w * y)
+    R[..., 2, 1] = 2 * (y * z + w * x)
+    R[..., 2, 2] = 1 - 2 * (x * x + y * y)
+    return R
+
+
+def matrix_to_quat(R):
+    """Unit quaternion (w, x, y, z) of a rotation matrix (Shepperd's method)."""
+    R = np.asarray(R, dtype=float)
+    tr = np.trace(R)
+    if tr > 0:
+        s = 2 * math.sqrt(1 + tr)
+        q = [s / 4, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s]
+    else:
+        i = int(np.argmax(np.diag(R)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2 * math.sqrt(max(1 + R[i, i] - R[j, j] - R[k, k], 1e-300))
+        q = [0.0] * 4
+        q[0] = (R[k, j] - R[j, k]) / s
+        q[1 + i] = s / 4
+        q[1 + j] = (R[j, i] + R[i, j]) / s
+        q[1 + k] = (R[k, i] + R[i, k]) / s
+    q = np.array(q)
+    return q / np.linalg.norm(q)
+
+
+def axis_angle_matrix(a, theta):
+    """Rot(a, theta): right-hand rotation by theta about the unit vector a (Rodrigues)."""
+    a = np.asarray(a, dtype=float)
+    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + math.sin(theta) * K + (1 - math.cos(theta)) * K @ K
+
+
+def quat_angle(q1, q2):
+    """Rotation angle between unit quaternions (either sign), rad."""
+    d = min(1.0, abs(float(np.dot(q1, q2))))
+    return 2 * math.acos(d)
+
+
+# --- geometry -----------------------------------------------------------------------------
+def box_inertia(m, dims):
+    a, b, c = dims
+    return m / 12 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
+
+
+def equivalent_box(m, I):
+    """Edge lengths and axes (columns of V) of the uniform box of mass m with inertia I."""
+    I = 0.5 * (np.asarray(I, dtype=float) + np.asarray(I, dtype=float).T)
+    lam, V = np.linalg.eigh(I)
+    if np.linalg.det(V) < 0:
+        V[:, 2] = -V[:, 2]
+    s = lam.sum()
+    dims = np.sqrt(np.clip(6.0 / m * (s - 2 * lam), 0.0, None))  # d_i^2 = 6/m (I_j+I_k-I_i)
+    return dims, V
+
+
+def _vec(x, what, n=3):
+    try:
+        v = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise SceneError(f"{what}: not a list of {n} numbers")
+    if v.shape != (n,) or not np.all(np.isfinite(v)):
+        raise SceneError(f"{what}: not a list of {n} numbers")
+    return v
+
+
+def _element(d, what):
+    """(mass, inertia about own CoM in own axes, dims, V) of a hub or panel entry."""
+    m = float(d["mass"])
+    if "box" in d:
+        dims = _vec(d["box"], what + ".box")
+        return m, box_inertia(m, dims), dims, np.eye(3)
+    if "inertia" in d:
+        I = np.asarray(d["inertia"], dtype=float)
+        dims, V = equivalent_box(m, I)
+        return m, I, dims, V
+    raise SceneError(f"{what}: neither box nor inertia")
+
+
+class HingedModel:
+    """A `kind: hinged` model (docs/file_formats.md) as drawable parts."""
+
+    def __init__(self, model):
+        hub = model["hub"]
+        self.hub_mass, self.hub_I, self.hub_dims, self.hub_V = _element(hub, "hub")
+        self.hub_com = _vec(hub.get("com", [0, 0, 0]), "hub.com")
+        panels = model["panels"]
+        self.names = [str(p["name"]) for p in panels]
+        self.panels = []
+        for i, p in enumerate(panels):
+            what = f"panels[{i}]"
+            m, I, dims, V = _element(p, what)
+            a = _vec(p["hinge_axis"], what + ".hinge_axis")
+            self.panels.append(dict(
+                name=str(p["name"]), mass=m, I=I, dims=dims, V=V,
+                p=_vec(p["hinge_point"], what + ".hinge_point"), a=a / np.linalg.norm(a),
+                r=_vec(p["com_offset"], what + ".com_offset"),
+                parent=self.names.index(p["parent"]) if "parent" in p else -1))
+        # Parents before children.
+        self.order, placed = [], set()
+        while len(self.order) < len(self.panels):
+            before = len(self.order)
+            for k, p in enumerate(self.panels):
+                if k not in placed and (p["parent"] < 0 or p["parent"] in placed):
+                    self.order.append(k)
+                    placed.add(k)
+            if len(self.order) == before:
+                raise SceneError("panels: the parents form a cycle")
+        self.part_names = ["hub"] + self.names
+        self.part_kinds = ["hub"] + ["panel"] * len(self.panels)
+
+    def parts(self, angles):
+        """Per part (hub first, then panels in model order): (mass, CoM in B, R_B part)."""
+        P = len(self.panels)
+        R = [None] * P
+        o = [None] * P
+        com = [None] * P
+        for k in self.order:
+            p = self.panels[k]
+            if p["parent"] < 0:
+                Rp, op = np.eye(3), np.zeros(3)
+            else:
+                Rp, op = R[p["parent"]], o[p["parent"]]
+            R[k] = Rp @ axis_angle_matrix(p["a"], float(angles[k]))
+            o[k] = op + Rp @ p["p"]
+            com[k] = o[k] + R[k] @ p["r"]
+        out = [(self.hub_mass, self.hub_com, np.eye(3))]
+        out += [(self.panels[k]["mass"], com[k], R[k]) for k in range(P)]
+        return out
+
+    def inertia(self, angles):
+        """(J about the system CoM in B, the system CoM c in B) at these hinge angles."""
+        parts = self.parts(angles)
+        M = sum(m for m, _, _ in parts)
+        c = sum(m * x for m, x, _ in parts) / M
+        I_own = [self.hub_I] + [p["I"] for p in self.panels]
+        J = np.zeros((3, 3))
+        for (m, x, R), I in zip(parts, I_own):
+            d = x - c
+            J += R @ I @ R.T + m * (d @ d * np.eye(3) - np.outer(d, d))
+        return J, c
+
+    def poses(self, angles):
+        """Drawn boxes: list of (centre relative to the system CoM, R_B box, dims)."""
+        parts = self.parts(angles)
+        M = sum(m for m, _, _ in parts)
+        c = sum(m * x for m, x, _ in parts) / M
+        V = [self.hub_V] + [p["V"] for p in self.panels]
+        dims = [self.hub_dims] + [p["dims"] for p in self.panels]
+        return [(x - c, R @ v, d) for (m, x, R), v, d in zip(parts, V, dims)]
+
+
+def tensor_poses(J, scale=None):
+    """The uniform box with the principal moments of J (largest edge 1 unless scale)."""
+    dims, V = equivalent_box(1.0, J)
+    s = scale if scale is not None else (1.0 / dims.max() if dims.max() > 0 else 1.0)
+    return [(np.zeros(3), V, dims * s)], s
+
+
+def spin_axis(J0, H0):
+    """docs/file_formats.md "Flips" 1: the principal axis of J0 nearest H0, along H0."""
+    _, V = np.linalg.eigh(0.5 * (J0 + J0.T))
+    h = H0 / np.linalg.norm(H0)
+    c = V.T @ h
+    i = int(np.argmax(np.abs(c)))
+    return V[:, i] * (1.0 if c[i] >= 0 else -1.0)
+
+
+# --- reading ------------------------------------------------------------------------------
+def _need(f, name, path, what="deploysim trajectory"):
+    if name not in f:
+        raise SceneError(f"{path}: not a {what} (no dataset /{name})")
+    return f[name][()]
+
+
+def _attr(f, name):
+    return _text(f.attrs[name]) if name in f.attrs else None
+
+
+def _load_model(model_text, path):
+    import yaml
+    try:
+        m = yaml.safe_load(model_text)
+    except yaml.YAMLError as e:
+        raise SceneError(f"{path}: model text is not YAML ({str(e).splitlines()[0]})")
+    if not isinstance(m, dict) or m.get("kind") not in ("hinged", "tensors"):
+        raise SceneError(f"{path}: model text has no kind hinged or tensors")
+    return m
+
+
+def _model_from_profile(profile_text, profile_source, path):
+    """A cross-check file has no model text: the profile's `model:` key resolved against
+    profile_source (as deploysim did)."""
+    import yaml
+    try:
+        prof = yaml.safe_load(profile_text or "")
+    except yaml.YAMLError:
+        prof = None
+    if not isinstance(prof, dict) or "model" not in prof:
+        raise SceneError(f"{path}: profile_text names no model")
+    mpath = os.path.join(os.path.dirname(profile_source or "."), str(prof["model"]))
+    if not os.path.isfile(mpath):
+        raise SceneError(f"{path}: the profile's model {mpath} is not readable "
+                         "(a cross-check file holds no model text; pass --model)")
+    with open(mpath) as fh:
+        return prof, fh.read()
+
+
+def _tensor_config(model, prof):
+    """J of the configuration a tensor profile starts in (cross-check files only)."""
+    confs = model.get("configurations") or {}
+    name = None
+    if isinstance(prof, dict):
+        ini = prof.get("initial") or {}
+        name = ini.get("configuration")
+        st = prof.get("stages") or []
+        if name is None and st:
+            name = st[0].get("hold") or st[0].get("from")
+    if name not in confs:
+        name = next(iter(confs))
+    c = confs[name]
+    if "principal_moments" in c:
+        return np.diag(np.asarray(c["principal_moments"], dtype=float))
+    return np.asarray(c["tensor"], dtype=float)
+
+
+def read_run(path, model_path=None):
+    """Reads a trajectory or cross-check file into a dict of numpy arrays (SceneError on
+    anything that is not one)."""
+    import h5py
+    if not os.path.isfile(path):
+        raise SceneError(f"{path}: no such file")
+    try:
+        f = h5py.File(path, "r")
+    except OSError:
+        raise SceneError(f"{path}: not an HDF5 file")
+    with f:
+        schema = _attr(f, "schema") or ""
+        run = dict(path=path, profile_name=_attr(f, "profile_name") or os.path.basename(path))
+        if schema.startswith("deploysim-crosscheck"):
+            what = "deploysim cross-check file"
+            run["kind"] = "crosscheck"
+            t = _need(f, "time", path, what)
+            sides = []
+            for side, label in (("reduced", "reduced model"), ("simbody", "Simbody")):
+                sides.append(dict(label=label, q=_need(f, side + "/q_NB", path, what),
+                                  H=_need(f, side + "/H_B", path, what),
+                                  h_N=_need(f, side + "/h_N", path, what),
+                                  flips=f[side + "/flip_time"][()] if side + "/flip_time" in f
+                                  else np.zeros(0)))
+            run["hinge"] = f["simbody/hinge_angles"][()] if "simbody/hinge_angles" in f else None
+            prof, model_text = _model_from_profile(_attr(f, "profile_text"),
+                                                   _attr(f, "profile_source"), path) \
+                if model_path is None else (None, open(model_path).read())
+            run["J"] = None
+            run["stages"], run["danger"], run["events"] = [], [], []
+            run["attrs"] = {k: _text(f.attrs[k]) for k in (
+                "max_H_B_relative_difference", "max_attitude_difference",
+                "max_flip_time_difference") if k in f.attrs}
+        else:
+            what = "deploysim trajectory"
+            if _attr(f, "schema_version") is None and "q_NB" not in f:
+                raise SceneError(f"{path}: not a deploysim trajectory (no schema_version "
+                                 "attribute, no dataset /q_NB)")
+            run["kind"] = "trajectory"
+            t = _need(f, "time", path)
+            sides = [dict(label=run["profile_name"], q=_need(f, "q_NB", path),
+                          H=_need(f, "H_B", path), h_N=_need(f, "h_N", path),
+                          flips=f["events/flip_time"][()] if "events/flip_time" in f
+                          else np.zeros(0))]
+            run["J"] = _need(f, "J_B", path)
+            sides[0]["angle"] = _need(f, "spin_axis_angle", path)
+            run["hinge"] = f["hinge_angles"][()] if "hinge_angles" in f else None
+            if model_path is not None:
+                model_text = open(model_path).read()
+            else:
+                model_text = _attr(f, "model_text")
+                if model_text is None:
+                    raise SceneError(f"{path}: not a deploysim trajectory (no model_text "
+                                     "attribute)")
+            prof = None
+            run["stages"] = []
+            if "stages/t_begin" in f:
+                names = [_text(x) for x in f["stages/name"][()]]
+                roles = [_text(x) for x in f["stages/spin_axis_role"][()]] \
+                    if "stages/spin_axis_role" in f else [""] * len(names)
+                for n, a, b, r in zip(names, f["stages/t_begin"][()], f["stages/t_end"][()],
+                                      roles):
+                    run["stages"].append(dict(name=n, t0=float(a), t1=float(b), role=r))
+            run["danger"] = []
+            if "danger_windows/t_begin" in f:
+                run["danger"] = [[float(a), float(b)] for a, b in zip(
+                    f["danger_windows/t_begin"][()], f["danger_windows/t_end"][()])]
+            run["events"] = []
+            if "events/hinge/time" in f and len(f["events/hinge/time"]) > 0:
+                for tt, k, n in zip(f["events/hinge/time"][()], f["events/hinge/kind"][()],
+                                    f["events/hinge/panel_name"][()]):
+                    if _text(k) != "stop":  # stop impacts come in bursts; not marked
+                        run["events"].append(dict(t=float(tt), kind=_text(k), panel=_text(n)))
+            run["attrs"] = {}
+    t = np.asarray(t, dtype=float)
+    n = len(t)
+    if n < 2:
+        raise SceneError(f"{path}: fewer than two samples")
+    for s in sides:
+        if s["q"].shape != (n, 4) or s["H"].shape != (n, 3):
+            raise SceneError(f"{path}: /q_NB or /H_B does not match /time ({n} samples)")
+        if not (np.all(np.isfinite(s["q"])) and np.all(np.isfinite(s["H"]))):
+            raise SceneError(f"{path}: /q_NB or /H_B holds non-finite values")
+    model = _load_model(model_text, path)
+    run["time"], run["sides"], run["model_name"] = t, sides, str(model.get("name", "?"))
+    hinge = run["hinge"]
+    if model["kind"] == "hinged" and hinge is not None:
+        run["geometry"] = HingedModel(model)
+        if hinge.shape != (n, len(run["geometry"].panels)):
+            raise SceneError(f"{path}: /hinge_angles has {hinge.shape[1]} columns, the model "
+                             f"{len(run['geometry'].panels)} panels")
+        if run["J"] is None:  # cross-check: J from the geometry at the first angles
+            J0, _ = run["geometry"].inertia(hinge[0])
+        else:
+            J0 = run["J"][0]
+    else:
+        run["geometry"] = None
+        if run["J"] is None:
+            if model["kind"] == "hinged":
+                raise SceneError(f"{path}: a hinged model without hinge angles")
+            run["J"] = np.repeat(_tensor_config(model, prof)[None], n, axis=0)
+        J0 = run["J"][0]
+    s_B = spin_axis(J0, sides[0]["H"][0])
+    run["spin_axis_B"] = s_B
+    for s in sides:
+        if "angle" not in s:
+            Hn = s["H"] / np.linalg.norm(s["H"], axis=1)[:, None]
+            s["angle"] = np.arccos(np.clip(Hn @ s_B, -1, 1))
+    return run
+
+
+# --- what to draw -------------------------------------------------------------------------
+def decimate(run):
+    """Indices of the samples to keep (first and last always): each kept sample is the
+    last one within the steps of the kept one before it."""
+    t = run["time"]
+    n = len(t)
+    qs = [s["q"] / np.linalg.norm(s["q"], axis=1)[:, None] for s in run["sides"]]
+    hinge, J = run["hinge"], run["J"]
+    Jscale = np.abs(J).max() if J is not None else 1.0
+    gap = MAX_GAP * (t[-1] - t[0])
+
+    def beyond(i, last):
+        return (max(quat_angle(q[i], q[last]) for q in qs) > ROTATION_STEP
+                or (hinge is not None and np.abs(hinge[i] - hinge[last]).max() > HINGE_STEP)
+                or (J is not None and np.abs(J[i] - J[last]).max() > J_STEP * Jscale)
+                or t[i] - t[last] > gap)
+
+    keep, last, i = [0], 0, 1
+    while i < n - 1:
+        if beyond(i, last):
+            last = i - 1 if i - 1 > last else i
+            keep.append(last)
+        i = max(i + 1, last + 1)
+    keep.append(n - 1)
+    return np.array(sorted(set(keep)))
+
+
+def interpolation_error(run, idx):
+    """Largest angle [rad] between a sample's attitude and the slerp of the kept samples
+    around it (what the viewer draws), over all sides."""
+    t, worst = run["time"], 0.0
+    for s in run["sides"]:
+        q = s["q"] / np.linalg.norm(s["q"], axis=1)[:, None]
+        for a, b in zip(idx[:-1], idx[1:]):
+            if b - a < 2:
+                continue
+            q0, q1 = q[a], q[b] if q[a] @ q[b] >= 0 else -q[b]
+            om = math.acos(min(1.0, float(q0 @ q1)))
+            f = (t[a + 1:b] - t[a]) / (t[b] - t[a])
+            if om < 1e-12:
+                qi = np.repeat(q0[None], len(f), axis=0)
+            else:
+                qi = (np.sin((1 - f) * om)[:, None] * q0 + np.sin(f * om)[:, None] * q1) / math.sin(om)
+            d = np.clip(np.abs(np.sum(qi / np.linalg.norm(qi, axis=1)[:, None] * q[a + 1:b],
+                                      axis=1)), 0, 1)
+            worst = max(worst, float(2 * np.arccos(d).max()))
+    return worst
+
+
+def poses_at(run, i, scale=None):
+    """Boxes at sample i: list of (centre in B rel. the system CoM, R_B box, dims)."""
+    if run["geometry"] is not None:
+        return run["geometry"].poses(run["hinge"][i])
+    p, _ = tensor_poses(run["J"][i], scale)
+    return p
+
+
+def tensor_scale(run):
+    """One scale for the equivalent box over the whole run (largest edge ever = 1)."""
+    if run["geometry"] is not None:
+        return None
+    m = max(equivalent_box(1.0, run["J"][i])[0].max() for i in (0, len(run["time"]) - 1))
+    return 1.0 / m if m > 0 else 1.0
+
+
+def part_names(run):
+    if run["geometry"] is not None:
+        return run["geometry"].part_names, run["geometry"].part_kinds
+    return ["equivalent box"], ["hub"]
+
+
+def extent(run, idx, scale):
+    """Largest distance of a box corner from the system CoM over the kept samples."""
+    corners = np.array([[sx, sy, sz] for sx in (-.5, .5) for sy in (-.5, .5) for sz in (-.5, .5)])
+    r = 0.0
+    step = max(1, len(idx) // 50)
+    for i in list(idx[::step]) + [idx[-1]]:
+        for c, R, d in poses_at(run, i, scale):
+            r = max(r, np.linalg.norm(c + (corners * d) @ R.T, axis=1).max())
+    return r
