@@ -6,9 +6,9 @@ deployment_profiles/smallsat_spring_deploy.yaml: the file size, the time to writ
 (what the user waits for at the command line: the whole deploysim command, simulation
 included for the report; the viewer's input HDF5 is written once, untimed), and the time the
 page takes to open in Debian's headless Chromium (navigation start to the load event, and
-for the viewer to its `window.deploysimReady` flag: the scene built and drawn). Each timing is
-the median of several cold repetitions (a new browser tab per opening; a new process per
-write). Targets: viewer under 5 MB and open in under 2 s.
+for the viewer to its scene built and first drawn, as the page measures it:
+`window.deploysimReadyMs`). Each timing is the median of several cold repetitions (a new
+browser per opening; a new process per write). Targets: viewer under 5 MB and open in under 2 s.
 
 Usage: bench/pages_bench.py DEPLOYSIM [--quick] [--markdown FILE]
 """
@@ -36,24 +36,27 @@ def timed_run(cmd):
     return time.perf_counter() - t0
 
 
-def open_times(browser, html, ready_js, reps):
-    """Median load-event time and median ready time (load + wait for ready_js) [s]."""
+def open_times(html, viewer, reps):
+    """Median load-event time and median ready time [s], a fresh browser per opening.
+    Ready: for the viewer the page's own navigation-start-to-scene-drawn time
+    (window.deploysimReadyMs), for the report the load event."""
     loads, readies = [], []
     for _ in range(reps):
-        t0 = time.perf_counter()
-        page = browser.open(html.as_uri(), settle=0.0)
-        if ready_js:
-            deadline = time.monotonic() + 30
-            while not page.evaluate(ready_js):
-                if time.monotonic() > deadline:
-                    raise RuntimeError(f"{html.name}: page never became ready ({ready_js})")
-                time.sleep(0.01)
-        readies.append(time.perf_counter() - t0)
-        loads.append(page.load_seconds)
-        errs = page.errors()
-        if errs:
-            raise RuntimeError(f"{html.name}: console errors: {errs}")
-        page.close()
+        with headless_chromium.Browser(1280, 800) as b:
+            page = b.open(html.as_uri(), settle=0.0)
+            ready = page.load_seconds
+            if viewer:
+                deadline = time.monotonic() + 30
+                while not page.evaluate("window.deploysimReady === true"):
+                    if time.monotonic() > deadline:
+                        raise RuntimeError(f"{html.name}: the scene never became ready")
+                    time.sleep(0.01)
+                ready = page.evaluate("window.deploysimReadyMs") / 1000
+            errs = page.errors()
+            if errs:
+                raise RuntimeError(f"{html.name}: console errors: {errs}")
+            loads.append(page.load_seconds)
+            readies.append(ready)
     return statistics.median(loads), statistics.median(readies)
 
 
@@ -75,9 +78,8 @@ def main(argv):
         write_report = statistics.median(
             timed_run([cli, "report", str(PROFILE), "-o", str(report)])
             for _ in range(max(1, reps // 2)))
-        with headless_chromium.Browser(1280, 800) as b:
-            v_load, v_ready = open_times(b, view, "window.deploysimReady === true", reps)
-            r_load, r_ready = open_times(b, report, None, reps)
+        v_load, v_ready = open_times(view, True, reps)
+        r_load, _ = open_times(report, False, reps)
         v_size, r_size = view.stat().st_size, report.stat().st_size
 
     ok_size = "met" if v_size < VIEWER_MAX_BYTES else "MISSED"
@@ -103,7 +105,7 @@ def main(argv):
         f"({max(1, reps // 2)} for the report's write: a new `deploysim` process each). Write: "
         "the whole command as a user runs it (the viewer reads an HDF5 written once, untimed; "
         "the report runs the simulation, the analysis and the plots). Open: Debian's headless "
-        "Chromium (software rendering, no GPU) on a local file, a new tab each time; "
+        "Chromium (software rendering, no GPU) on a local file, a new browser each time; "
         "'ready' is the viewer's scene built and first drawn (`window.deploysimReady`), "
         "for the report the load event. `bench/pages_bench.py`.",
     ]

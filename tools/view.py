@@ -130,7 +130,20 @@ def write_html(data, out, three_dir=THREE_DIR):
 
 
 def main(argv):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap = argparse.ArgumentParser(
+        prog=os.environ.get("DEPLOYSIM_PROG") or None,
+        description=__doc__.split("\n")[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="examples:\n"
+               "  deploysim simulate deployment_profiles/smallsat_spring_deploy.yaml -o spring.h5\n"
+               "  deploysim view spring.h5 -o spring.html         (open spring.html in a browser)\n"
+               "  deploysim crosscheck deployment_profiles/smallsat_spring_deploy.yaml --until 300 "
+               "-o cc.h5\n"
+               "  deploysim view cc.h5 -o cc.html                 (reduced model and Simbody side by side)\n"
+               "  /usr/bin/python3 tools/view.py spring.h5 -o spring.html   (the same, without the CLI)\n"
+               "The page and its controls: docs/viewer.md.")
+    # Set by `deploysim view` (the executable that ran this script); not needed here.
+    ap.add_argument("--deploysim", help=argparse.SUPPRESS)
     ap.add_argument("result", help="trajectory or cross-check file (HDF5) written by deploysim")
     ap.add_argument("-o", "--output", required=True, help="HTML file to write")
     ap.add_argument("--model", help="model YAML to draw (default: the file's model_text; for a "
@@ -139,6 +152,10 @@ def main(argv):
     ap.add_argument("--three", default=THREE_DIR, help="libjs-three folder (default %(default)s)")
     a = ap.parse_args(argv)
     try:
+        for src in (a.result, a.model):
+            if src and os.path.exists(a.output) and os.path.samefile(src, a.output):
+                raise scene.SceneError(f"{a.output}: output is the input file {src} (rule: an "
+                                       "output never replaces an input)")
         run = scene.read_run(a.result, a.model)
         data = build_data(run, a.title)
         if not all(math.isfinite(x) for s in data["sides"] for x in s["q"]):
