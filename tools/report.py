@@ -665,7 +665,9 @@ def section_configuration(c, j, h, ctx):
     # principal moments per stage end
     rows = []
     pm0 = [float(x) for x in ctx["moments0"]]
-    rows.append("<tr><th>initial</th><td class='t'>(t = 0)</td><td></td>"
+    rows.append("<tr><th>start</th><td class='t'>initial state</td>"
+                + Cells.src("h5: /time[0]", float(h["time"][0]), fmt_fixed(float(h["time"][0]), 3),
+                            unit="s")
                 + "".join(Cells.src(f"h5: /principal_moments[0][{k}]", pm0[k], fmt_num(pm0[k], 6),
                                     unit="kg m^2") for k in range(3))
                 + f"<td class='t'>{esc(role_text(ctx['axis_role0']))}</td></tr>")
@@ -1085,22 +1087,32 @@ def section_integrator(c, j, h, ctx):
 def section_inputs(c, j, h, ctx):
     a = h["attrs"]
     out = ['<section id="inputs" class="inputs"><h2>8. Inputs and provenance</h2>']
+    # (label, where it comes from, its value, how it is shown)
     rows = [
-        ("deploysim version", esc(a.get("deploysim_version", "?"))
+        ("deploysim version", "h5: @deploysim_version", a.get("deploysim_version", "?"),
+         esc(a.get("deploysim_version", "?"))
          + (f" <span class='meta'>({esc(ctx['build_id'])})</span>" if ctx["build_id"] else "")),
-        ("HDF5 schema version", esc(a.get("schema_version", "?"))),
-        ("report generated", esc(ctx["generated"])),
-        ("profile", f"<code>{esc(a.get('profile_source', '?'))}</code> "
+        ("HDF5 schema version", "h5: @schema_version", a.get("schema_version", "?"),
+         esc(a.get("schema_version", "?"))),
+        ("report generated", "clock of tools/report.py (UTC)", ctx["generated"],
+         esc(ctx["generated"])),
+        ("profile", "h5: @profile_source", a.get("profile_source", "?"),
+         f"<code>{esc(a.get('profile_source', '?'))}</code> "
          f"(name {esc(a.get('profile_name', '?'))})"),
-        ("model", f"<code>{esc(a.get('model_source', '?'))}</code> "
+        ("model", "h5: @model_source", a.get("model_source", "?"),
+         f"<code>{esc(a.get('model_source', '?'))}</code> "
          f"(name {esc(a.get('model_name', '?'))})"),
-        ("mode, coupling", esc(a.get("mode", "?")) + ", " + esc(a.get("coupling", "?"))),
-        ("integrator", f"{esc(a.get('integrator', '?'))}: "
+        ("mode, coupling", "h5: @mode, @coupling", a.get("mode", "?") + ", " + a.get("coupling", "?"),
+         esc(a.get("mode", "?")) + ", " + esc(a.get("coupling", "?"))),
+        ("integrator", "h5: @integrator, @integrator_settings",
+         a.get("integrator", "?") + ": " + a.get("integrator_settings", "?"),
+         f"{esc(a.get('integrator', '?'))}: "
          f"<code>{esc(a.get('integrator_settings', '?'))}</code>"),
     ]
     cmds = "".join(f"<li><code>{esc(cmd)}</code></li>" for cmd in ctx["commands"])
     out.append("<table class='kv'><tbody>" + "".join(
-        f"<tr><th>{k}</th><td class='t'>{v}</td></tr>" for k, v in rows) + "</tbody></table>")
+        f"<tr><th>{k}</th>" + Cells.src(where, value, shown, cls="t") + "</tr>"
+        for k, where, value, shown in rows) + "</tbody></table>")
     out.append(f"<p>Commands run for this report:</p><ul class='note'>{cmds}</ul>")
     out.append("<p class='note'>To reproduce the run from the texts below: save the profile, "
                "save the model at the path its <code>model:</code> key names, and run "
@@ -1167,6 +1179,11 @@ class OneLineParser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"{PROG}: error: {message} (see report.py --help)\n")
 
 
+def number(s):
+    float(s)  # argparse turns the ValueError into a one-line usage error
+    return s
+
+
 def parse_args(argv):
     ap = OneLineParser(
         prog="report.py",
@@ -1187,10 +1204,11 @@ def parse_args(argv):
     ap.add_argument("--deploysim", help="the deploysim executable (default: $DEPLOYSIM, then "
                     "deploysim on PATH)")
     ap.add_argument("--method", help="integrator (deploysim methods)")
-    ap.add_argument("--rtol", type=float, help="relative tolerance")
-    ap.add_argument("--atol", type=float, help="absolute tolerance, relative to |H_B(0)|")
-    ap.add_argument("--step", type=float, help="fixed step [s] (initial step if adaptive)")
-    ap.add_argument("--dt", type=float, help="output sampling interval [s]")
+    # Numbers are passed to deploysim as written (it checks their ranges).
+    ap.add_argument("--rtol", type=number, help="relative tolerance")
+    ap.add_argument("--atol", type=number, help="absolute tolerance, relative to |H_B(0)|")
+    ap.add_argument("--step", type=number, help="fixed step [s] (initial step if adaptive)")
+    ap.add_argument("--dt", type=number, help="output sampling interval [s]")
     ap.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     return ap.parse_args(argv)
 
@@ -1228,14 +1246,17 @@ def make_report(args):
     ov = overrides(args)
     commands = []
 
-    progress(args, f"analyzing {profile} (deploysim analyze --json)")
+    # The first run also validates the input: its progress line comes after it, so that
+    # bad input gives deploysim's one line and nothing else.
     cmd = [exe, "analyze", profile, "--json", *ov]
     commands.append(" ".join(["deploysim"] + cmd[1:]))
-    js_text, _ = run(cmd, "analyze")
+    js_text, secs = run(cmd, "analyze")
     try:
         j = json.loads(js_text)
     except ValueError as e:
         raise ReportError(f"deploysim analyze --json: not JSON ({e})", EXIT_TOOL)
+    progress(args, f"analyzed {profile} (deploysim analyze --json, {secs:.1f} s): "
+                   f"{len(j['stages'])} stages, {len(j['flip_times'])} flips")
 
     with tempfile.TemporaryDirectory(prefix="deploysim-report-") as work:
         h5 = os.path.join(work, "trajectory.h5")
