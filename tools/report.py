@@ -431,6 +431,7 @@ def png_uri(path):
 
 CSS = """
 @page { size: A4; margin: 14mm 13mm 16mm 13mm; }
+*, *::before, *::after { box-sizing: border-box; }
 html { font-family: "DejaVu Sans", "Liberation Sans", Arial, sans-serif; font-size: 10pt;
        color: #111; background: #fff; }
 body { max-width: 184mm; margin: 0 auto; padding: 8mm 6mm 16mm; line-height: 1.38; }

@@ -147,9 +147,24 @@ def shown_number(text):
     return float(mant) * 10.0 ** exp, 0.5 * 10.0 ** (exp - dec)
 
 
+# The printable width of an A4 sheet with the report's @page margins (210 - 2 x 13 mm) in
+# CSS pixels (96 per inch): the print screenshot is laid out this wide.
+A4_CONTENT_PX = round((210 - 26) / 25.4 * 96)
+
+
 def full_page_screenshot(page, path, media="screen"):
+    """The whole page as one PNG; media "print": laid out as on an A4 sheet (no page
+    breaks). Returns the content size and how far it is wider than the layout [px]."""
     b = page.browser
     b.call("Emulation.setEmulatedMedia", {"media": media}, session=page.session)
+    # no scrollbar: the layout gets the whole width, as on paper
+    b.call("Emulation.setScrollbarsHidden", {"hidden": True}, session=page.session)
+    width = A4_CONTENT_PX if media == "print" else b.width
+    b.call("Emulation.setDeviceMetricsOverride",
+           {"width": width, "height": b.height, "deviceScaleFactor": 1, "mobile": False},
+           session=page.session)
+    over = page.evaluate("document.documentElement.scrollWidth - "
+                         "document.documentElement.clientWidth")
     m = b.call("Page.getLayoutMetrics", session=page.session)
     size = m.get("cssContentSize") or m["contentSize"]
     data = b.call("Page.captureScreenshot",
@@ -158,7 +173,10 @@ def full_page_screenshot(page, path, media="screen"):
                             "scale": 1}}, session=page.session)["data"]
     pathlib.Path(path).write_bytes(base64.b64decode(data))
     b.call("Emulation.setEmulatedMedia", {"media": ""}, session=page.session)
-    return size
+    b.call("Emulation.setDeviceMetricsOverride",
+           {"width": b.width, "height": b.height, "deviceScaleFactor": 1, "mobile": False},
+           session=page.session)
+    return size, over
 
 
 class ReportTest(unittest.TestCase):
@@ -315,8 +333,10 @@ class ReportTest(unittest.TestCase):
         over = page.evaluate("document.documentElement.scrollWidth - "
                              "document.documentElement.clientWidth")
         self.assertLessEqual(over, 0, f"{name}: the page is {over} px too wide")
-        size = full_page_screenshot(page, self.art / f"{name}_screen.png")
-        full_page_screenshot(page, self.art / f"{name}_print.png", media="print")
+        size, _ = full_page_screenshot(page, self.art / f"{name}_screen.png")
+        _, over_a4 = full_page_screenshot(page, self.art / f"{name}_print.png", media="print")
+        self.assertLessEqual(over_a4, 0, f"{name}: printed, the page is {over_a4} px wider "
+                                         "than an A4 sheet")
         pdf = self.browser.call("Page.printToPDF", {"paperWidth": 8.27, "paperHeight": 11.69,
                                                      "printBackground": False},
                                 session=page.session)["data"]
