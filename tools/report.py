@@ -434,7 +434,7 @@ CSS = """
 *, *::before, *::after { box-sizing: border-box; }
 html { font-family: "DejaVu Sans", "Liberation Sans", Arial, sans-serif; font-size: 10pt;
        color: #111; background: #fff; }
-body { max-width: 184mm; margin: 0 auto; padding: 8mm 6mm 16mm; line-height: 1.38; }
+body { max-width: 196mm; margin: 0 auto; padding: 8mm 6mm 16mm; line-height: 1.38; }
 h1 { font-size: 17pt; margin: 0 0 2pt; }
 h2 { font-size: 13pt; margin: 18pt 0 6pt; padding-bottom: 2pt; border-bottom: 1.5px solid #333;
      break-after: avoid; page-break-after: avoid; }
@@ -457,7 +457,7 @@ td.t { text-align: left; }
 tr { break-inside: avoid; page-break-inside: avoid; }
 table.kv { width: auto; }
 table.kv caption { white-space: nowrap; }
-table.stab { font-size: 8pt; }
+table.stab { font-size: 7.8pt; }
 table.stab th, table.stab td { padding: 2pt 3pt; }
 table.kv th { text-align: left; background: #f6f6f6; font-weight: normal; }
 .note { font-size: 8.6pt; color: #333; }
@@ -523,7 +523,13 @@ def section_summary(c, j, h, ctx):
         parts.append(c.derived("len /flip_times", nf, str(nf), tag="span", cls=None)
                      + (" flip" if nf == 1 else " flips") + " in " + span_end)
     else:
-        parts.append("no flips in " + span_end)
+        s = "no flips in " + span_end
+        if j["spin_axis_45_crossings"]:
+            # no flip, but the spin is not kept either (an energy sink, a flat spin)
+            s += (", but the spin axis is 45\u00b0 away from the angular momentum at "
+                  + c.js("/spin_axis_45_crossings/0", tag="span", cls=None, dec=1, unit="s",
+                         suffix="\u00a0s"))
+        parts.append(s)
     verdict = "; ".join(parts) + "."
     verdict = verdict[0].upper() + verdict[1:]
     items = []
@@ -540,21 +546,28 @@ def section_summary(c, j, h, ctx):
     items.append(f"Final stage \u201c{esc(fs['name'])}\u201d: spin axis "
                  + c.js(ptr("stages", last, "spin_axis_end"), tag="span", cls=None)
                  + "; " + esc(fs["caveat"] or "no caveat") + "."
-                 + (f' <span class="warn">{RIGID_CAVEAT_MARK} holds only for a perfectly '
-                    'rigid body.</span>' if fs["rigid_body_only"] else ""))
+                 + (f' <span class="warn">{RIGID_CAVEAT_MARK} Only a perfectly rigid body would '
+                    'keep this spin.</span>' if fs["rigid_body_only"] else ""))
     if j["hinge_events"]:
+        ne = len(j["hinge_events"])
         total = sum(e["energy_dissipated"] for e in j["hinge_events"])
+        latched = {k: v for k, v in j["latch_times"].items() if v is not None}
+        if not latched:
+            locked = "no panel locks"
+        else:
+            last = max(latched, key=lambda k: latched[k])
+            locked = (("all panels" if len(latched) == len(j["latch_times"]) else
+                       f"{len(latched)} of {len(j['latch_times'])} panels")
+                      + " locked, the last at "
+                      + c.js(ptr("latch_times", last), tag="span", cls=None, dec=2, unit="s",
+                             suffix="\u00a0s"))
         items.append(
             "Deployment: "
-            + c.derived("len /hinge_events", len(j["hinge_events"]),
-                        str(len(j["hinge_events"])), tag="span", cls=None)
-            + " hinge events, "
+            + c.derived("len /hinge_events", ne, str(ne), tag="span", cls=None)
+            + (" hinge event, " if ne == 1 else " hinge events, ")
             + c.derived("sum /hinge_events/*/energy_dissipated", total,
                         fmt_num(total, 3) + "\u00a0J", tag="span", cls=None, unit="J")
-            + " dissipated; all panels locked by "
-            + (c.js(ptr("latch_times", ctx["last_latch_name"]), tag="span", cls=None, dec=2,
-                    unit="s", suffix="\u00a0s") if ctx["last_latch_name"] else "\u2014")
-            + " (section 4).")
+            + " dissipated in them; " + locked + " (section 4).")
     if "coupling_comparison" in j:
         cc = j["coupling_comparison"]
         items.append(
@@ -712,11 +725,12 @@ def section_stability(c, j, h, ctx):
         hp = s["flip_half_period"]
         rows.append(
             "<tr>" + c.js(p("index"), tag="th", cls=None) + c.js(p("name"), cls="t")
-            + c.js(p("law"), cls="t") + c.js(p("t_begin"), unit="s", dec=3)
-            + c.js(p("t_end"), unit="s", dec=3)
+            + c.js(p("law"), cls="t")
+            + "<td class='n'>" + c.js(p("t_begin"), tag="span", cls=None, unit="s", dec=3)
+            + "\u2013<br>" + c.js(p("t_end"), tag="span", cls=None, unit="s", dec=3) + "</td>"
             + c.js(p("rigid"), cls="t")
             + c.js(p("spin_axis_end"), cls="t") + regime
-            + (c.js(p("one_minus_k2"), digits=4) if rigid else "<td class='t'>\u2014</td>")
+            + (c.js(p("one_minus_k2"), digits=3) if rigid else "<td class='t'>\u2014</td>")
             + c.js(p("separatrix_distance"), digits=3)
             + (c.js(p("flip_half_period"), unit="s", dec=3) if hp is not None else
                c.js(p("flip_half_period"), shown="\u221e" if rigid else "\u2014"))
@@ -728,7 +742,7 @@ def section_stability(c, j, h, ctx):
     out.append(
         "<table class='stab'><caption>Stability table (one row per stage; a free-hinge profile: "
         "per phase between hinge events)</caption><thead><tr><th>#</th><th>stage</th>"
-        "<th>law</th><th>t<sub>0</sub> [s]</th><th>t<sub>1</sub> [s]</th><th>const. J</th>"
+        "<th>law</th><th>t<sub>0</sub>\u2013t<sub>1</sub> [s]</th><th>const. J</th>"
         "<th>spin axis at t<sub>1</sub></th><th>regime</th><th>1\u2212k\u00b2</th>"
         "<th>sep. dist.</th><th>flip every [s]</th><th>flips seen / pred.</th>"
         f"<th title='verdict holds only for a perfectly rigid body'>{RIGID_CAVEAT_MARK}</th>"
@@ -910,13 +924,18 @@ def section_timeline(c, j, h, ctx):
                    "<tbody>" + "".join(lrow) + "</tbody></table>")
     cr = j["spin_axis_45_crossings"]
     if cr:
-        cells = "".join(f"<tr><th>{k + 1}</th>"
-                        + c.js(ptr("spin_axis_45_crossings", k), unit="s", dec=3) + "</tr>"
-                        for k in range(len(cr)))
-        out.append("<h3>45-degree crossings</h3><p class='note'>Times at which the angle "
+        per_row = 6  # a grid, not one tall column
+        rows = []
+        for r0 in range(0, len(cr), per_row):
+            r1 = min(len(cr), r0 + per_row)
+            rows.append(f"<tr><th>{r0 + 1}\u2013{r1}</th>" if r1 > r0 + 1 else
+                        f"<tr><th>{r0 + 1}</th>")
+            rows[-1] += "".join(c.js(ptr("spin_axis_45_crossings", k), unit="s", dec=3)
+                                for k in range(r0, r1)) + "</tr>"
+        out.append("<h3>45-degree crossings</h3><p class='note'>Times [s] at which the angle "
                    "between the initial spin axis (fixed in the body) and the inertial "
-                   "momentum h_N crosses 45 deg, either way.</p><table class='kv'><thead><tr>"
-                   "<th>#</th><th>t [s]</th></tr></thead><tbody>" + cells + "</tbody></table>")
+                   "momentum h_N crosses 45 deg, either way, numbered in time order.</p>"
+                   "<table class='kv'><tbody>" + "".join(rows) + "</tbody></table>")
     else:
         out.append("<h3>45-degree crossings</h3><p>The spin axis never comes 45 deg from "
                    "h_N.</p>")
@@ -1309,9 +1328,6 @@ def make_report(args):
         ctx["is_hinge"] = isinstance(ctx["profile_doc"], dict) and "hinges" in ctx["profile_doc"]
         ctx["axis_name"], ctx["axis_role0"], ctx["moments0"] = initial_spin_axis(h)
         ctx["energy_drift"] = rigid_energy_drift(j, h)
-        lt = {k: v for k, v in j["latch_times"].items() if v is not None}
-        ctx["last_latch_name"] = (max(lt, key=lambda k: lt[k])
-                                  if lt and len(lt) == len(j["latch_times"]) else None)
 
         progress(args, "plotting (tools/plot_trajectory.py)")
         ctx["plot_dir"] = os.path.join(work, "plots")
