@@ -91,10 +91,13 @@ TRAJECTORY_FIGURES = [
      "the separatrix of the final inertia."),
 ]
 GEOMETRY_FIGURES = [
-    ("geometry_ellipsoid.png", "Inertia ellipsoids of the configurations with the spin "
-     "axis."),
-    ("geometry_projections.png", "The spacecraft in three projections (hub and panels) in "
-     "its configurations."),
+    ("geometry_ellipsoid.png", "The geometric picture of torque-free rotation for the "
+     "principal moments of the last stage: the energy ellipsoid cut by the momentum sphere "
+     "below, on and above the separatrix, and the family of polhodes, with this run's own "
+     "polhode of that stage overlaid (docs/geometry.md)."),
+    ("geometry_projections.png", "The same polhode family projected on the principal "
+     "planes: ellipses about the stable axes, hyperbolas about the intermediate axis with "
+     "the separatrix asymptotes; this run's polhode overlaid."),
 ]
 
 
@@ -147,8 +150,9 @@ def run(cmd, what):
         line = lines[-1] if lines else f"{what} failed (exit {p.returncode}, no message)"
         # deploysim: 1 and CLI11's codes (>= 100) are bad input, 3 an integration that
         # stopped early; the plot tools' failures are tool failures.
-        if what.startswith("plot"):
-            raise ReportError(f"{what}: {line}", EXIT_TOOL)
+        if what.startswith("plot"):  # their lines name the tool already
+            raise ReportError(line if what.split(".")[0] in line else f"{what}: {line}",
+                              EXIT_TOOL)
         code = EXIT_INTEGRATION if p.returncode == 3 else EXIT_BAD_INPUT
         raise ReportError(line, code, raw=line.startswith("deploysim"))
     return p.stdout, time.monotonic() - t0
@@ -1276,7 +1280,7 @@ def make_report(args):
     except ValueError as e:
         raise ReportError(f"deploysim analyze --json: not JSON ({e})", EXIT_TOOL)
     progress(args, f"analyzed {profile} (deploysim analyze --json, {secs:.1f} s): "
-                   f"{len(j['stages'])} stages, {len(j['flip_times'])} flips")
+                   f"{len(j['stages'])} stage(s), {len(j['flip_times'])} flip(s)")
 
     with tempfile.TemporaryDirectory(prefix="deploysim-report-") as work:
         h5 = os.path.join(work, "trajectory.h5")
@@ -1338,7 +1342,14 @@ def make_report(args):
         ctx["geometry_note"] = ""
         if os.path.isfile(geo):
             progress(args, "plotting (tools/plot_geometry.py)")
-            run([sys.executable, geo, h5, "-o", ctx["geometry_dir"]], "plot_geometry.py")
+            try:
+                run([sys.executable, geo, h5, "-o", ctx["geometry_dir"]], "plot_geometry.py")
+            except ReportError as e:
+                # e.g. two equal principal moments in the last stage: no separatrix to draw.
+                # The rest of the report stands; the note says why the figures are missing.
+                why = str(e).replace(h5, "the trajectory")
+                ctx["geometry_note"] = f"tools/plot_geometry.py could not draw them ({why})"
+                progress(args, f"no geometry figures: {e}")
         else:
             ctx["geometry_note"] = ("tools/plot_geometry.py is not installed next to "
                                     "tools/report.py.")
