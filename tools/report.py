@@ -505,7 +505,10 @@ def section_summary(c, j, h, ctx):
     if dws:
         first = c.js(ptr("danger_windows", 0, 0), tag="span", cls=None, dec=1, unit="s",
                      suffix="\u00a0s")
-        s = f"spin about {axis} becomes the intermediate axis at {first}"
+        if dws[0][0] <= stages[0]["t_begin"]:
+            s = f"spin about {axis}, the intermediate axis from the start"
+        else:
+            s = f"spin about {axis} becomes the intermediate axis at {first}"
         # the final configuration: the last stage if rigid, intermediate, starting later
         ls = stages[last]
         if ls["rigid"] and ls["spin_axis_end"] == "intermediate" and ls["t_begin"] > dws[0][0]:
@@ -517,9 +520,11 @@ def section_summary(c, j, h, ctx):
             s += " danger windows)"
         parts.append(s)
     else:
-        parts.append(f"spin about {axis} never becomes the intermediate axis (it ends as the "
-                     + c.js(ptr("stages", last, "spin_axis_end"), tag="span", cls=None)
-                     + " axis)")
+        role = stages[last]["spin_axis_end"]
+        shown = {"degenerate": "an axis of two equal moments"}.get(role, f"the {role} axis")
+        parts.append(f"spin about {axis} never becomes the intermediate axis (it ends as "
+                     + c.js(ptr("stages", last, "spin_axis_end"), tag="span", cls=None,
+                            shown=esc(shown)) + ")")
     nf = len(j["flip_times"])
     if nf:
         parts.append("first flip at " + c.js("/flip_times/0", tag="span", cls=None, dec=1,
@@ -571,7 +576,8 @@ def section_summary(c, j, h, ctx):
             + (" hinge event, " if ne == 1 else " hinge events, ")
             + c.derived("sum /hinge_events/*/energy_dissipated", total,
                         fmt_num(total, 3) + "\u00a0J", tag="span", cls=None, unit="J")
-            + " dissipated in them; " + locked + " (section 4).")
+            + (" dissipated in it; " if ne == 1 else " dissipated in them; ")
+            + locked + " (section 4).")
     if "coupling_comparison" in j:
         cc = j["coupling_comparison"]
         items.append(
