@@ -39,7 +39,7 @@ folder, renamed at the end) and one line goes to stderr.
 
 Examples:
   /usr/bin/python3 tools/report.py deployment_profiles/smallsat_spring_deploy.yaml \\
-      -o spring_report.html --deploysim build/release/src/deploysim/cli/deploysim
+      -o spring_report.html --deploysim build/release/bin/deploysim
   /usr/bin/python3 tools/report.py deployment_profiles/smallsat_three_stage.yaml \\
       -o three_stage.html --method rkmk-rkf78 --rtol 1e-12 --dt 0.05
 Needs Debian's python3-h5py, python3-numpy, python3-yaml, python3-matplotlib (run with
@@ -122,10 +122,10 @@ def find_deploysim(arg):
         if os.path.isfile(arg) and os.access(arg, os.X_OK):
             return os.path.abspath(arg)
         raise ReportError(f"--deploysim {arg}: not an executable file", EXIT_BAD_INPUT)
-    for cand in (os.environ.get("DEPLOYSIM"), shutil.which("deploysim")):
+    for cand in (os.environ.get("DEPLOYSIM_BIN"), shutil.which("deploysim")):
         if cand and os.path.isfile(cand) and os.access(cand, os.X_OK):
             return os.path.abspath(cand)
-    raise ReportError("no deploysim found: pass --deploysim BIN (or set DEPLOYSIM)",
+    raise ReportError("no deploysim found: pass --deploysim BIN (or set DEPLOYSIM_BIN)",
                       EXIT_BAD_INPUT)
 
 
@@ -444,6 +444,7 @@ h2 { font-size: 13pt; margin: 18pt 0 6pt; padding-bottom: 2pt; border-bottom: 1.
      break-after: avoid; page-break-after: avoid; }
 h3 { font-size: 10.5pt; margin: 12pt 0 4pt; break-after: avoid; page-break-after: avoid; }
 p { margin: 4pt 0 6pt; }
+sup, sub { line-height: 0; }
 .subtitle { color: #444; margin-bottom: 8pt; }
 .meta { color: #444; font-size: 8.5pt; }
 .summary { border: 1.5px solid #333; background: #f4f4f0; padding: 7pt 10pt; margin: 10pt 0;
@@ -516,8 +517,8 @@ def section_summary(c, j, h, ctx):
                   + c.js(ptr("stages", last, "t_begin"), tag="span", cls=None, dec=1, unit="s",
                          suffix="\u00a0s") + ")")
         if len(dws) > 1:
-            s += f" ({c.derived('len /danger_windows', len(dws), str(len(dws)), tag='span', cls=None)}"
-            s += " danger windows)"
+            n = c.derived("len /danger_windows", len(dws), str(len(dws)), tag="span", cls=None)
+            s += f" ({n} danger windows)"
         parts.append(s)
     else:
         role = stages[last]["spin_axis_end"]
@@ -579,13 +580,11 @@ def section_summary(c, j, h, ctx):
             + (" dissipated in it; " if ne == 1 else " dissipated in them; ")
             + locked + " (section 4).")
     if "coupling_comparison" in j:
-        cc = j["coupling_comparison"]
         items.append(
             "Quasi-rigid vs exact coupling: attitude offset at the end of deployment "
             + c.js("/coupling_comparison/attitude_offset_at_deployment_end", tag="span",
                    cls=None, scale=DEG, digits=3, unit="rad", suffix="\u00a0deg")
             + " (section 5).")
-        del cc
     items.append(
         f"Integrator <code>{esc(j['integrator'])}</code>: inertial momentum kept to "
         + c.js("/max_h_N_drift", tag="span", cls=None, digits=2)
@@ -678,7 +677,8 @@ def section_configuration(c, j, h, ctx):
                f"{esc(ctx['axis_name'])}, the {esc(role_text(ctx['axis_role0']))} axis</td></tr>"
                "<tr><th>spin rate |w|</th>"
                + Cells.src("h5: |/w_NB_B[0]|", rate,
-                           f"{fmt_num(rate, 4)} rad/s = {fmt_num(rate * 60 / (2 * math.pi), 4)} rpm",
+                           f"{fmt_num(rate, 4)} rad/s = "
+                           f"{fmt_num(rate * 60 / (2 * math.pi), 4)} rpm",
                            unit="rad/s")
                + "</tr><tr><th>w_NB_B(0) [rad/s]</th>"
                + Cells.src("h5: /w_NB_B[0]", [float(x) for x in w0],
@@ -789,7 +789,8 @@ def section_stability(c, j, h, ctx):
             drow.append(f"<tr><th>{w + 1}</th>"
                         + c.js(ptr("danger_windows", w, 0), unit="s", dec=3)
                         + c.js(ptr("danger_windows", w, 1), unit="s", dec=3)
-                        + c.derived(f"{ptr('danger_windows', w, 1)} - {ptr('danger_windows', w, 0)}",
+                        + c.derived(f"{ptr('danger_windows', w, 1)} - "
+                                    f"{ptr('danger_windows', w, 0)}",
                                     b - a, fmt_fixed(b - a, 3), unit="s") + "</tr>")
         out.append("<h3>Danger windows</h3><p class='note'>Intervals in which the spin axis is "
                    "the intermediate principal axis of J_B(t) (flips possible); first and last "
@@ -967,7 +968,8 @@ def section_coupling(c, j, h, ctx):
                    "comparison needs a geometry-mode stage profile).</p></section>")
         return "".join(out)
     cc = "/coupling_comparison/"
-    frac = j["coupling_comparison"]["max_w_difference_deploying"] / j["coupling_comparison"]["w_scale"]
+    cmp = j["coupling_comparison"]
+    frac = cmp["max_w_difference_deploying"] / cmp["w_scale"]
     other = ctx["other_coupling"]
     rows = [
         "<tr><th>max |w<sub>exact</sub> \u2212 w<sub>quasi</sub>| while deploying</th>"
@@ -995,7 +997,8 @@ def section_coupling(c, j, h, ctx):
     if ctx["other"] is not None:
         o = ctx["other"]
         ex_j, qr_j = (j, o) if j["coupling"] == "exact" else (o, j)
-        ex_doc, qr_doc = (None, "other-coupling") if j["coupling"] == "exact" else ("other-coupling", None)
+        ex_doc, qr_doc = ((None, "other-coupling") if j["coupling"] == "exact"
+                          else ("other-coupling", None))
         n = max(len(ex_j["flip_times"]), len(qr_j["flip_times"]))
         frow = []
         for k in range(n):
@@ -1005,7 +1008,8 @@ def section_coupling(c, j, h, ctx):
                       if k < len(d["flip_times"]) else "<td class='t'>\u2014</td>")
             if k < len(ex_j["flip_times"]) and k < len(qr_j["flip_times"]):
                 dd = qr_j["flip_times"][k] - ex_j["flip_times"][k]
-                r += f"<td class='n' data-value='{dd!r}' data-src='quasi-rigid minus exact'>{fmt_num(dd, 3)}</td>"
+                r += Cells.src("quasi-rigid minus exact flip time", dd, fmt_num(dd, 3),
+                               unit="s")
             else:
                 r += "<td></td>"
             frow.append(r + "</tr>")
@@ -1094,11 +1098,9 @@ def section_integrator(c, j, h, ctx):
                     + f" s, {n} samples): max |E \u2212 E<sub>first</sub>| / E</th>"
                     + Cells.src(f"h5: /energy over /time in (t_begin, t_end) of stage {i}", d,
                                 fmt_num(d, 3)) + "</tr>")
-    worst = max((s["max_flip_time_difference"] for s in j["stages"]), default=0.0)
     wi = max(range(len(j["stages"])), key=lambda i: j["stages"][i]["max_flip_time_difference"])
     arow.append("<tr><th>max |located \u2212 closed-form flip time| [s]</th>"
                 + c.js(ptr("stages", wi, "max_flip_time_difference"), unit="s", digits=3) + "</tr>")
-    del worst
     out.append("<table class='kv'><caption>Accuracy evidence</caption><tbody>" + "".join(arow)
                + "</tbody></table>")
     out.append("<p class='note'>Rigid (constant-inertia) stages conserve the kinetic energy "
@@ -1132,7 +1134,8 @@ def section_inputs(c, j, h, ctx):
         ("model", "h5: @model_source", a.get("model_source", "?"),
          f"<code>{esc(a.get('model_source', '?'))}</code> "
          f"(name {esc(a.get('model_name', '?'))})"),
-        ("mode, coupling", "h5: @mode, @coupling", a.get("mode", "?") + ", " + a.get("coupling", "?"),
+        ("mode, coupling", "h5: @mode, @coupling",
+         a.get("mode", "?") + ", " + a.get("coupling", "?"),
          esc(a.get("mode", "?")) + ", " + esc(a.get("coupling", "?"))),
         ("integrator", "h5: @integrator, @integrator_settings",
          a.get("integrator", "?") + ": " + a.get("integrator_settings", "?"),
@@ -1223,7 +1226,7 @@ def parse_args(argv):
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="Examples:\n"
                "  /usr/bin/python3 tools/report.py deployment_profiles/smallsat_spring_deploy.yaml"
-               " \\\n      -o spring_report.html --deploysim build/release/src/deploysim/cli/deploysim\n"
+               " \\\n      -o spring_report.html --deploysim build/release/bin/deploysim\n"
                "  /usr/bin/python3 tools/report.py deployment_profiles/smallsat_three_stage.yaml"
                " \\\n      -o three_stage.html --method rkmk-rkf78 --rtol 1e-12 --dt 0.05\n\n"
                "Exit codes: 0 written; 1 bad input (deploysim's message passed through); 2 bad "
@@ -1231,7 +1234,7 @@ def parse_args(argv):
                "5 a plot tool or the output failed.\nOn an error no file is written.")
     ap.add_argument("profile", help="deployment profile (YAML)")
     ap.add_argument("-o", "--output", required=True, help="the report to write (HTML)")
-    ap.add_argument("--deploysim", help="the deploysim executable (default: $DEPLOYSIM, then "
+    ap.add_argument("--deploysim", help="the deploysim executable (default: $DEPLOYSIM_BIN, then "
                     "deploysim on PATH)")
     ap.add_argument("--method", help="integrator (deploysim methods)")
     # Numbers are passed to deploysim as written (it checks their ranges).

@@ -149,7 +149,8 @@ def shown_number(text):
 
 # How far the page, or a table, figure, code block or the summary box, runs past the
 # right edge of its container [px] (a table running off the sheet).
-OVERFLOW_JS = """Math.max(document.documentElement.scrollWidth - document.documentElement.clientWidth,
+OVERFLOW_JS = """Math.max(
+  document.documentElement.scrollWidth - document.documentElement.clientWidth,
   ...Array.from(document.querySelectorAll('table, figure, pre, .summary')).map(e =>
      e.getBoundingClientRect().right - e.parentElement.getBoundingClientRect().right))"""
 
@@ -250,7 +251,8 @@ class ReportTest(unittest.TestCase):
                 where = f"{name}: data-derived={a['data-derived']!r}"
                 v = evaluate(doc, a["data-derived"])
                 got = json.loads(a["data-value"])
-                self.assertTrue(got == v or abs(got - v) <= 1e-12 * abs(v), f"{where}: {got} vs {v}")
+                self.assertTrue(got == v or abs(got - v) <= 1e-12 * abs(v),
+                                f"{where}: {got} vs {v}")
                 seen.add(("derived", a["data-derived"]))
                 n_checked += 1
             # every table cell that shows a number says where the number comes from
