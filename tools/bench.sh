@@ -8,7 +8,9 @@
 #   and bench/pipeline_bench's table where that program exists;
 #   5. peak memory (RSS) of `deploysim simulate` for 1e5, 1e6 and 1e7 samples
 #      (bench/rss_bench.sh; --quick: 1e5 and 1e6), its own README section between
-#      <!-- bench:rss:begin --> and <!-- bench:rss:end -->.
+#      <!-- bench:rss:begin --> and <!-- bench:rss:end -->;
+#   7. the pages of the main job: the 3D viewer (size < 5 MB, opens < 2 s) and the mission
+#      report (bench/pages_bench.py, Debian's headless Chromium).
 # Every part writes its tables as markdown (--markdown FILE); --update-readme puts them,
 # from one full run, into README.md between the markers <!-- bench:begin --> and
 # <!-- bench:end --> (everything between them is replaced).
@@ -58,6 +60,9 @@ done
 echo "== rss_bench =="
 bench/rss_bench.sh build/release/bin/deploysim "${quick[@]}" --markdown "$out/rss.md"
 echo
+echo "== pages_bench =="
+/usr/bin/python3 bench/pages_bench.py build/release/bin/deploysim "${quick[@]}" --markdown "$out/pages.md"
+echo
 elapsed=$(($(date +%s) - start))
 echo "== all parts: ${elapsed} s =="
 
@@ -76,6 +81,8 @@ if [[ $update == 1 ]]; then
       echo
       cat "$out/$p.md"
     done
+    echo
+    cat "$out/pages.md"
     echo
     echo "<!-- bench:end -->"
   } >"$out/section.md"

@@ -78,4 +78,12 @@ done
 # Data files are inputs, not part of the package: read the repository's.
 "$tmp/link_check/build/read_model" "$src/models/smallsat.yaml"
 "$tmp/link_check/build/load_sweep" "$src/sweeps/smallsat_duration_spin.yaml"
+# The installed CLI's Python subcommands run the installed tools (share/deploysim/tools),
+# which the installed binary looks for before the source tree's.
+for f in report.py view.py view_template.html deploysim_scene.py plot_trajectory.py plot_geometry.py; do
+  [ -f "$prefix/share/deploysim/tools/$f" ] || { echo "check_install: tools/$f was not installed" >&2; exit 1; }
+done
+"$prefix/bin/deploysim" simulate "$src/deployment_profiles/wing_nut.yaml" -q -o "$tmp/wing_nut.h5"
+env -u DEPLOYSIM_TOOLS_DIR "$prefix/bin/deploysim" view "$tmp/wing_nut.h5" -o "$tmp/wing_nut.html"
+[ -s "$tmp/wing_nut.html" ] || { echo "check_install: deploysim view wrote nothing" >&2; exit 1; }
 echo "check_install: OK"
