@@ -40,7 +40,6 @@ CASES = {
 # Measured, not reproduced by a second run: only checked to be there and positive.
 VARYING = {"/wall_seconds"}
 # Slow-report bound: the report of the main job takes ~3 s on one free core (the plots).
-MAX_REPORT_SECONDS = 120.0
 
 
 def report_cmd(profile, out, *extra, deploysim=None):
@@ -368,7 +367,6 @@ class ReportTest(unittest.TestCase):
         body = self.reports["spring"].read_text(encoding="utf-8")
         self.assertIn("coupled exactly", body)
         self.assertIn("holds only for a perfectly rigid body", body.replace("\n", " "))
-        self.assertLess(self.seconds["spring"], MAX_REPORT_SECONDS)
 
     def test_stage_profile_report(self):
         seen = self.check_numbers("three_stage", self.other)
@@ -380,7 +378,6 @@ class ReportTest(unittest.TestCase):
         print(f"three_stage verdict: {verdict}", file=sys.stderr)
         self.assertRegex(verdict, r"intermediate axis at 140\.1 s.*first flip at 181\.9 s; "
                                   r"6 flips in 600 s")
-        self.assertLess(self.seconds["three_stage"], MAX_REPORT_SECONDS)
 
     def test_other_kinds_of_profile(self):
         # A tensor model (no panels), an energy sink with no flip and a panel that never
