@@ -11,6 +11,7 @@ packages=(
   libyaml-cpp-dev libhdf5-dev hdf5-tools
   libsimbody-dev libcli11-dev libfmt-dev
   python3-matplotlib python3-h5py python3-numpy python3-mpmath
+  pybind11-dev python3-pybind11 python3-dev python3-pytest python3-pandas  # Python package
   libopenmpi-dev openmpi-bin        # optional MPI sweeps (cmake -DDEPLOYSIM_WITH_MPI=ON)
   clang libfuzzer-14-dev            # fuzz targets (tools/fuzz.sh, cmake -DDEPLOYSIM_FUZZ=ON)
   chromium                          # headless page tests (tools/headless_chromium.py)

@@ -493,7 +493,10 @@ std::string Render(const YamlNode& value) {
 }
 
 YamlDocument::YamlDocument(std::string path, std::string text)
-    : path_(std::move(path)), text_(std::move(text)) {
+    : YamlDocument(path, std::move(text), std::filesystem::path(path).parent_path().string()) {}
+
+YamlDocument::YamlDocument(std::string path, std::string text, std::string base_dir)
+    : path_(std::move(path)), text_(std::move(text)), base_dir_(std::move(base_dir)) {
   if (text_.size() > kMaxFileBytes) {
     throw std::invalid_argument(path_ + ": the text has " + std::to_string(text_.size()) +
                                 " bytes (input files have at most " +
@@ -717,7 +720,7 @@ std::string Fields::FilePath(const std::string& key) const {
   const std::string relative = Text(key);
   if (relative.empty()) Fail(key, "must name a file");
   const std::filesystem::path resolved =
-      (std::filesystem::path(doc_->path()).parent_path() / relative).lexically_normal();
+      (std::filesystem::path(doc_->base_dir()) / relative).lexically_normal();
   // Checked without opening (a FIFO would block): the reader (ReadTextFile) checks again.
   std::string problem;
   struct stat st {};

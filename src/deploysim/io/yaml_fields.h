@@ -112,8 +112,15 @@ class YamlDocument {
   /// "<path>: ..." for a text over kMaxFileBytes, an empty file, several documents or a top
   /// level that is not a mapping. Never loops (yaml-cpp 0.7's LoadAll does, on a ',').
   YamlDocument(std::string path, std::string text);
+  /// The same for a text that is no file (e.g. a document built from Python dicts):
+  /// `path` names it in messages, and the files it names (FilePath) are resolved
+  /// relative to `base_dir` instead of path's folder.
+  YamlDocument(std::string path, std::string text, std::string base_dir);
 
   const std::string& path() const { return path_; }
+  /// The folder that relative file names in the document are resolved against: the
+  /// folder of path() unless given.
+  const std::string& base_dir() const { return base_dir_; }
   const std::string& text() const { return text_; }
   const YamlNode& root() const { return root_; }
 
@@ -128,6 +135,7 @@ class YamlDocument {
  private:
   std::string path_;
   std::string text_;
+  std::string base_dir_;
   YamlNode root_;
 };
 
@@ -199,7 +207,7 @@ class Fields {
   math::Mat3 Matrix3(const std::string& key) const;
   Fields Mapping(const std::string& key, const std::vector<std::string>& allowed) const;
 
-  /// The file named by `key` (a path relative to this document's directory), resolved and
+  /// The file named by `key` (a path relative to the document's base_dir()), resolved and
   /// checked to be readable. Throws std::invalid_argument for an empty name and
   /// std::runtime_error "<file>: <key> = <value>: cannot read <resolved>: <reason>".
   std::string FilePath(const std::string& key) const;

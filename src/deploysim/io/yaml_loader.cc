@@ -83,6 +83,15 @@ schedule::Profile LoadProfile(const std::string& path) {
   return p;
 }
 
+schedule::Profile LoadProfileText(const std::string& text,
+                                  const std::string& source,
+                                  const std::string& base_dir,
+                                  const model::Model* model) {
+  schedule::Profile p = ReadProfileText(text, source, base_dir, model);
+  CheckRunSettings(p);
+  return p;
+}
+
 void ApplyOverrides(schedule::Profile& profile, const ProfileOverrides& o) {
   const std::string where = Where(profile);
   schedule::Profile p = profile;

@@ -17,6 +17,12 @@ namespace deploysim::io {
 /// schedule::ValidateProfile and CheckRunSettings.
 schedule::Profile LoadProfile(const std::string& path);
 
+/// LoadProfile of a text that is no file (ReadProfileText, then CheckRunSettings).
+schedule::Profile LoadProfileText(const std::string& text,
+                                  const std::string& source,
+                                  const std::string& base_dir,
+                                  const model::Model* model = nullptr);
+
 /// Settings a user may override for one run (e.g. on the command line); unset fields
 /// keep the profile's values. Names as in profile files: method "rk4", mode "geometry",
 /// coupling "quasi-rigid", ...

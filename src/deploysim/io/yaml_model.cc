@@ -141,7 +141,13 @@ model::Configuration ReadHingedConfiguration(const YamlDocument& doc,
 }  // namespace
 
 model::Model LoadModel(const std::string& path) {
-  const YamlDocument doc(path, yaml::ReadTextFile(path));
+  const std::string text = yaml::ReadTextFile(path);
+  return ReadModelText(text, path);
+}
+
+model::Model ReadModelText(const std::string& text, const std::string& source) {
+  const std::string& path = source;
+  const YamlDocument doc(source, text);
   const Fields top(doc, doc.root(), "",
                    {"name", "description", "kind", "configurations", "hub", "panels"});
   model::Model m;

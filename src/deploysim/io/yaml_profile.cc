@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -398,7 +399,16 @@ schedule::Coupling ParseCoupling(const std::string& name) {
 }
 
 schedule::Profile ReadProfile(const std::string& path) {
-  const YamlDocument doc(path, yaml::ReadTextFile(path));
+  const std::string text = yaml::ReadTextFile(path);
+  return ReadProfileText(text, path, std::filesystem::path(path).parent_path().string());
+}
+
+schedule::Profile ReadProfileText(const std::string& text,
+                                  const std::string& source,
+                                  const std::string& base_dir,
+                                  const model::Model* model) {
+  const std::string& path = source;
+  const YamlDocument doc(source, text, base_dir);
   const Fields top(doc, doc.root(), "",
                    {"name", "description", "model", "mode", "coupling", "initial", "stages",
                     "hinges", "start", "until", "integrator", "output"});
@@ -429,7 +439,12 @@ schedule::Profile ReadProfile(const std::string& path) {
       }
     }
   }
-  p.model = LoadModel(top.FilePath("model"));
+  if (model != nullptr) {
+    (void)top.Text("model");  // still required, and a string: the model's name or file
+    p.model = *model;
+  } else {
+    p.model = LoadModel(top.FilePath("model"));
+  }
   if (hinge_profile) {
     if (p.model.kind != model::ModelKind::kHinged) {
       top.Fail("model", "hinges need a hinged model (model '" + yaml::ShortValue(p.model.name) +

@@ -44,6 +44,21 @@ model::Model LoadModel(const std::string& path);
 /// the integrators (use io::LoadProfile for a profile that is to be run).
 schedule::Profile ReadProfile(const std::string& path);
 
+/// LoadModel of a text that is no file (a document built in memory, e.g. from Python
+/// dicts by the deploysim Python package): the same rules and the same one-line messages,
+/// with `source` where a file's messages name the file. Model::source = source,
+/// Model::text = text.
+model::Model ReadModelText(const std::string& text, const std::string& source);
+
+/// ReadProfile of a text that is no file: messages name `source`; the `model:` file is
+/// resolved relative to `base_dir` ("" = the current folder). If `model` is given, it is
+/// the profile's model and `model:` is only checked to be a string (its name). The same
+/// rules and messages as ReadProfile otherwise. Profile::source = source.
+schedule::Profile ReadProfileText(const std::string& text,
+                                  const std::string& source,
+                                  const std::string& base_dir,
+                                  const model::Model* model = nullptr);
+
 /// "tensor" | "geometry" -> Mode, "quasi-rigid" | "exact" -> Coupling (the names of
 /// schedule::ToString). Throw std::invalid_argument "<name>: unknown mode (valid: ...)".
 schedule::Mode ParseMode(const std::string& name);

@@ -24,18 +24,8 @@ namespace {
 
 using math::FormatNumber;
 
-enum class ColumnType { kDouble, kInt, kText };
-
-struct Column {
-  std::string name;
-  std::string units;
-  std::string description;
-  std::string role;  // index | parameter | outcome
-  ColumnType type = ColumnType::kDouble;
-  std::vector<double> d;
-  std::vector<std::int64_t> i;
-  std::vector<std::string> s;
-};
+using ColumnType = ResultColumn::Type;
+using Column = ResultColumn;
 
 std::string Join(const std::vector<std::string>& v) {
   std::string s;
@@ -57,7 +47,10 @@ Column Make(std::string name,
   return c;
 }
 
-std::vector<Column> BuildColumns(const SweepSpec& spec, const std::vector<CaseOutcome>& outcomes) {
+}  // namespace
+
+std::vector<ResultColumn> ResultColumns(const SweepSpec& spec,
+                                        const std::vector<CaseOutcome>& outcomes) {
   const std::size_t n = spec.case_count();
   if (outcomes.size() != n) {
     throw std::invalid_argument("sweep results: " + std::to_string(outcomes.size()) +
@@ -205,6 +198,8 @@ std::vector<Column> BuildColumns(const SweepSpec& spec, const std::vector<CaseOu
   }
   return cols;
 }
+
+namespace {
 
 // ---- HDF5 ----
 
@@ -374,7 +369,7 @@ void WriteSweepOutputs(const std::string& path,
                        const SweepSpec& spec,
                        const std::vector<CaseOutcome>& outcomes,
                        const RunInfo& info) {
-  const std::vector<Column> cols = BuildColumns(spec, outcomes);
+  const std::vector<Column> cols = ResultColumns(spec, outcomes);
   io::Hdf5Writer out(path);  // atomic: nothing at `path` unless Commit() succeeds
   WriteContents(out, spec, cols, outcomes, info);
   out.Close();
@@ -390,7 +385,7 @@ void WriteSweepOutputs(const std::string& path,
 void WriteSweepCsv(const std::string& path,
                    const SweepSpec& spec,
                    const std::vector<CaseOutcome>& outcomes) {
-  const std::vector<Column> cols = BuildColumns(spec, outcomes);
+  const std::vector<Column> cols = ResultColumns(spec, outcomes);
   io::AtomicFile out(path);
   WriteCsvTemporary(out, path, cols, outcomes);
   out.Commit();

@@ -14,6 +14,7 @@
 /// /timing, as they differ from run to run.
 
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -59,6 +60,25 @@ void WriteSweepOutputs(const std::string& path,
                        const SweepSpec& spec,
                        const std::vector<CaseOutcome>& outcomes,
                        const RunInfo& info);
+
+/// One column of the /cases table, in memory: what WriteSweepResults writes (and the
+/// Python package returns as numpy arrays).
+struct ResultColumn {
+  enum class Type { kDouble, kInt, kText };
+  std::string name;
+  std::string units;
+  std::string description;
+  std::string role;  ///< index | parameter | outcome
+  Type type = Type::kDouble;
+  std::vector<double> d;        ///< kDouble
+  std::vector<std::int64_t> i;  ///< kInt
+  std::vector<std::string> s;   ///< kText
+};
+
+/// The /cases columns of `outcomes` (outcomes[i] is case i), in file order. Throws
+/// std::invalid_argument on a size mismatch.
+std::vector<ResultColumn> ResultColumns(const SweepSpec& spec,
+                                        const std::vector<CaseOutcome>& outcomes);
 
 /// A results file as read back (for tests, tools and comparisons).
 struct SweepTable {

@@ -90,6 +90,10 @@ int DefaultThreads(const MpiSession* mpi) {
 
 }  // namespace
 
+CaseOutcome SimulateCase(const SweepSpec& spec, std::size_t i) {
+  return OutcomeNamingFile(spec, BuildCase(spec, i));
+}
+
 std::string JournalPath(const std::string& output, int rank) {
   return output + ".partial" + (rank == 0 ? std::string() : "." + std::to_string(rank));
 }
@@ -179,8 +183,7 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
           todo.size(),
           [&](std::size_t k) {
             const std::size_t i = todo[k];
-            const Case c = BuildCase(spec, i);
-            const CaseOutcome o = OutcomeNamingFile(spec, c);
+            const CaseOutcome o = SimulateCase(spec, i);
             journal.Append(i, o);
             outcomes[i] = o;  // slot i is this worker's alone
             finished.fetch_add(1);

@@ -23,6 +23,7 @@
 #include <string>
 
 #include "deploysim/sweep/mpi_session.h"
+#include "deploysim/sweep/outcome.h"
 #include "deploysim/sweep/results_file.h"
 #include "deploysim/sweep/sweep_spec.h"
 
@@ -77,6 +78,11 @@ std::string JournalPath(const std::string& output, int rank);
 /// journal keeps every finished case), as "<sweep file>: case <i>: <message>" when the
 /// message did not name the sweep file.
 RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options);
+
+/// Case i of the sweep on the outcome path (BuildCase, SimulateOutcome), as RunSweep runs
+/// it: an error that does not name the sweep file is rethrown as "<sweep file>: case <i>:
+/// <message>" (std::invalid_argument or std::runtime_error). Thread-safe.
+CaseOutcome SimulateCase(const SweepSpec& spec, std::size_t i);
 
 /// One line for the user: "N cases: F flipped (W will flip), T tumbling at the end, X
 /// failed; wrote PATH".

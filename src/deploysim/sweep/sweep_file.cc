@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -617,7 +618,25 @@ SweepSpec LoadSweep(const std::string& path) {
 }
 
 SweepSpec ReadSweep(const std::string& path) {
-  const YamlDocument doc(path, io::yaml::ReadTextFile(path));
+  const std::string text = io::yaml::ReadTextFile(path);
+  return ReadSweepText(text, path, std::filesystem::path(path).parent_path().string());
+}
+
+SweepSpec LoadSweepText(const std::string& text,
+                        const std::string& source,
+                        const std::string& base_dir,
+                        const schedule::Profile* base) {
+  SweepSpec spec = ReadSweepText(text, source, base_dir, base);
+  ValidateCases(spec);
+  return spec;
+}
+
+SweepSpec ReadSweepText(const std::string& text,
+                        const std::string& source,
+                        const std::string& base_dir,
+                        const schedule::Profile* base) {
+  const std::string& path = source;
+  const YamlDocument doc(source, text, base_dir);
   const Fields top(doc, doc.root(), "",
                    {"name", "description", "base", "integrator", "grid", "monte_carlo", "outcome"});
   SweepSpec spec;
@@ -625,8 +644,14 @@ SweepSpec ReadSweep(const std::string& path) {
   spec.text = doc.text();
   spec.name = top.Name("name");
   spec.description = top.OptionalText("description").value_or("");
-  spec.base = io::LoadProfile(top.FilePath("base"));
-  spec.model_text = io::yaml::ReadTextFile(spec.base.model.source);
+  if (base != nullptr) {
+    (void)top.Text("base");  // still required, and a string: the profile's name or file
+    spec.base = *base;
+    spec.model_text = base->model.text;
+  } else {
+    spec.base = io::LoadProfile(top.FilePath("base"));
+    spec.model_text = io::yaml::ReadTextFile(spec.base.model.source);
+  }
   ReadIntegrator(top, spec.base);
   RequireShapeMethod(top, spec.base);
   if (!top.Has("grid") && !top.Has("monte_carlo")) {

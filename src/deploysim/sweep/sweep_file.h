@@ -22,6 +22,21 @@ namespace deploysim::sweep {
 /// starts cannot fail on bad input half-way. SweepSpec::source = path.
 SweepSpec LoadSweep(const std::string& path);
 
+/// LoadSweep of a text that is no file (a document built in memory, e.g. from Python
+/// dicts): messages name `source`; the `base:` profile file is resolved relative to
+/// `base_dir` ("" = the current folder), or, if `base` is given, that profile is the base
+/// and `base:` is only checked to be a string. SweepSpec::source = source.
+SweepSpec LoadSweepText(const std::string& text,
+                        const std::string& source,
+                        const std::string& base_dir,
+                        const schedule::Profile* base = nullptr);
+
+/// LoadSweepText without ValidateCases.
+SweepSpec ReadSweepText(const std::string& text,
+                        const std::string& source,
+                        const std::string& base_dir,
+                        const schedule::Profile* base = nullptr);
+
 /// LoadSweep without ValidateCases: the file and its base profile are read and checked,
 /// the cases are not built (that takes time proportional to the number of cases, up to
 /// kMaxCases). For tools that check many files quickly (the fuzz targets); a sweep that

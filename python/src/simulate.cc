@@ -1,0 +1,193 @@
+// simulate: analysis::RunMission (what `deploysim simulate` runs, without the file) with
+// the GIL released, the trajectory handed to numpy without copies.
+
+#include <pybind11/stl.h>
+
+#include <utility>
+
+#include "bindings.h"
+#include "convert.h"
+#include "deploysim/analysis/mission.h"
+#include "deploysim/integrators/integrate.h"
+
+namespace py = pybind11;
+
+namespace deploysim::python {
+
+namespace {
+
+py::dict TrajectoryDict(analysis::Trajectory&& t, bool geometry) {
+  const auto n = static_cast<py::ssize_t>(t.time.size());
+  py::dict d;
+  d["time"] = Doubles(std::move(t.time));
+  d["H_B"] = Vec3s(std::move(t.H_B));
+  d["w_NB_B"] = Vec3s(std::move(t.w_NB_B));
+  d["q_NB"] = Quats(t.q_NB);
+  d["J_B"] = Mat3s(std::move(t.J_B));
+  d["principal_moments"] = Vec3s(std::move(t.principal_moments));
+  d["h_rel_B"] = Vec3s(std::move(t.h_rel_B));
+  d["h_N"] = Vec3s(std::move(t.h_N));
+  std::vector<double> total(t.energy.size());
+  for (std::size_t k = 0; k < total.size(); ++k) total[k] = t.energy[k] + t.energy_spring[k];
+  d["energy"] = Doubles(std::move(t.energy));
+  d["energy_rigid"] = Doubles(std::move(t.energy_rigid));
+  d["energy_spring"] = Doubles(std::move(t.energy_spring));
+  d["energy_total"] = Doubles(std::move(total));
+  d["euler_313"] = Vec3s(std::move(t.euler_313));
+  d["spin_axis_angle"] = Doubles(std::move(t.spin_axis_angle));
+  if (geometry) {
+    d["hinge_angles"] = Rows(t.hinge_angles);
+    d["hinge_rates"] = Rows(t.hinge_rates);
+  } else {
+    d["hinge_angles"] = py::array_t<double>(std::vector<py::ssize_t>{n, 0});
+    d["hinge_rates"] = py::array_t<double>(std::vector<py::ssize_t>{n, 0});
+  }
+  return d;
+}
+
+py::dict StageDict(const analysis::StageReport& a, const schedule::Profile& p, std::size_t i) {
+  py::dict d;
+  const bool phases = p.is_hinge_profile();
+  d["index"] = static_cast<long long>(i);
+  if (phases) {
+    d["name"] = a.name;
+    d["law"] = a.law;
+    d["from"] = std::string();
+    d["to"] = std::string();
+    d["t_begin"] = a.t_begin;
+    d["t_end"] = a.t_end;
+  } else {
+    const schedule::Stage& s = p.stages[i];
+    d["name"] = s.name;
+    d["law"] = s.is_hold() ? std::string("hold") : schedule::ToString(s.law);
+    d["from"] = s.from;
+    d["to"] = s.to;
+    d["t_begin"] = s.t_begin;
+    d["t_end"] = s.t_end;
+  }
+  d["rigid"] = a.rigid;
+  d["moments_end"] = Vec(a.moments_end);
+  d["spin_axis_role"] = analysis::ToString(a.spin_axis_end);
+  d["regime"] = a.regime;
+  d["one_minus_k2"] = a.one_minus_k2;
+  d["separatrix_distance"] = a.separatrix_distance;
+  d["predicted_flip_half_period"] = a.predicted_flip_half_period;
+  d["predicted_flips"] = DoublesCopy(a.predicted_flips);
+  d["observed_flips"] = DoublesCopy(a.observed_flips);
+  d["predicted_flip_count"] = static_cast<long long>(a.predicted_flips.size());
+  d["observed_flip_count"] = static_cast<long long>(a.observed_flips.size());
+  d["max_flip_time_difference"] = a.max_flip_time_difference;
+  d["caveat"] = a.caveat;
+  d["rigid_body_only"] = a.rigid_body_only;
+  return d;
+}
+
+py::dict EventColumns(const analysis::MissionResult& r) {
+  const std::size_t n = r.hinge_events.size();
+  std::vector<double> time, angle, before, after, impulse, dissipated;
+  std::vector<math::Vec3> jump;
+  std::vector<long long> panel;
+  py::list kind, name;
+  for (const analysis::HingeEvent& e : r.hinge_events) {
+    time.push_back(e.t);
+    panel.push_back(e.panel);
+    kind.append(analysis::ToString(e.kind));
+    name.append(r.profile.model.hinged.panels.at(static_cast<std::size_t>(e.panel)).name);
+    angle.push_back(e.angle);
+    before.push_back(e.rate_before);
+    after.push_back(e.rate_after);
+    impulse.push_back(e.impulse);
+    jump.push_back(e.w_jump_B);
+    dissipated.push_back(e.energy_dissipated);
+  }
+  py::dict d;
+  d["time"] = Doubles(std::move(time));
+  d["panel"] = py::array_t<long long>(static_cast<py::ssize_t>(n), panel.data());
+  d["panel_name"] = name;
+  d["kind"] = kind;
+  d["angle"] = Doubles(std::move(angle));
+  d["rate_before"] = Doubles(std::move(before));
+  d["rate_after"] = Doubles(std::move(after));
+  d["impulse"] = Doubles(std::move(impulse));
+  d["w_jump_B"] = Vec3s(std::move(jump));
+  d["energy_dissipated"] = Doubles(std::move(dissipated));
+  return d;
+}
+
+}  // namespace
+
+py::dict MissionDict(analysis::MissionResult&& r) {
+  const schedule::Profile& p = r.profile;
+  const bool geometry = p.mode == schedule::Mode::kGeometry;
+  py::dict d;
+  d["trajectory"] = TrajectoryDict(std::move(r.trajectory), geometry);
+  std::vector<double> predicted;
+  py::list stages;
+  for (std::size_t i = 0; i < r.stages.size(); ++i) {
+    const analysis::StageReport& a = r.stages[i];
+    predicted.insert(predicted.end(), a.predicted_flips.begin(), a.predicted_flips.end());
+    stages.append(StageDict(a, p, i));
+  }
+  d["flip_times"] = DoublesCopy(r.flip_times);
+  d["predicted_flip_times"] = Doubles(std::move(predicted));
+  d["spin_axis_45_times"] = DoublesCopy(r.spin_axis_45_crossings);
+  d["stages"] = stages;
+  std::vector<double> wb, we;
+  for (const analysis::DangerWindow& w : r.danger_windows) {
+    wb.push_back(w.t_begin);
+    we.push_back(w.t_end);
+  }
+  py::dict windows;
+  windows["t_begin"] = Doubles(std::move(wb));
+  windows["t_end"] = Doubles(std::move(we));
+  d["danger_windows"] = windows;
+  d["hinge_events"] = EventColumns(r);
+  d["latch_times"] = DoublesCopy(r.latch_times);
+  std::vector<std::string> panels;
+  if (geometry) {
+    for (const model::Panel& x : p.model.hinged.panels) panels.push_back(x.name);
+  }
+  d["panel_names"] = panels;
+  d["spin_axis_B"] = Vec(r.spin_axis_B);
+  py::dict stats;
+  stats["steps"] = r.stats.steps;
+  stats["rejected"] = r.stats.rejected;
+  stats["evaluations"] = r.stats.evaluations;
+  stats["dense_steps"] = r.stats.dense_steps;
+  d["statistics"] = stats;
+  d["termination"] = integrators::ToString(r.termination);
+  d["reached_end"] = r.termination == integrators::Termination::kReachedEnd;
+  d["message"] = r.message;
+  d["max_h_N_drift"] = r.max_h_N_drift;
+  d["wall_seconds"] = r.wall_seconds;
+  d["energy_initial"] = r.energy_initial;
+  d["energy_final"] = r.energy_final;
+  d["max_spin_axis_angle"] = r.max_spin_axis_angle;
+  d["final_time"] = r.final_state.t;
+  d["final_J_B"] = Mat(r.final_J_B);
+  d["profile"] = r.profile;
+  return d;
+}
+
+void RegisterSimulate(py::module_& m) {
+  m.def(
+      "_simulate",
+      [](const schedule::Profile& profile, py::object progress) {
+        PythonPoll poll(std::move(progress));
+        analysis::MissionResult r;
+        {
+          py::gil_scoped_release release;
+          try {
+            r = analysis::RunMission(profile, [&poll](double f) {
+              if (!poll.PollFraction(f, f >= 1.0)) throw PythonStop{};
+            });
+          } catch (const PythonStop&) {
+          }
+        }
+        poll.Rethrow();
+        return MissionDict(std::move(r));
+      },
+      py::arg("profile"), py::arg("progress") = py::none());
+}
+
+}  // namespace deploysim::python
