@@ -41,7 +41,7 @@ def main():
     for s in r.stages:
         print(f"{s['index']:>2}  {s['name']:<20} {s['t_begin']:>9.6g} {s['t_end']:>9.6g}  "
               f"{s['spin_axis_role']:<13} {s['regime'] or '-':<14} "
-              f"{2 * s['predicted_flip_half_period']:>14.5g}")
+              f"{s['predicted_flip_half_period']:>14.5g}")
     ev = r.events
     print("\ndeployment timeline:")
     for k in range(len(ev["time"])):
@@ -51,13 +51,17 @@ def main():
                      f"hub jump {np.degrees(np.linalg.norm(ev['w_jump_B'][k])):.3f} deg/s")
         print(line)
 
-    fig, ax = plt.subplots(4, 1, figsize=(9, 11), sharex=True)
+    fig, ax = plt.subplots(4, 1, figsize=(9, 11))
     for p, name in enumerate(r.panel_names):
         ax[0].plot(r.time, np.degrees(r.hinge_angles[:, p]), label=name)
     for k in range(len(ev["time"])):
         if ev["kind"][k] == "latch":
             ax[0].axvline(ev["time"][k], color="0.6", lw=0.8, ls="--")
+    releases = [ev["time"][k] for k in range(len(ev["time"])) if ev["kind"][k] == "release"]
+    if releases:  # the deployment takes seconds of the run: show it
+        ax[0].set_xlim(releases[0] - 5, max(ev["time"]) + 10)
     ax[0].set_ylabel("hinge angle [deg]")
+    ax[0].set_xlabel("time [s] (the deployment; dashed: latches)")
     ax[0].legend()
     for i, c in enumerate("xyz"):
         ax[1].plot(r.time, r.H_B[:, i], label=f"H_B {c}")
