@@ -86,4 +86,13 @@ done
 "$prefix/bin/deploysim" simulate "$src/deployment_profiles/wing_nut.yaml" -q -o "$tmp/wing_nut.h5"
 env -u DEPLOYSIM_TOOLS_DIR "$prefix/bin/deploysim" view "$tmp/wing_nut.h5" -o "$tmp/wing_nut.html"
 [ -s "$tmp/wing_nut.html" ] || { echo "check_install: deploysim view wrote nothing" >&2; exit 1; }
+# The Python package, where built: imported from the prefix alone (not the build tree).
+if [ -d "$prefix/lib/python3/dist-packages/deploysim" ]; then
+  (cd "$tmp" && env -u PYTHONPATH PYTHONPATH="$prefix/lib/python3/dist-packages" /usr/bin/python3 -c "
+import deploysim, sys
+assert deploysim.__file__.startswith('$prefix'), deploysim.__file__
+r = deploysim.simulate('$src/deployment_profiles/wing_nut.yaml', dt=1.0)
+print('check_install: python package', deploysim.__version__, len(r.time), 'samples,', len(r.flips), 'flips')
+")
+fi
 echo "check_install: OK"

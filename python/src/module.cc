@@ -64,8 +64,8 @@ void RegisterProfiles(py::module_& m) {
                            "(kind tensors) or a hub with hinged panels (kind hinged).\n"
                            "Build one with deploysim.load_model(path) or "
                            "deploysim.model_from_dict(d).")
-      .def_readonly("name", &model::Model::name)
-      .def_readonly("description", &model::Model::description)
+      .def_readonly("name", &model::Model::name, "the model's name")
+      .def_readonly("description", &model::Model::description, "free text")
       .def_readonly("source", &model::Model::source, "file (or name) it was read from")
       .def_readonly("text", &model::Model::text, "the YAML text it was read from")
       .def_property_readonly(
@@ -90,11 +90,11 @@ void RegisterProfiles(py::module_& m) {
       "state, the stages or hinge plans, the integrator and output settings.\n"
       "Build one with deploysim.load_profile(path) or deploysim.profile_from_dict(d); "
       "deploysim.simulate(profile, ...) runs it.")
-      .def_readonly("name", &schedule::Profile::name)
-      .def_readonly("description", &schedule::Profile::description)
+      .def_readonly("name", &schedule::Profile::name, "the profile's name")
+      .def_readonly("description", &schedule::Profile::description, "free text")
       .def_readonly("source", &schedule::Profile::source, "file (or name) it was read from")
       .def_readonly("text", &schedule::Profile::text, "the YAML text it was read from")
-      .def_readonly("model", &schedule::Profile::model)
+      .def_readonly("model", &schedule::Profile::model, "the Model it runs")
       .def_property_readonly(
           "mode", [](const schedule::Profile& p) { return schedule::ToString(p.mode); },
           "'tensor' or 'geometry'")

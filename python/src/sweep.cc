@@ -68,11 +68,11 @@ void RegisterSweep(py::module_& m) {
                                "A validated sweep (docs/sweeps.md): a base profile and grid / "
                                "Monte Carlo axes. deploysim.load_sweep(path) or "
                                "deploysim.sweep_from_dict(d); deploysim.run_sweep(spec) runs it.")
-      .def_readonly("name", &sweep::SweepSpec::name)
-      .def_readonly("source", &sweep::SweepSpec::source)
-      .def_readonly("text", &sweep::SweepSpec::text)
+      .def_readonly("name", &sweep::SweepSpec::name, "the sweep's name")
+      .def_readonly("source", &sweep::SweepSpec::source, "file (or name) it was read from")
+      .def_readonly("text", &sweep::SweepSpec::text, "the YAML text it was read from")
       .def_readonly("base", &sweep::SweepSpec::base, "the base profile")
-      .def_property_readonly("case_count", &sweep::SweepSpec::case_count)
+      .def_property_readonly("case_count", &sweep::SweepSpec::case_count, "number of cases")
       .def("__len__", &sweep::SweepSpec::case_count)
       .def("__repr__", [](const sweep::SweepSpec& s) {
         return "<deploysim.SweepSpec '" + s.name + "' from " + s.source + ", " +

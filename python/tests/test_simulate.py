@@ -102,3 +102,40 @@ def test_an_exception_in_progress_stops_the_run():
 
     with pytest.raises(ZeroDivisionError):
         deploysim.simulate(SOURCE_DIR / "deployment_profiles/wing_nut.yaml", progress=fail)
+
+
+CTRL_C = """
+import sys, deploysim
+d = {{"name": "long", "model": {model!r},
+     "initial": {{"angular_momentum": [1.0e-8, 2.1252e-5, 1.0e-8]}},
+     "stages": [{{"name": "free spin", "hold": "default", "until": 1000}}],
+     "integrator": {{"method": "thesis-euler", "step": 2e-5}},
+     "output": {{"dt": 1.0}}}}
+p = deploysim.profile_from_dict(d)
+print("start", flush=True)
+try:
+    deploysim.simulate(p)
+except KeyboardInterrupt:
+    print("interrupted", flush=True)
+    sys.exit(5)
+print("finished", flush=True)
+"""
+
+
+def test_ctrl_c_interrupts_simulate(tmp_path):
+    """The seed's Euler for 1000 s (5e7 steps, ~10 s): Ctrl-C after 0.5 s."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    script = CTRL_C.format(model=str(SOURCE_DIR / "models/wing_nut.yaml"))
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=os.environ, cwd=tmp_path)
+    assert p.stdout.readline().strip() == "start"
+    time.sleep(0.5)
+    t0 = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    stdout, stderr = p.communicate(timeout=60)
+    assert p.returncode == 5, (stdout, stderr)
+    assert time.monotonic() - t0 < 3.0
