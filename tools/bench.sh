@@ -10,7 +10,9 @@
 #      (bench/rss_bench.sh; --quick: 1e5 and 1e6), its own README section between
 #      <!-- bench:rss:begin --> and <!-- bench:rss:end -->;
 #   7. the pages of the main job: the 3D viewer (size < 5 MB, opens < 2 s) and the mission
-#      report (bench/pages_bench.py, Debian's headless Chromium).
+#      report (bench/pages_bench.py, Debian's headless Chromium);
+#   8. the Python package: a 1,000-case sweep against the CLI, simulate's overhead, two
+#      threads against one (bench/python_bench.py; skipped where the package is not built).
 # Every part writes its tables as markdown (--markdown FILE); --update-readme puts them,
 # from one full run, into README.md between the markers <!-- bench:begin --> and
 # <!-- bench:end --> (everything between them is replaced).
@@ -48,6 +50,9 @@ parts=(wing_nut_bench simbody_bench sweep_bench)
 tools/install_deps.sh >/dev/null
 cmake --preset release >/dev/null
 cmake --build --preset release --target "${parts[@]}" deploysim >/dev/null
+if cmake --build --preset release --target help | grep -q deploysim_python; then
+  cmake --build --preset release --target deploysim_python >/dev/null
+fi
 
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
@@ -62,6 +67,10 @@ bench/rss_bench.sh build/release/bin/deploysim "${quick[@]}" --markdown "$out/rs
 echo
 echo "== pages_bench =="
 /usr/bin/python3 bench/pages_bench.py build/release/bin/deploysim "${quick[@]}" --markdown "$out/pages.md"
+echo
+echo "== python_bench =="
+PYTHONPATH="$PWD/build/release/python" /usr/bin/python3 bench/python_bench.py \
+  build/release/bin/deploysim "${quick[@]}" --markdown "$out/python.md"
 echo
 elapsed=$(($(date +%s) - start))
 echo "== all parts: ${elapsed} s =="
@@ -84,6 +93,10 @@ if [[ $update == 1 ]]; then
     echo
     cat "$out/pages.md"
     echo
+    if [[ -s "$out/python.md" ]]; then
+      cat "$out/python.md"
+      echo
+    fi
     echo "<!-- bench:end -->"
   } >"$out/section.md"
   python3 - "$out/section.md" <<'EOF'

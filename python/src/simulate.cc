@@ -3,7 +3,9 @@
 
 #include <pybind11/stl.h>
 
+#include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "bindings.h"
 #include "convert.h"
@@ -16,34 +18,89 @@ namespace deploysim::python {
 
 namespace {
 
-py::dict TrajectoryDict(analysis::Trajectory&& t, bool geometry) {
-  const auto n = static_cast<py::ssize_t>(t.time.size());
-  py::dict d;
-  d["time"] = Doubles(std::move(t.time));
-  d["H_B"] = Vec3s(std::move(t.H_B));
-  d["w_NB_B"] = Vec3s(std::move(t.w_NB_B));
-  d["q_NB"] = Quats(t.q_NB);
-  d["J_B"] = Mat3s(std::move(t.J_B));
-  d["principal_moments"] = Vec3s(std::move(t.principal_moments));
-  d["h_rel_B"] = Vec3s(std::move(t.h_rel_B));
-  d["h_N"] = Vec3s(std::move(t.h_N));
-  std::vector<double> total(t.energy.size());
-  for (std::size_t k = 0; k < total.size(); ++k) total[k] = t.energy[k] + t.energy_spring[k];
-  d["energy"] = Doubles(std::move(t.energy));
-  d["energy_rigid"] = Doubles(std::move(t.energy_rigid));
-  d["energy_spring"] = Doubles(std::move(t.energy_spring));
-  d["energy_total"] = Doubles(std::move(total));
-  d["euler_313"] = Vec3s(std::move(t.euler_313));
-  d["spin_axis_angle"] = Doubles(std::move(t.spin_axis_angle));
-  if (geometry) {
-    d["hinge_angles"] = Rows(t.hinge_angles);
-    d["hinge_rates"] = Rows(t.hinge_rates);
-  } else {
-    d["hinge_angles"] = py::array_t<double>(std::vector<py::ssize_t>{n, 0});
-    d["hinge_rates"] = py::array_t<double>(std::vector<py::ssize_t>{n, 0});
+/// Receives the samples as RunMission streams them (the path `deploysim simulate` takes to
+/// its HDF5 file) into flat arrays in the layouts numpy gets: no per-sample allocations
+/// (hinge rows) to build or free, quaternions already (w, x, y, z), J_B as stored.
+class FlatSink final : public analysis::SampleSink {
+ public:
+  FlatSink(std::size_t expected, std::size_t panels) : panels_(panels) {
+    for (std::vector<double>* v :
+         {&time, &energy, &energy_rigid, &energy_spring, &spin_axis_angle}) {
+      v->reserve(expected);
+    }
+    for (std::vector<math::Vec3>* v : {&H_B, &w_NB_B, &moments, &h_rel_B, &h_N, &euler}) {
+      v->reserve(expected);
+    }
+    J_B.reserve(expected);
+    q_wxyz.reserve(4 * expected);
+    hinge_angles.reserve(panels * expected);
+    hinge_rates.reserve(panels * expected);
   }
-  return d;
-}
+
+  void Append(const analysis::Trajectory& b) override {
+    auto add = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+    add(time, b.time);
+    add(H_B, b.H_B);
+    add(w_NB_B, b.w_NB_B);
+    add(J_B, b.J_B);
+    add(moments, b.principal_moments);
+    add(h_rel_B, b.h_rel_B);
+    add(h_N, b.h_N);
+    add(energy, b.energy);
+    add(energy_rigid, b.energy_rigid);
+    add(energy_spring, b.energy_spring);
+    add(euler, b.euler_313);
+    add(spin_axis_angle, b.spin_axis_angle);
+    for (const math::Quat& q : b.q_NB) {
+      q_wxyz.insert(q_wxyz.end(), {q.w(), q.x(), q.y(), q.z()});
+    }
+    if (panels_ > 0) {
+      for (std::size_t n = 0; n < b.hinge_angles.size(); ++n) {
+        if (static_cast<std::size_t>(b.hinge_angles[n].size()) != panels_ ||
+            static_cast<std::size_t>(b.hinge_rates[n].size()) != panels_) {
+          throw std::runtime_error("hinge samples of the wrong size (internal)");
+        }
+        hinge_angles.insert(hinge_angles.end(), b.hinge_angles[n].data(),
+                            b.hinge_angles[n].data() + panels_);
+        hinge_rates.insert(hinge_rates.end(), b.hinge_rates[n].data(),
+                           b.hinge_rates[n].data() + panels_);
+      }
+    }
+  }
+
+  py::dict ToDict() && {
+    const auto n = static_cast<py::ssize_t>(time.size());
+    const auto p = static_cast<py::ssize_t>(panels_);
+    std::vector<double> total(energy.size());
+    for (std::size_t k = 0; k < total.size(); ++k) total[k] = energy[k] + energy_spring[k];
+    py::dict d;
+    d["time"] = Doubles(std::move(time));
+    d["H_B"] = Vec3s(std::move(H_B));
+    d["w_NB_B"] = Vec3s(std::move(w_NB_B));
+    d["q_NB"] = Doubles(std::move(q_wxyz)).attr("reshape")(n, 4);
+    d["J_B"] = Mat3s(std::move(J_B));
+    d["principal_moments"] = Vec3s(std::move(moments));
+    d["h_rel_B"] = Vec3s(std::move(h_rel_B));
+    d["h_N"] = Vec3s(std::move(h_N));
+    d["energy"] = Doubles(std::move(energy));
+    d["energy_rigid"] = Doubles(std::move(energy_rigid));
+    d["energy_spring"] = Doubles(std::move(energy_spring));
+    d["energy_total"] = Doubles(std::move(total));
+    d["euler_313"] = Vec3s(std::move(euler));
+    d["spin_axis_angle"] = Doubles(std::move(spin_axis_angle));
+    d["hinge_angles"] = Doubles(std::move(hinge_angles)).attr("reshape")(n, p);
+    d["hinge_rates"] = Doubles(std::move(hinge_rates)).attr("reshape")(n, p);
+    return d;
+  }
+
+  std::vector<double> time, energy, energy_rigid, energy_spring, spin_axis_angle, q_wxyz;
+  std::vector<math::Vec3> H_B, w_NB_B, moments, h_rel_B, h_N, euler;
+  std::vector<math::Mat3> J_B;
+  std::vector<double> hinge_angles, hinge_rates;
+
+ private:
+  std::size_t panels_;
+};
 
 py::dict StageDict(const analysis::StageReport& a, const schedule::Profile& p, std::size_t i) {
   py::dict d;
@@ -114,13 +171,11 @@ py::dict EventColumns(const analysis::MissionResult& r) {
   return d;
 }
 
-}  // namespace
-
-py::dict MissionDict(analysis::MissionResult&& r) {
+py::dict MissionDict(analysis::MissionResult&& r, FlatSink&& samples) {
   const schedule::Profile& p = r.profile;
   const bool geometry = p.mode == schedule::Mode::kGeometry;
   py::dict d;
-  d["trajectory"] = TrajectoryDict(std::move(r.trajectory), geometry);
+  d["trajectory"] = std::move(samples).ToDict();
   std::vector<double> predicted;
   py::list stages;
   for (std::size_t i = 0; i < r.stages.size(); ++i) {
@@ -169,23 +224,31 @@ py::dict MissionDict(analysis::MissionResult&& r) {
   return d;
 }
 
+}  // namespace
+
 void RegisterSimulate(py::module_& m) {
   m.def(
       "_simulate",
       [](const schedule::Profile& profile, py::object progress) {
         PythonPoll poll(std::move(progress));
+        const bool geometry = profile.mode == schedule::Mode::kGeometry;
+        const double span = profile.t_end() - profile.t_begin();
+        const double expected = profile.output.dt > 0.0 ? span / profile.output.dt + 2.0 : 2.0;
+        FlatSink samples(expected < 1e7 ? static_cast<std::size_t>(expected) : 0,
+                         geometry ? profile.model.hinged.panels.size() : 0);
         analysis::MissionResult r;
         {
           py::gil_scoped_release release;
           try {
-            r = analysis::RunMission(profile, [&poll](double f) {
+            // The streaming run of `deploysim simulate` (its HDF5 writer is a sink too).
+            r = analysis::RunMission(profile, samples, [&poll](double f) {
               if (!poll.PollFraction(f, f >= 1.0)) throw PythonStop{};
             });
           } catch (const PythonStop&) {
           }
         }
         poll.Rethrow();
-        return MissionDict(std::move(r));
+        return MissionDict(std::move(r), std::move(samples));
       },
       py::arg("profile"), py::arg("progress") = py::none());
 }

@@ -139,3 +139,25 @@ def test_ctrl_c_interrupts_simulate(tmp_path):
     stdout, stderr = p.communicate(timeout=60)
     assert p.returncode == 5, (stdout, stderr)
     assert time.monotonic() - t0 < 3.0
+
+
+def test_simulate_releases_the_gil():
+    """While simulate runs in a thread, the main thread runs Python code between the
+    progress callbacks (it could not if the run held the GIL). Not timed."""
+    import threading
+    d = {"name": "gil", "model": str(SOURCE_DIR / "models/wing_nut.yaml"),
+         "initial": {"angular_momentum": [1.0e-8, 2.1252e-5, 1.0e-8]},
+         "stages": [{"name": "free spin", "hold": "default", "until": 100}],
+         "integrator": {"method": "thesis-euler", "step": 2e-5}, "output": {"dt": 1.0}}
+    p = deploysim.profile_from_dict(d)
+    fractions = []
+    seen_inside = []
+    worker = threading.Thread(target=deploysim.simulate, args=(p,),
+                              kwargs={"progress": fractions.append})
+    worker.start()
+    while worker.is_alive():
+        if fractions and 0.0 < fractions[-1] < 1.0:
+            seen_inside.append(fractions[-1])
+    worker.join()
+    assert fractions[-1] == 1.0
+    assert seen_inside, "the main thread never ran while simulate was running"
