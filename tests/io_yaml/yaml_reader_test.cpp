@@ -38,6 +38,34 @@ TEST(IoYamlReader, ReadsAProfileAndTheModelItNames) {
   EXPECT_FALSE(p.integrator.method.empty());
 }
 
+TEST(IoYamlReader, TextEntryPointsReadAsTheFilesDoAndNameTheSource) {
+  const std::string path = Repo("deployment_profiles/smallsat_three_stage.yaml");
+  const schedule::Profile file = ReadProfile(path);
+  const schedule::Profile text = ReadProfileText(file.text, "<dict>", Repo("deployment_profiles"));
+  EXPECT_EQ(text.source, "<dict>");
+  EXPECT_EQ(text.model.source, file.model.source);
+  EXPECT_EQ(text.model.text, file.model.text);
+  ASSERT_EQ(text.stages.size(), file.stages.size());
+  for (std::size_t i = 0; i < file.stages.size(); ++i) {
+    EXPECT_EQ(text.stages[i].t_end, file.stages[i].t_end);
+  }
+  // A given model replaces the file the profile names.
+  model::Model given = ReadModelText(file.model.text, "<model>");
+  EXPECT_EQ(given.source, "<model>");
+  const schedule::Profile with_model = ReadProfileText(file.text, "<dict>", "/nonexistent", &given);
+  EXPECT_EQ(with_model.model.source, "<model>");
+  // Messages name the source where a file's name the file.
+  try {
+    (void)ReadModelText(
+        "name: m\nkind: tensors\nconfigurations: {a: {principal_moments: [1, 2, "
+        "-3]}}\n",
+        "<dict>");
+    FAIL() << "accepted a negative moment";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("<dict>: configurations.a", 0), 0u) << e.what();
+  }
+}
+
 TEST(IoYamlReader, ModeAndCouplingNames) {
   EXPECT_EQ(FindMode("geometry"), schedule::Mode::kGeometry);
   EXPECT_EQ(FindCoupling("exact"), schedule::Coupling::kExact);
