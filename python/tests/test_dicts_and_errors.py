@@ -2,7 +2,6 @@
 messages as the CLI (the corpus tests/io/bad_inputs), the same runs bit for bit."""
 
 import math
-import pathlib
 import re
 
 import numpy as np
