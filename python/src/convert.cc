@@ -158,7 +158,8 @@ void PythonPoll::Capture() {
   stopped_ = true;
 }
 
-bool PythonPoll::PollFraction(double fraction, bool force) {
+template <class... Args>
+bool PythonPoll::Poll(bool force, Args... args) {
   if (!Due(force)) return !stopped_;
   py::gil_scoped_acquire gil;
   if (PyErr_CheckSignals() != 0) {
@@ -167,7 +168,7 @@ bool PythonPoll::PollFraction(double fraction, bool force) {
   }
   if (!callback_.is_none()) {
     try {
-      callback_(fraction);
+      callback_(args...);
     } catch (py::error_already_set& e) {
       e.restore();
       Capture();
@@ -177,23 +178,10 @@ bool PythonPoll::PollFraction(double fraction, bool force) {
   return true;
 }
 
+bool PythonPoll::PollFraction(double fraction, bool force) { return Poll(force, fraction); }
+
 bool PythonPoll::PollCount(std::size_t done, std::size_t total, bool force) {
-  if (!Due(force)) return !stopped_;
-  py::gil_scoped_acquire gil;
-  if (PyErr_CheckSignals() != 0) {
-    Capture();
-    return false;
-  }
-  if (!callback_.is_none()) {
-    try {
-      callback_(done, total);
-    } catch (py::error_already_set& e) {
-      e.restore();
-      Capture();
-      return false;
-    }
-  }
-  return true;
+  return Poll(force, done, total);
 }
 
 void PythonPoll::Rethrow() {

@@ -66,6 +66,9 @@ class PythonPoll {
  private:
   bool Due(bool force);
   void Capture();  // with the GIL, after a Python error
+  // Both polls: signals first, then the callback with `args`; false once stopped.
+  template <class... Args>
+  bool Poll(bool force, Args... args);
 
   pybind11::object callback_;
   double interval_;
