@@ -33,13 +33,11 @@ if [ ${#missing[@]} -gt 0 ]; then
   apt_get install --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-launcher=()
-if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
-cmake -S . -B "$build_dir" \
+cmake -S . -B "$build_dir" -G Ninja \
   -DCMAKE_TOOLCHAIN_FILE="$PWD/cmake/aarch64-linux-gnu.cmake" \
   -DCMAKE_BUILD_TYPE=Release -DDEPLOYSIM_WARNINGS_AS_ERRORS=ON \
   -DDEPLOYSIM_SKIP_MODULES="io;sweep;crosscheck;cli" -DDEPLOYSIM_BUILD_BENCH=OFF \
-  "${launcher[@]}" >/dev/null
+  >/dev/null
 cmake --build "$build_dir" -j"$(nproc)"
 built=$(date +%s)
 

@@ -64,17 +64,13 @@ if [ "$mode" = fuzz ] && [ -z "$seconds" ]; then usage; fi
 
 # --- build -----------------------------------------------------------------------------
 command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ missing (tools/install_deps.sh)" >&2; exit 1; }
-launcher=()
-if command -v ccache >/dev/null; then
-  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-  export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$root}
-fi
 start=$(date +%s)
 # Only the libraries the loaders need (no Simbody cross-check, no CLI, no MPI).
-cmake -S "$root" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
   -DDEPLOYSIM_FUZZ=ON "-DDEPLOYSIM_SANITIZERS=address;undefined" \
   -DDEPLOYSIM_WARNINGS_AS_ERRORS=ON -DDEPLOYSIM_BUILD_TESTS=OFF -DDEPLOYSIM_BUILD_BENCH=OFF \
-  "-DDEPLOYSIM_SKIP_MODULES=crosscheck;cli" -DDEPLOYSIM_WITH_MPI=OFF "${launcher[@]}" >/dev/null
+  "-DDEPLOYSIM_SKIP_MODULES=crosscheck;cli" -DDEPLOYSIM_WITH_MPI=OFF >/dev/null
 cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}" >"$build/build.log" 2>&1 ||
   { tail -40 "$build/build.log" >&2; echo "fuzz.sh: build failed ($build/build.log)" >&2; exit 1; }
 echo "fuzz.sh: built ${targets[*]/#/fuzz_} in $(( $(date +%s) - start )) s ($build)"

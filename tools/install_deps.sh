@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake
+  build-essential cmake ninja-build ccache  # ccache: compiled objects kept in ~/.cache
   libeigen3-dev libboost-dev
   libgtest-dev
   libyaml-cpp-dev libhdf5-dev hdf5-tools

@@ -11,6 +11,7 @@
 
 namespace deploysim::analysis {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr double kAngleTolerance = 1e-12;  // [rad]
 
@@ -61,5 +62,6 @@ TEST(Euler313Test, SingularNutationsPutTheRotationIntoPrecession) {
   EXPECT_LT((back - Rpi).norm(), 1e-12);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::analysis

@@ -28,6 +28,7 @@
 
 namespace deploysim::analysis {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using integrators::State;
 
@@ -259,5 +260,6 @@ TEST(ChebyshevFitTest, SmoothFunctionNeedsOnePieceOfLowDegree) {
   EXPECT_THROW(fit.Build(f, 0.0, 1.0, {1.0}, {}, 1000), std::invalid_argument);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::analysis

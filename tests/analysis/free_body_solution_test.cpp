@@ -46,6 +46,7 @@
 
 namespace deploysim::analysis {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using math::InertiaTensor;
 using math::Mat3;
@@ -1053,5 +1054,6 @@ TEST(FreeBodySolutionTest, FullTensorNearSeparatrixCostsOnlyItsInputRounding) {
       worst_full, worst_yard, worst_ratio_H, worst_ratio_flip, worst_vs_original);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::analysis

@@ -14,6 +14,7 @@
 
 namespace deploysim::analysis {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using testing::kDeg;
 using testing::SmallsatHingeProfile;
@@ -261,11 +262,13 @@ TEST(HingeMissionTest, PrescribedHingeProfileReproducesTheStageProfile) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::analysis
 
 namespace deploysim::analysis {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // Acceptance 4: a free hinge driven by a motor that reproduces a prescribed law gives the
 // prescribed result. The motor is a position servo following the law (Motor::kServo,
@@ -312,11 +315,13 @@ TEST(HingeMissionTest, ServoMotorFollowingALawReproducesThePrescribedRun) {
   EXPECT_LT(errors[2], 3e-4);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::analysis
 
 namespace deploysim::analysis {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // The largest spin-axis angle of an outcome-only run (no samples: located on the steps)
 // against the largest over a fine output grid of the full run.
@@ -346,5 +351,6 @@ TEST(HingeMissionTest, OutcomeRunLocatesTheLargestSpinAxisAngle) {
   EXPECT_EQ(lean.hinge_events.size(), full.hinge_events.size());
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::analysis

@@ -24,6 +24,7 @@
 
 namespace deploysim::analysis {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using integrators::IntegrationResult;
 using integrators::IntegratorSettings;
@@ -350,5 +351,6 @@ TEST(StepperContractTest, OneRuleForTheAttitudeQuaternion) {
   EXPECT_NO_THROW(FreeBodySolution(J, H, nearly));
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::analysis

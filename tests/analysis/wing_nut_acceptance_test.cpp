@@ -17,6 +17,7 @@
 
 namespace deploysim::analysis {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr double kHorizon = 40.0;             // [s]
 constexpr double kGrid = 0.01;                // [s] output grid
@@ -115,5 +116,6 @@ TEST(WingNutAcceptanceTest, LieGroupEighthOrderLocatesFlips) {
   EXPECT_LT(r.max_flip_error, 5e-10);  // [s] measured 1.2e-10 (acceptance: kFlipTolerance)
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::analysis

@@ -16,6 +16,7 @@
 
 namespace deploysim::analysis {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using schedule::Coupling;
 using schedule::Law;
@@ -93,11 +94,13 @@ TEST(WorkEstimateTest, RefusesRunsPastTheLimits) {
   EXPECT_THROW(CheckWork(p), std::invalid_argument);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::analysis
 
 namespace deploysim::analysis {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // Hinge profiles (issue 9): a horizon of 1e9 s or a free rotor whose constant motor would
 // spin it up for days is refused up front, naming the run; the shipped-like deployment
@@ -130,5 +133,6 @@ TEST(WorkEstimateTest, HingeProfilesAreBoundedUpFront) {
   EXPECT_THROW(CheckWork(spun), std::invalid_argument);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::analysis

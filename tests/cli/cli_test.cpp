@@ -23,6 +23,7 @@
 
 namespace deploysim {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 
@@ -238,7 +239,6 @@ TEST(CliTest, SweepRunsAndRejectsBadSweepFiles) {
   fs::remove_all(d);
 }
 
-}  // namespace
 // Issue 10 (first items): an output never replaces an input of the run, nor anything that
 // is not a regular file; a self-referencing YAML anchor is an error, not a crash.
 TEST(CliTest, OutputNeverReplacesAnInput) {
@@ -289,4 +289,6 @@ TEST(CliTest, SelfReferencingAnchorIsAnError) {
   fs::remove_all(dir);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
+}  // namespace
 }  // namespace deploysim

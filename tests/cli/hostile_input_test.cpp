@@ -21,6 +21,7 @@
 
 namespace deploysim {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 
@@ -172,5 +173,6 @@ TEST_F(HostileInputTest, AValidProfileNearTheLimitRuns) {
   EXPECT_TRUE(fs::exists(Path("out.h5")));
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim

@@ -17,6 +17,7 @@
 
 namespace deploysim {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 
@@ -214,5 +215,6 @@ TEST_F(LimitsTest, SweepOutputFolderIsCheckedBeforeAnyCase) {
   EXPECT_TRUE(fs::is_empty(Path("folder")));
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim

@@ -20,6 +20,7 @@
 
 namespace deploysim {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 
@@ -207,5 +208,6 @@ TEST(MissionStreamTest, StreamedSamplesEqualTheInMemoryTrajectory) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim

@@ -6,19 +6,24 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/inotify.h>
 #include <sys/resource.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "deploysim/io/trajectory_file.h"
@@ -29,6 +34,7 @@
 
 namespace deploysim {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 
@@ -39,6 +45,75 @@ struct Child {
   int code() const { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
   bool signaled(int s) const { return WIFSIGNALED(status) && WTERMSIG(status) == s; }
 };
+
+/// What the program does to the test folder and to the files it reads, as the kernel
+/// reports it (inotify), and whether the program has ended (a pidfd): a test waits for
+/// the event itself, never by sleeping or polling against a deadline that a busy machine
+/// can miss.
+class Watch {
+ public:
+  Watch() : fd_(::inotify_init1(IN_CLOEXEC)) {}
+  ~Watch() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  Watch(const Watch&) = delete;
+  Watch& operator=(const Watch&) = delete;
+
+  /// Watches `path` (a folder: the events of its entries; a file: its own events);
+  /// returns the watch descriptor that events carry.
+  int Add(const std::string& path, std::uint32_t mask) {
+    const int wd = fd_ >= 0 ? ::inotify_add_watch(fd_, path.c_str(), mask) : -1;
+    EXPECT_GE(wd, 0) << path << ": " << std::strerror(errno);
+    return wd;
+  }
+
+  /// An event: its watch descriptor, kind (IN_*) and entry name (empty for the events of
+  /// a watched file itself).
+  using Match = std::function<bool(int wd, std::uint32_t mask, const std::string& name)>;
+
+  /// Blocks until an event satisfying `match` arrives, or until the process `pid` ends
+  /// first. True for the event. Two minutes without either is a failure of the program,
+  /// not a busy machine (the runs here take well under a second).
+  bool WaitFor(pid_t pid, const Match& match) {
+    const int pidfd = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
+    EXPECT_GE(pidfd, 0) << std::strerror(errno);
+    bool found = false;
+    bool ended = false;
+    alignas(inotify_event) char buffer[64 * 1024];
+    while (!found && !ended) {
+      pollfd fds[2] = {{fd_, POLLIN, 0}, {pidfd, POLLIN, 0}};
+      const int n = ::poll(fds, 2, 120'000);
+      if (n == 0) {
+        ADD_FAILURE() << "no event and no end of process " << pid << " in two minutes";
+        break;
+      }
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        ADD_FAILURE() << "poll: " << std::strerror(errno);
+        break;
+      }
+      if (fds[0].revents & POLLIN) {
+        const ssize_t len = ::read(fd_, buffer, sizeof buffer);
+        for (ssize_t at = 0; at < len && !found;) {
+          const auto* e = reinterpret_cast<const inotify_event*>(buffer + at);
+          const std::string name = e->len > 0 ? std::string(e->name) : std::string();
+          found = match(e->wd, e->mask, name);
+          at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
+        }
+      }
+      ended = !found && (fds[1].revents & POLLIN) != 0;
+    }
+    if (pidfd >= 0) ::close(pidfd);
+    return found;
+  }
+
+ private:
+  int fd_;
+};
+
+bool IsTemporary(const std::string& e) {
+  return e.size() > 4 && e.front() == '.' && e.compare(e.size() - 4, 4, ".tmp") == 0;
+}
 
 std::string Slurp(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
@@ -90,26 +165,26 @@ class OutputFaultTest : public testing::TempDirTest {
   std::vector<std::string> Temporaries() const {
     std::vector<std::string> t;
     for (const std::string& e : Entries()) {
-      if (e.size() > 4 && e.front() == '.' && e.compare(e.size() - 4, 4, ".tmp") == 0) {
-        t.push_back(e);
-      }
+      if (IsTemporary(e)) t.push_back(e);
     }
     return t;
   }
-  // Waits (up to a minute: not a timing test) until a temporary of the run appears.
-  bool WaitForTemporary() const {
-    for (int i = 0; i < 6000; ++i) {
-      if (!Temporaries().empty()) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+  // Starts the CLI and returns once its first temporary exists (the kernel's event).
+  Child StartAndWaitForTemporary(const std::vector<std::string>& args) {
+    Watch w;
+    w.Add(Path(""), IN_CREATE);
+    Child c = Start(args);
+    EXPECT_TRUE(w.WaitFor(c.pid, [](int, std::uint32_t, const std::string& name) {
+      return IsTemporary(name);
+    })) << "no temporary: " << Stderr();
+    return c;
   }
 
   // The wing nut, `until` seconds sampled every `dt`.
-  std::string Profile(const std::string& name, double until, double dt) {
-    return Write(name, "name: " + name +
-                           "\nmodel: " DEPLOYSIM_SOURCE_DIR
-                           "/models/wing_nut.yaml\n"
+  std::string Profile(const std::string& name, double until, double dt,
+                      const std::string& model = DEPLOYSIM_SOURCE_DIR "/models/wing_nut.yaml") {
+    return Write(name, "name: " + name + "\nmodel: " + model +
+                           "\n"
                            "mode: tensor\ncoupling: quasi-rigid\n"
                            "initial:\n  attitude_wxyz: [1, 0, 0, 0]\n"
                            "  angular_momentum: [1.0e-8, 2.1252e-5, 1.0e-8]\n"
@@ -189,8 +264,7 @@ TEST_F(OutputFaultTest, SigtermAndSigintWhileSimulatingLeaveNoTemporary) {
   for (int sig : {SIGTERM, SIGINT}) {
     SCOPED_TRACE(sig);
     Write("out.h5", "older");
-    Child c = Start({"simulate", profile, "-o", "out.h5", "-q", "--csv"});
-    ASSERT_TRUE(WaitForTemporary());
+    Child c = StartAndWaitForTemporary({"simulate", profile, "-o", "out.h5", "-q", "--csv"});
     ::kill(c.pid, sig);
     c = Wait(c);
     EXPECT_TRUE(c.signaled(sig)) << c.status;  // the shell reports 128 + sig
@@ -203,8 +277,7 @@ TEST_F(OutputFaultTest, SigtermAndSigintWhileSimulatingLeaveNoTemporary) {
 TEST_F(OutputFaultTest, KillMinus9WhileSimulatingIsCleanedByTheNextRun) {
   const std::string profile = Profile("long.yaml", 20000, 0.01);
   Write("out.h5", "older");
-  Child c = Start({"simulate", profile, "-o", "out.h5", "-q", "--csv"});
-  ASSERT_TRUE(WaitForTemporary());
+  Child c = StartAndWaitForTemporary({"simulate", profile, "-o", "out.h5", "-q", "--csv"});
   ::kill(c.pid, SIGKILL);
   c = Wait(c);
   EXPECT_TRUE(c.signaled(SIGKILL));
@@ -215,6 +288,70 @@ TEST_F(OutputFaultTest, KillMinus9WhileSimulatingIsCleanedByTheNextRun) {
   const Child next = Run({"simulate", Profile("short.yaml", 1, 0.1), "-o", "out.h5", "-q"});
   EXPECT_EQ(next.code(), 0) << Stderr();
   EXPECT_TRUE(Temporaries().empty());
+}
+
+// SIGINT and SIGTERM at many instants of a run's life, each found by the kernel's event
+// (not by a delay): at its start, as it opens the profile, as it opens the model, when
+// its first temporary appears, after the k-th write of the samples, and when the HDF5
+// file is renamed into place. Whenever the signal lands: no temporary is left, and the
+// HDF5 file and its CSV are either both the older files or both complete new ones.
+TEST_F(OutputFaultTest, SignalsAtEveryMomentOfARunLeaveNoStrayFileAndNoHalfUpdate) {
+  enum Moment { kStart, kProfileOpened, kModelOpened, kFirstTemporary, kSampleWrite, kRenamed };
+  const char* moment_names[] = {"start", "profile opened", "model opened", "first temporary",
+                                "sample write", "HDF5 file renamed"};
+  fs::copy_file(DEPLOYSIM_SOURCE_DIR "/models/wing_nut.yaml", Path("model.yaml"));
+  const std::string profile = Profile("p.yaml", 2, 0.001, Path("model.yaml"));
+  constexpr std::size_t kSamples = 2001;
+  constexpr int kRunsPerMoment = 34;  // 6 moments: 204 runs, half SIGINT, half SIGTERM
+  int interrupted = 0, finished = 0, replaced = 0;
+  for (int run = 0; run < 6 * kRunsPerMoment; ++run) {
+    const Moment moment = static_cast<Moment>(run % 6);
+    const int sig = (run / 6) % 2 == 0 ? SIGTERM : SIGINT;
+    const int kth_write = 1 + (run / 12) % 16;
+    SCOPED_TRACE(std::string(moment_names[moment]) + ", signal " + std::to_string(sig) +
+                 ", write " + std::to_string(kth_write));
+    Write("out.h5", "older h5");
+    Write("out.h5.csv", "older csv");
+    Watch w;
+    const int folder = w.Add(Path(""), IN_CREATE | IN_MODIFY | IN_MOVED_TO);
+    const int profile_wd = w.Add(profile, IN_OPEN);
+    const int model_wd = w.Add(Path("model.yaml"), IN_OPEN);
+    int writes = 0;
+    const Watch::Match match = [&](int wd, std::uint32_t mask, const std::string& name) {
+      switch (moment) {
+        case kProfileOpened: return wd == profile_wd;
+        case kModelOpened: return wd == model_wd;
+        case kFirstTemporary: return wd == folder && (mask & IN_CREATE) && IsTemporary(name);
+        case kSampleWrite:
+          return wd == folder && (mask & IN_MODIFY) && IsTemporary(name) && ++writes == kth_write;
+        case kRenamed: return wd == folder && (mask & IN_MOVED_TO) && name == "out.h5";
+        default: return true;
+      }
+    };
+    Child c = Start({"simulate", profile, "-o", "out.h5", "-q", "--csv"});
+    const bool reached = moment == kStart || w.WaitFor(c.pid, match);
+    ::kill(c.pid, sig);
+    c = Wait(c);
+    const bool done = c.exited() && c.code() == 0;
+    ASSERT_TRUE(done || c.signaled(sig)) << "status " << c.status << ": " << Stderr();
+    done ? ++finished : ++interrupted;
+    ASSERT_TRUE(Temporaries().empty());
+    const std::string h5 = Slurp(Path("out.h5"));
+    const std::string csv = Slurp(Path("out.h5.csv"));
+    if (h5 == "older h5") {
+      EXPECT_FALSE(done);
+      EXPECT_EQ(csv, "older csv") << "the CSV was replaced without its HDF5 file";
+      // Once the HDF5 file has been renamed into place, the CSV follows it.
+      EXPECT_FALSE(moment == kRenamed && reached);
+    } else {
+      ++replaced;
+      EXPECT_NE(csv, "older csv") << "the HDF5 file was replaced without its CSV";
+      EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), kSamples + 1);
+      EXPECT_EQ(io::ReadTrajectoryFile(Path("out.h5")).trajectory.size(), kSamples);
+    }
+  }
+  std::printf("%d runs: %d ended by the signal, %d finished first; %d wrote new outputs\n",
+              6 * kRunsPerMoment, interrupted, finished, replaced);
 }
 
 #ifdef DEPLOYSIM_HAVE_SWEEP
@@ -292,5 +429,6 @@ TEST_F(OutputFaultTest, OutputNamesUpTo255Characters) {
   EXPECT_TRUE(Temporaries().empty());
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim

@@ -20,6 +20,7 @@
 
 namespace deploysim::cli {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using analysis::HingeEvent;
 using analysis::MissionResult;
@@ -263,5 +264,6 @@ TEST(ReportTest, JsonWritesNeverLatchedAsNull) {
   EXPECT_TRUE(Contains(FormatJson(r, nullptr), "\"wing_minus_x\": null}"));
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::cli

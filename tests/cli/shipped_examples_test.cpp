@@ -19,6 +19,7 @@
 
 namespace deploysim {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
@@ -149,5 +150,6 @@ TEST(ShippedExamplesTest, DualSpinRotorStabilizesAndLockedRotorGoesFlat) {
   EXPECT_NEAR(locked.energy_final, 38.3, kQuotedTenth);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim

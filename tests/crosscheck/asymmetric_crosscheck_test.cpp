@@ -17,6 +17,7 @@
 
 namespace deploysim::crosscheck {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // Prints a measured figure (ctest --output-on-failure / -V shows it); the bounds below
 // are a few times these values.
@@ -80,5 +81,6 @@ TEST(AsymmetricCrosscheckTest, ExactCouplingAgreesWithSimbody) {
   RecordProperty("simbody_drift", std::to_string(r.simbody.max_momentum_drift));
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

@@ -16,6 +16,7 @@
 
 namespace deploysim::crosscheck {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr double kSimbodyAccuracy = 1e-12;
 /// max |T_reduced - T_Simbody| / T_Simbody over the grid (measured: 7.7e-13 with the
@@ -85,5 +86,6 @@ TEST(EnergyCrosscheckTest, TotalKineticEnergyAgreesWithSimbodyAcrossRateJumps) {
   RecordProperty("max_energy_relative", std::to_string(d.total));
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

@@ -14,6 +14,7 @@
 
 namespace deploysim::crosscheck {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using namespace free_hinge_fixtures;  // NOLINT: the shared test builders
 
@@ -131,5 +132,6 @@ TEST(FreeHingeCrosscheckTest, PendulumDamperMajorAxisRule) {
             analysis::AxisRole::kMajor);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

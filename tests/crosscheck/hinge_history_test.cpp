@@ -13,6 +13,7 @@
 
 namespace deploysim::crosscheck {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // Interpolation of a quintic: exact to rounding (measured 4.4e-16 in the angle, 2.2e-15 in
 // the rate).
@@ -134,5 +135,6 @@ TEST(HingeHistoryTest, RejectsBadHistories) {
   EXPECT_THROW(HingeHistorySource(body, wrong), std::invalid_argument);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

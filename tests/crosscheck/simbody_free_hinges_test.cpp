@@ -25,6 +25,7 @@
 
 namespace deploysim::crosscheck {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using analysis::HingeEvent;
 using schedule::HingePlan;
@@ -739,5 +740,6 @@ TEST(SimbodyFreeHingesTest, RefusesWhatItCannotRun) {
   EXPECT_THROW(RunSimbodyFreeHinges(p, grid, y, bad_latch), std::invalid_argument);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

@@ -22,6 +22,7 @@
 
 namespace deploysim::crosscheck {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // Prints a measured figure (ctest --output-on-failure / -V shows it); the bounds below
 // are a few times these values.
@@ -202,5 +203,6 @@ TEST(SmallsatCrosscheckTest, TruncateCutsInsideAHoldOnly) {
   EXPECT_THROW(TruncateProfile(p, 150.0), std::invalid_argument);  // inside "full deploy"
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

@@ -22,6 +22,7 @@
 
 namespace deploysim::crosscheck {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 
@@ -107,5 +108,6 @@ TEST(SpeedStudyTest, QuasiRigidErrorsAgainstSimbody) {
   if (std::getenv("DEPLOYSIM_KEEP_SPEED_STUDY") == nullptr) fs::remove_all(dir);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

@@ -16,6 +16,7 @@
 
 namespace deploysim::crosscheck {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // Prints a measured figure (ctest --output-on-failure / -V shows it); the bounds below
 // are a few times these values.
@@ -99,5 +100,6 @@ TEST(SpringDeploymentTest, RejectsBadDrives) {
   EXPECT_THROW(RunSpringDeployment(p, o), std::invalid_argument);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

@@ -26,6 +26,7 @@
 
 namespace deploysim::crosscheck {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using math::Mat3;
 using math::Vec3;
@@ -224,5 +225,6 @@ TEST(TreeCrosscheckTest, AccordionUnfoldsOnSpringsAndTheReplayAgrees) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

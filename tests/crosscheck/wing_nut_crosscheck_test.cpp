@@ -17,6 +17,7 @@
 
 namespace deploysim::crosscheck {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // Prints a measured figure (ctest --output-on-failure / -V shows it); the bounds below
 // are a few times these values.
@@ -90,5 +91,6 @@ TEST(WingNutCrosscheckTest, ShortHorizonAtAccuracy1e12) {
   RecordProperty("simbody_H_B_error", std::to_string(r.simbody_max_analytic_error));
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

@@ -19,6 +19,7 @@
 
 namespace deploysim::integrators {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -249,5 +250,6 @@ TEST(BadInputTest, UnknownMethodNameListsTheValidOnes) {
                         "leading space");
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::integrators

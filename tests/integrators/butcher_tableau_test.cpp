@@ -7,6 +7,7 @@
 
 namespace deploysim::integrators {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr double kCoefficientTolerance = 1e-15;
 
@@ -76,5 +77,6 @@ TEST(ButcherTableauTest, OrderConditions) {
   ExpectOrderConditions(Fehlberg78(), Fehlberg78().b_hat, 7);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::integrators

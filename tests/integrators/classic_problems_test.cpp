@@ -23,6 +23,7 @@
 
 namespace deploysim::integrators {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 std::string Fmt(double x) {
   char buf[32];
@@ -337,5 +338,6 @@ TEST(ClassicProblemsTest, ThesisFirstRk4StepIsTheUnderdampedCase) {
   EXPECT_GT(std::abs(y1_b1[1] - (-0.194746)), 0.1);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::integrators

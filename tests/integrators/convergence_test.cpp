@@ -21,6 +21,7 @@
 
 namespace deploysim::integrators {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // Observed-order tolerances: the issue asks for "about 2^p". +-0.2 on log2 of the
 // error ratio admits the O(h) correction of the leading error term over a factor 8 in
@@ -274,5 +275,6 @@ TEST(ConvergenceTest, AdaptiveErrorFollowsTolerance) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::integrators

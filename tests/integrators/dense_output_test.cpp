@@ -19,6 +19,7 @@
 
 namespace deploysim::integrators {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 std::string Fmt(double x) {
   char buf[32];
@@ -135,5 +136,6 @@ TEST(DenseOutputTest, DormandPrinceExtensionIsFourthOrder) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::integrators

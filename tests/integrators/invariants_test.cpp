@@ -26,6 +26,7 @@
 
 namespace deploysim::integrators {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // Issue acceptance 3: |H_B| and h_N to <= 1e-13 relative over 10^5 steps.
 constexpr double kInvariantTolerance = 1e-13;
@@ -294,5 +295,6 @@ TEST(InvariantsTest, VectorSpaceRk4DoesNotHoldMomentumAtCoarseStep) {
                        RunMonitored("rkmk4", s, w.source, w.initial, kHorizon));
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::integrators

@@ -14,6 +14,7 @@
 
 namespace deploysim::integrators {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr double kFlipTimeTolerance = 1e-8;  // [s], issue 2 acceptance 1
 constexpr double kHorizon = 40.0;            // [s]
@@ -91,5 +92,6 @@ TEST(WingNutTest, ThesisEulerBaselineDriftsAsMeasuredInDesign) {
   EXPECT_NEAR(drift, 9.1e-4, 0.05e-4);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::integrators

@@ -17,6 +17,7 @@
 
 namespace deploysim::io {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 
@@ -186,5 +187,6 @@ TEST_F(AtomicFileTest, ReserveReportsTheFileSizeLimit) {
   EXPECT_TRUE(Entries().empty());
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::io

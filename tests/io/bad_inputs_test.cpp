@@ -20,6 +20,7 @@
 
 namespace deploysim::io {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 
@@ -109,5 +110,6 @@ TEST(BadInputsCorpusTest, HasEnoughCases) {
   EXPECT_GE(bad, kMinimumCorpusSize);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::io

@@ -15,6 +15,7 @@
 
 namespace deploysim::io {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 class Hdf5ReaderTest : public testing::TempDirTest {};
 
@@ -146,5 +147,6 @@ TEST_F(Hdf5ReaderTest, InvalidUtf8IsNeverWritten) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::io

@@ -26,6 +26,7 @@
 
 namespace deploysim::io {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 using analysis::MissionResult;
@@ -855,5 +856,6 @@ TEST_F(TrajectoryFileTest, CsvFailureLeavesNothing) {
   EXPECT_EQ(Entries(), std::vector<std::string>{"taken.csv"});
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::io

@@ -17,6 +17,7 @@
 
 namespace deploysim::io {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 using math::Mat3;
@@ -446,5 +447,6 @@ TEST(ProjectFilesTest, ShippedModelsAndProfilesLoad) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::io

@@ -18,6 +18,7 @@
 
 namespace deploysim::io {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using schedule::HingeMove;
 using schedule::HingePlan;
@@ -360,5 +361,6 @@ TEST_F(HingeProfileTest, EveryMessageIsOneLineInvalidArgument) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::io

@@ -19,6 +19,7 @@
 
 namespace deploysim::io {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using yaml::kMaxDepth;
 using yaml::kMaxFileBytes;
@@ -368,5 +369,6 @@ TEST_F(HostileFileTest, ShippedFilesAreFarBelowTheLimits) {
   EXPECT_LT(largest, kMaxFileBytes / 50);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::io

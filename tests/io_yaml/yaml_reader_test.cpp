@@ -13,6 +13,7 @@
 
 namespace deploysim::io {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 std::string Repo(const std::string& relative) {
   return std::string(DEPLOYSIM_SOURCE_DIR) + "/" + relative;
@@ -106,5 +107,6 @@ TEST(IoYamlFields, FilePathIsRelativeToTheDocumentAndMustBeReadable) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::io

@@ -22,6 +22,7 @@
 
 namespace deploysim::math {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr double kU2 = 0x1p-106;  // double-double unit roundoff u^2
 /// Proven relative error bounds (JMP 2017), in u^2: DWPlusDW 3 (+13u^3), DWTimesDW 4
@@ -392,5 +393,6 @@ TEST(DoubleDoubleTest, SinCosIdentitiesAndKnownValues) {
   std::printf("[ measured ] SincCosOfSquare: t sinc^2 + cos^2 - 1 max %.3g\n", worst_sinc);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::math

@@ -11,6 +11,7 @@
 
 namespace deploysim::math {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 // 40-digit mpmath values at the exact binary arguments; regenerate with
 // /usr/bin/python3 tools/make_elliptic_reference.py.
@@ -177,5 +178,6 @@ TEST(EllipticTest, RejectsInvalidParameters) {
   EXPECT_THROW(EllipticPiComplete(0.5, 0.0), std::invalid_argument);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::math

@@ -12,6 +12,7 @@
 
 namespace deploysim::math {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 void ExpectRejected(const Mat3& J, const std::string& rule) {
   try {
@@ -142,5 +143,6 @@ TEST(InertiaTest, AccurateDecompositionOfDiagonalInputIsExact) {
     for (int j = 0; j < 3; ++j) EXPECT_EQ(p.V[i][j].lo(), 0.0);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::math

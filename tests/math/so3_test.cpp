@@ -8,6 +8,7 @@
 
 namespace deploysim::math {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr double kTight = 1e-14;
 
@@ -90,5 +91,6 @@ TEST(QuaternionTest, AngleBetweenIgnoresSign) {
   EXPECT_GT(d, 0.2);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::math

@@ -14,6 +14,7 @@
 
 namespace deploysim::model {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using math::Mat3;
 using math::Vec3;
@@ -124,5 +125,6 @@ TEST(AsymmetricSatGeometryTest, ComMovesAndEveryProductOfInertiaAppears) {
   RecordProperty("configurations", os.str());
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::model

@@ -13,6 +13,7 @@
 
 namespace deploysim::model {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using math::Mat3;
 using math::Vec3;
@@ -201,5 +202,6 @@ TEST(MassMatrixTest, CycleIsRefused) {
   EXPECT_THROW(PanelTree{body}, std::invalid_argument);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::model

@@ -58,6 +58,7 @@ void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); 
 
 namespace deploysim::model {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using math::Mat3;
 using math::Vec3;
@@ -754,5 +755,6 @@ TEST(ModelTest, ConfigurationLookupNamesTheValidOnes) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::model

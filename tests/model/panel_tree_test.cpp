@@ -27,6 +27,7 @@
 
 namespace deploysim::model {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using math::Mat3;
 using math::Vec3;
@@ -476,5 +477,6 @@ TEST(PanelTreeTest, TheListingOrderDoesNotMatter) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::model

@@ -13,6 +13,7 @@
 
 namespace deploysim::model {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using math::Mat3;
 using math::Vec3;
@@ -171,5 +172,6 @@ TEST(SmallsatGeometryTest, DeploymentMomentumIsAlongTheSpinAxis) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::model

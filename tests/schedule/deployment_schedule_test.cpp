@@ -14,6 +14,7 @@
 
 namespace deploysim::schedule {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using dynamics::InertiaSample;
 using dynamics::Side;
@@ -472,5 +473,6 @@ TEST(DeploymentScheduleTest, ConstructorValidatesTheProfile) {
   EXPECT_THROW(DeploymentSchedule{p}, std::invalid_argument);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::schedule

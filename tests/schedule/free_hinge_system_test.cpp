@@ -12,6 +12,7 @@
 
 namespace deploysim::schedule {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using math::Mat3;
 using math::Vec3;
@@ -166,5 +167,6 @@ TEST(FreeHingeSystemTest, PlasticImpulseStopsTheHingeAndKeepsTheOtherMomenta) {
   EXPECT_GT(std::abs(F.inverse()(4, 4) - inv_kk), 0.5 * inv_kk);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::schedule

@@ -19,6 +19,7 @@
 
 namespace deploysim::schedule {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using testing::HingedModel;
 using testing::kPi;
@@ -510,5 +511,6 @@ TEST(HingeProfileValidationTest, NamesTheProfileWhenItHasNoSource) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::schedule

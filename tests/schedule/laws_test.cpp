@@ -9,6 +9,7 @@
 
 namespace deploysim::schedule {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr std::array<Law, 4> kAllLaws{Law::kStep, Law::kLinear, Law::kSmoothstep,
                                       Law::kMinimumJerk};
@@ -135,5 +136,6 @@ TEST(LawsTest, ParseRejectsUnknownNameListingValidOnes) {
   EXPECT_THROW(ParseLaw(""), std::invalid_argument);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::schedule

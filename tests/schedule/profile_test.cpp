@@ -11,6 +11,7 @@
 
 namespace deploysim::schedule {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using testing::HingedModel;
 using testing::Hold;
@@ -303,5 +304,6 @@ TEST(ProfileTest, NamesTheProfileWhenItHasNoSource) {
   ExpectRejected(p, "profile 'three_stage': output.dt = -1: must be > 0");
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::schedule

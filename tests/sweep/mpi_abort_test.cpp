@@ -15,6 +15,7 @@
 
 namespace deploysim::sweep {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 using testing::SmallsatProfile;
@@ -48,5 +49,6 @@ grid:
   EXPECT_TRUE(fs::is_directory(out));
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::sweep

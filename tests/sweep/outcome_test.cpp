@@ -18,6 +18,7 @@
 
 namespace deploysim::sweep {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using testing::SmallsatProfile;
 using testing::SpringProfile;
@@ -372,5 +373,6 @@ TEST(SpringSweepTest, ShockLimitAndTumbleOfTheShippedSweep) {
   EXPECT_GT(a.predicted_flip_half_period, 600.0);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::sweep

@@ -13,6 +13,7 @@
 
 namespace deploysim::sweep {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 TEST(ParallelFor, RunsEveryIndexExactlyOnce) {
   for (const int threads : {1, 2, 4}) {
@@ -112,5 +113,6 @@ TEST(ParallelFor, AMonitorErrorStopsTheWorkAndIsRethrown) {
   EXPECT_LT(ran.load(), 1000000u);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::sweep

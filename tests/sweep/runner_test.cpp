@@ -29,6 +29,7 @@
 
 namespace deploysim::sweep {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 using testing::ExpectSameCases;
@@ -464,5 +465,6 @@ TEST_F(SweepDirTest, MpiRunOfAHingeSweepMatchesTheThreadedRun) {
   ExpectMpiRunMatchesTheThreadedRun(*this, HingeSweepText(2, 5));  // 20 cases
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::sweep

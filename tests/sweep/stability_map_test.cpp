@@ -16,6 +16,7 @@
 
 namespace deploysim::sweep {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using testing::SmallsatProfile;
 using testing::SpringProfile;
@@ -116,5 +117,6 @@ grid:
             0);
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::sweep

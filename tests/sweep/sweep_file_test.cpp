@@ -24,6 +24,7 @@
 
 namespace deploysim::sweep {
 namespace {
+namespace DEPLOYSIM_TEST_UNIT {
 
 using testing::SmallsatProfile;
 using testing::SpringProfile;
@@ -727,5 +728,6 @@ TEST_F(SweepDirTest, BaseThatIsAFifoIsRefused) {
   }
 }
 
+}  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::sweep

@@ -1,6 +1,7 @@
 #include "deploysim/io/atomic_file.h"
 
 #include <dirent.h>
+#include <pthread.h>
 #include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -101,19 +102,31 @@ std::string DirName(const std::filesystem::path& dir) {
   return dir.empty() ? std::string(".") : dir.string();
 }
 
-/// Creates a named temporary O_EXCL: the path and the descriptor (read-write).
-std::pair<std::string, int> CreateNamed(const std::string& target,
-                                        const std::filesystem::path& dir,
-                                        const std::string& stem) {
+/// A named temporary, created O_EXCL, with its signal-handler registration.
+struct Named {
+  std::string path;
+  int fd = -1;
+  int slot = -1;
+};
+
+/// Creates a named temporary O_EXCL (read-write). The name is registered for the signal
+/// handlers *before* the file exists: registered after, a signal arriving between the
+/// two would leave the file behind. Unlinking a registered name that was not created yet
+/// is harmless (the name carries our pid: no other live process uses it).
+Named CreateNamed(const std::string& target, const std::filesystem::path& dir,
+                  const std::string& stem) {
   for (int attempt = 0; attempt < kMaxCreateAttempts; ++attempt) {
     const std::string name =
         stem + std::to_string(::getpid()) + "." + std::to_string(temporary_counter++) + ".tmp";
     const std::string candidate = (dir / name).string();
+    const int slot = Register(candidate);
     const int fd = ::open(candidate.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd >= 0) return {candidate, fd};
-    if (errno != EEXIST) {
+    if (fd >= 0) return {candidate, fd, slot};
+    const int err = errno;
+    Unregister(slot);
+    if (err != EEXIST) {
       throw std::runtime_error(target + ": cannot create a temporary file in " + DirName(dir) +
-                               ": " + std::strerror(errno));
+                               ": " + std::strerror(err));
     }
   }
   throw std::runtime_error(target + ": cannot create a temporary file in " + DirName(dir) +
@@ -184,6 +197,17 @@ int RemoveStaleTemporaries(const std::string& target) {
   return removed;
 }
 
+SignalsHeld::SignalsHeld() {
+  sigset_t held;
+  sigemptyset(&held);
+  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&held, s);
+  ::pthread_sigmask(SIG_BLOCK, &held, &saved_);
+}
+
+SignalsHeld::~SignalsHeld() {
+  ::pthread_sigmask(SIG_SETMASK, &saved_, nullptr);
+}
+
 void RemoveTemporariesOnSignals() {
   struct sigaction sa {};
   sa.sa_handler = RemoveTemporariesAndDie;
@@ -225,11 +249,11 @@ AtomicFile::AtomicFile(std::string target, bool allow_anonymous) : target_(std::
                              ": " + std::strerror(errno));
   }
 #endif
-  auto [path, named_fd] = CreateNamed(target_, dir, TemporaryStem(t.filename().string()));
-  named_ = path;
-  temporary_ = path;
-  fd_ = named_fd;
-  slot_ = Register(named_);
+  const Named named = CreateNamed(target_, dir, TemporaryStem(t.filename().string()));
+  named_ = named.path;
+  temporary_ = named.path;
+  fd_ = named.fd;
+  slot_ = named.slot;
 }
 
 AtomicFile::~AtomicFile() {

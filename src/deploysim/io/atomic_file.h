@@ -13,6 +13,7 @@
 /// removed by the next AtomicFile of that target (RemoveStaleTemporaries), and
 /// RemoveTemporariesOnSignals() makes SIGINT/SIGTERM/SIGHUP remove the live ones.
 
+#include <csignal>
 #include <cstdint>
 #include <string>
 
@@ -75,6 +76,21 @@ std::string TemporaryStem(const std::string& file_name);
 /// process no longer runs (left by a kill -9 or a crash). Returns how many it removed.
 /// Never throws.
 int RemoveStaleTemporaries(const std::string& target);
+
+/// Holds SIGINT, SIGTERM and SIGHUP back in the calling thread while it lives (a signal
+/// that arrives meanwhile is delivered when it ends). For commits of several files that
+/// belong together (an HDF5 file and its CSV): a signal between two renames would leave
+/// a new file beside an old one.
+class SignalsHeld {
+ public:
+  SignalsHeld();
+  ~SignalsHeld();
+  SignalsHeld(const SignalsHeld&) = delete;
+  SignalsHeld& operator=(const SignalsHeld&) = delete;
+
+ private:
+  sigset_t saved_;  // the thread's mask before
+};
 
 /// Installs handlers for SIGINT, SIGTERM and SIGHUP that unlink the live named
 /// temporaries of this process (async-signal-safe: unlink of preformatted paths), then

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "deploysim/io/atomic_file.h"
 #include "deploysim/io/hdf5_common.h"
 #include "deploysim/io/hdf5_writer.h"
 #include "deploysim/io/number_format.h"
@@ -926,6 +927,7 @@ void TrajectoryOutputs::Finish(const analysis::MissionResult& r) {
 }
 
 void TrajectoryOutputs::Commit() {
+  const SignalsHeld held;  // both files are renamed, or neither
   h5_.Commit();
   if (csv_) csv_->Commit();
 }

@@ -378,6 +378,7 @@ void WriteSweepOutputs(const std::string& path,
     csv.emplace(csv_path);
     WriteCsvTemporary(*csv, csv_path, cols, outcomes);
   }
+  const io::SignalsHeld held;  // both files are renamed, or neither
   out.Commit();
   if (csv) csv->Commit();
 }
