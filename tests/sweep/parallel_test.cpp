@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <future>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -77,18 +78,22 @@ TEST(ParallelFor, MonitorRunsOnTheCallingThreadWhileWorkersWork) {
   std::atomic<int> monitor_calls{0};
   std::atomic<bool> monitor_elsewhere{false};
   std::atomic<bool> body_on_caller{false};
+  // The work waits for the monitor's first call (a handshake, not a delay): the monitor
+  // has then run while the workers were busy, whatever the machine's load.
+  std::promise<void> first_call;
+  const std::shared_future<void> monitored = first_call.get_future().share();
   ParallelOptions o;
   o.threads = 2;
   o.monitor_interval = 0.001;
   o.monitor = [&] {
     if (std::this_thread::get_id() != caller) monitor_elsewhere = true;
-    monitor_calls.fetch_add(1);
+    if (monitor_calls.fetch_add(1) == 0) first_call.set_value();
   };
   ParallelFor(
       20,
       [&](std::size_t) {
         if (std::this_thread::get_id() == caller) body_on_caller = true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        monitored.wait();
       },
       o);
   EXPECT_GE(monitor_calls.load(), 2);  // during the run and once at the end
