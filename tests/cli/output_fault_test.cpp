@@ -174,14 +174,16 @@ class OutputFaultTest : public testing::TempDirTest {
     Watch w;
     w.Add(Path(""), IN_CREATE);
     Child c = Start(args);
-    EXPECT_TRUE(w.WaitFor(c.pid, [](int, std::uint32_t, const std::string& name) {
-      return IsTemporary(name);
-    })) << "no temporary: " << Stderr();
+    EXPECT_TRUE(w.WaitFor(
+        c.pid, [](int, std::uint32_t, const std::string& name) { return IsTemporary(name); }))
+        << "no temporary: " << Stderr();
     return c;
   }
 
   // The wing nut, `until` seconds sampled every `dt`.
-  std::string Profile(const std::string& name, double until, double dt,
+  std::string Profile(const std::string& name,
+                      double until,
+                      double dt,
                       const std::string& model = DEPLOYSIM_SOURCE_DIR "/models/wing_nut.yaml") {
     return Write(name, "name: " + name + "\nmodel: " + model +
                            "\n"
@@ -297,8 +299,8 @@ TEST_F(OutputFaultTest, KillMinus9WhileSimulatingIsCleanedByTheNextRun) {
 // HDF5 file and its CSV are either both the older files or both complete new ones.
 TEST_F(OutputFaultTest, SignalsAtEveryMomentOfARunLeaveNoStrayFileAndNoHalfUpdate) {
   enum Moment { kStart, kProfileOpened, kModelOpened, kFirstTemporary, kSampleWrite, kRenamed };
-  const char* moment_names[] = {"start", "profile opened", "model opened", "first temporary",
-                                "sample write", "HDF5 file renamed"};
+  const char* moment_names[] = {"start",           "profile opened", "model opened",
+                                "first temporary", "sample write",   "HDF5 file renamed"};
   fs::copy_file(DEPLOYSIM_SOURCE_DIR "/models/wing_nut.yaml", Path("model.yaml"));
   const std::string profile = Profile("p.yaml", 2, 0.001, Path("model.yaml"));
   constexpr std::size_t kSamples = 2001;
@@ -319,13 +321,18 @@ TEST_F(OutputFaultTest, SignalsAtEveryMomentOfARunLeaveNoStrayFileAndNoHalfUpdat
     int writes = 0;
     const Watch::Match match = [&](int wd, std::uint32_t mask, const std::string& name) {
       switch (moment) {
-        case kProfileOpened: return wd == profile_wd;
-        case kModelOpened: return wd == model_wd;
-        case kFirstTemporary: return wd == folder && (mask & IN_CREATE) && IsTemporary(name);
+        case kProfileOpened:
+          return wd == profile_wd;
+        case kModelOpened:
+          return wd == model_wd;
+        case kFirstTemporary:
+          return wd == folder && (mask & IN_CREATE) && IsTemporary(name);
         case kSampleWrite:
           return wd == folder && (mask & IN_MODIFY) && IsTemporary(name) && ++writes == kth_write;
-        case kRenamed: return wd == folder && (mask & IN_MOVED_TO) && name == "out.h5";
-        default: return true;
+        case kRenamed:
+          return wd == folder && (mask & IN_MOVED_TO) && name == "out.h5";
+        default:
+          return true;
       }
     };
     Child c = Start({"simulate", profile, "-o", "out.h5", "-q", "--csv"});

@@ -1,8 +1,8 @@
 #include "deploysim/io/atomic_file.h"
 
 #include <dirent.h>
-#include <pthread.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -113,7 +113,8 @@ struct Named {
 /// handlers *before* the file exists: registered after, a signal arriving between the
 /// two would leave the file behind. Unlinking a registered name that was not created yet
 /// is harmless (the name carries our pid: no other live process uses it).
-Named CreateNamed(const std::string& target, const std::filesystem::path& dir,
+Named CreateNamed(const std::string& target,
+                  const std::filesystem::path& dir,
                   const std::string& stem) {
   for (int attempt = 0; attempt < kMaxCreateAttempts; ++attempt) {
     const std::string name =
@@ -204,9 +205,7 @@ SignalsHeld::SignalsHeld() {
   ::pthread_sigmask(SIG_BLOCK, &held, &saved_);
 }
 
-SignalsHeld::~SignalsHeld() {
-  ::pthread_sigmask(SIG_SETMASK, &saved_, nullptr);
-}
+SignalsHeld::~SignalsHeld() { ::pthread_sigmask(SIG_SETMASK, &saved_, nullptr); }
 
 void RemoveTemporariesOnSignals() {
   struct sigaction sa {};
