@@ -512,7 +512,8 @@ TEST_P(RandomCasesShard, MatchHighAccuracyIntegration) {
                 name.c_str(), st.count, st.H, st.q, st.ratio);
   }
 }
-INSTANTIATE_TEST_SUITE_P(FreeBodySolutionTest, RandomCasesShard,
+INSTANTIATE_TEST_SUITE_P(FreeBodySolutionTest,
+                         RandomCasesShard,
                          ::testing::Range(0, kRandomCaseShards));
 
 // ---------------------------------------------------------------------------------------

@@ -54,7 +54,7 @@ std::string PanelName(const analysis::MissionResult& r, int panel) {
   return panels[static_cast<std::size_t>(panel)].name;
 }
 
-/// The stage column's width: 18 (as before issue 9), wider for the longer names of a
+/// The stage column's width: 18 for stage profiles, wider for the longer names of a
 /// hinge profile's phases ("free: wing_plus_x, wing_minus_x"), at most 48.
 std::size_t StageNameWidth(const analysis::MissionResult& r) {
   std::size_t w = 18;
@@ -305,7 +305,7 @@ std::string FormatJson(const analysis::MissionResult& r, const analysis::Couplin
                      JsonNum(r.danger_windows[i].t_end));
   }
   o += "]";
-  // Hinge profiles (issue 9); empty lists otherwise. SI units, as in the HDF5 file.
+  // Hinge profiles only; empty lists otherwise. SI units, as in the HDF5 file.
   o += ",\n  \"hinge_events\": [";
   for (std::size_t i = 0; i < r.hinge_events.size(); ++i) {
     const analysis::HingeEvent& e = r.hinge_events[i];

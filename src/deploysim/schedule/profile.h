@@ -71,7 +71,7 @@ struct OutputSpec {
 /// A profile is one of two kinds:
 ///  - a stage profile (`stages:`): every panel follows the stages' configurations
 ///    together (DESIGN.md 2.6); `hinges` is empty;
-///  - a hinge profile (`hinges:`, issue 9): each panel has its own HingePlan (locked,
+///  - a hinge profile (`hinges:`): each panel has its own HingePlan (locked,
 ///    prescribed on its own windows, or free), the run goes from `start` to `until`,
 ///    mode is geometry and coupling exact; `stages` is empty (the stage table of a run is
 ///    made of the phases between the run's events, analysis/mission.h).
