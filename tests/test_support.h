@@ -1,6 +1,6 @@
 #pragma once
 
-/// Shared fixtures for the tests: the reference problems of DESIGN.md section 6.
+/// Shared fixtures for the tests: the reference problems of docs/design.md section 6.
 
 #include <array>
 #include <vector>
@@ -14,7 +14,7 @@ namespace deploysim::testing {
 inline math::Vec3 WingNutMoments() { return math::Vec3(3.036e-6, 2.741e-6, 0.699e-6); }
 inline math::Vec3 WingNutH0() { return math::Vec3(1e-8, 2.1252e-5, 1e-8); }
 
-/// Flip times of the wing nut from 40-digit arithmetic (DESIGN.md section 6) [s].
+/// Flip times of the wing nut from 40-digit arithmetic (docs/design.md section 6) [s].
 constexpr double kWingNutFirstFlip = 1.7338627960581041;
 constexpr double kWingNutHalfPeriod = 3.5570245874804300;
 constexpr double kWingNutPeriod = 7.1140491749608600;

@@ -5,14 +5,14 @@ body from the model and decimate the samples to what the eye needs.
 
 One place for each rule (docs/viewer.md):
 - the body is drawn as boxes: a `hinged` model's hub and panels at their hinge angles
-  (DESIGN.md 2.5: R_Bk = R_B,parent Rot(a_k, theta_k), hinge o_k = o_parent + R_B,parent p_k,
-  CoM o_k + R_Bk r_k), every position relative to the system CoM c(t); an element given by
+  (docs/design.md 2.5: R_Bk = R_B,parent Rot(a_k, theta_k),
+  hinge o_k = o_parent + R_B,parent p_k, CoM o_k + R_Bk r_k), every position relative to the system CoM c(t); an element given by
   `inertia:` instead of `box:` is drawn as its equivalent box; a `tensors` model (or a run in
   tensor mode) as the uniform box with the principal moments of J_B(t) (the mass is only a
   scale: the largest edge is 1);
 - the spin axis is that of docs/file_formats.md "Flips" step 1 (the principal axis of
   J_B(t0) nearest H_B(t0), signed along it), fixed in B;
-- frames as DESIGN.md 1: q_NB (w, x, y, z) maps B components to N components.
+- frames as docs/design.md 1: q_NB (w, x, y, z) maps B components to N components.
 
 Needs Debian's python3-h5py, python3-numpy, python3-yaml (run with /usr/bin/python3).
 """

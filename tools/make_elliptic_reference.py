@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Writes tests/math/elliptic_reference.inc: 40-digit reference values of the Jacobi
 elliptic functions sn, cn, dn, of K, and of the incomplete integrals F and Pi, all
-parameterised by the complementary parameter mc = 1 - m (DESIGN.md section 2.3).
+parameterised by the complementary parameter mc = 1 - m (docs/design.md section 2.3).
 
 Every argument is a double; mpmath evaluates at that exact binary value (mpf(float) is
 exact), with 60 working digits, and each value is checked against a second evaluation at
@@ -31,7 +31,7 @@ OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "m
                    "elliptic_reference.inc")
 
 # Complementary parameters from 1 (m = 0, circular functions) to 1e-16 and 0 (m = 1,
-# hyperbolic functions). 6.6492854004460934e-6 is the wing nut of DESIGN.md section 6.
+# hyperbolic functions). 6.6492854004460934e-6 is the wing nut of docs/design.md section 6.
 MC_VALUES = [1.0, 0.9, 0.5, 0.1, 1e-2, 1e-3, 1e-4, 6.6492854004460934e-6, 6.6e-6, 1e-6,
              1e-8, 1e-10, 1e-12, 1e-14, 1e-16, 0.0]
 

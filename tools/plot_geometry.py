@@ -10,9 +10,9 @@ Writes into OUTDIR:
                             separatrix asymptotes (2.43) (Figs. 2.6-2.8)
 
 Variables and numbering are the thesis's (docs/geometry.md): J1 > J2 > J3, so H1 is the
-component along the major axis of inertia (the code elsewhere sorts ascending, DESIGN.md
-2.3); Hbar = H / sqrt(2T J2), dbar = D / J2 = |H|^2 / (2T J2), J3/J2 <= dbar <= J1/J2.
-Every curve is drawn from an exact parametrisation (no contouring).
+component along the major axis of inertia (the code elsewhere sorts ascending,
+docs/design.md 1); Hbar = H / sqrt(2T J2), dbar = D / J2 = |H|^2 / (2T J2),
+J3/J2 <= dbar <= J1/J2. Every curve is drawn from an exact parametrisation (no contouring).
 
 The principal moments come from one of:
   --inertia A B C        three principal moments, any order, any unit

@@ -1,8 +1,8 @@
 """deploysim from Python: spinning spacecraft that deploy their panels (Dzhanibekov effect).
 
-A thin layer over the same C++ library as the ``deploysim`` command (DESIGN.md section 4):
-the same readers, rules and messages, the same integrators, the same numbers (bit for bit
-the arrays ``deploysim simulate`` writes to HDF5). numpy in, numpy out.
+A thin layer over the same C++ library as the ``deploysim`` command (docs/design.md
+section 4): the same readers, rules and messages, the same integrators, the same numbers
+(bit for bit the arrays ``deploysim simulate`` writes to HDF5). numpy in, numpy out.
 
     import deploysim
     p = deploysim.load_profile("deployment_profiles/smallsat_spring_deploy.yaml")

@@ -2,7 +2,7 @@
 
 // The parts of the compiled module deploysim._deploysim (python/CMakeLists.txt): each
 // Register* adds its functions and classes. A thin layer over the library API the CLI
-// uses (DESIGN.md 4): no physics here, only conversion to numpy and Python objects,
+// uses (docs/design.md 4): no physics here, only conversion to numpy and Python objects,
 // the GIL and Ctrl-C. Library exceptions pass through pybind11's translation:
 // std::invalid_argument -> ValueError (bad input: one line naming file, key, value and
 // rule, as the CLI prints it), std::runtime_error -> RuntimeError.

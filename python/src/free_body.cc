@@ -1,4 +1,4 @@
-// FreeBody: analysis::FreeBodySolution (the closed-form torque-free motion, DESIGN.md 2.3)
+// FreeBody: analysis::FreeBodySolution (the closed-form torque-free motion, docs/design.md 2.3)
 // evaluated over numpy arrays of times; each element is the scalar C++ call, bit for bit.
 
 #include <pybind11/numpy.h>
@@ -63,7 +63,7 @@ void Put4(const math::Quat& q, double* o) {
 void RegisterFreeBody(py::module_& m) {
   py::class_<FreeBodySolution>(
       m, "FreeBody",
-      "Closed-form torque-free motion of a rigid body with constant inertia (DESIGN.md 2.3;\n"
+      "Closed-form torque-free motion of a rigid body with constant inertia (docs/design.md 2.3;\n"
       "thesis eqs. 2.22-2.64): Jacobi elliptic functions of the complementary parameter,\n"
       "exact near and on the separatrix; the attitude by the third-kind integral.\n\n"
       "FreeBody(J, H0, q0=(1, 0, 0, 0), t0=0.0)\n"

@@ -1,5 +1,5 @@
 """FreeBody: the closed form over numpy arrays equals the scalar C++ path, and the
-reference numbers of DESIGN.md section 6."""
+reference numbers of docs/design.md section 6."""
 
 import numpy as np
 import pytest

@@ -74,7 +74,7 @@ def test_result_arrays_have_the_documented_shapes():
     assert r.H_B.shape == (n, 3) and r.q_NB.shape == (n, 4) and r.J_B.shape == (n, 3, 3)
     assert r.energy.shape == (n,) and r.hinge_angles.shape == (n, 0)
     assert r.reached_end
-    assert len(r.flips) == 11  # DESIGN.md 6: 11 flips in 40 s
+    assert len(r.flips) == 11  # docs/design.md 6: 11 flips in 40 s
     assert np.allclose(r.flips[0], 1.7338627960581041, atol=1e-6)
     # Arrays own their memory beyond the result's lifetime.
     H = r.H_B

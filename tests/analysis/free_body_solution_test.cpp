@@ -1,6 +1,6 @@
-// Tests of analysis::FreeBodySolution, the closed-form torque-free motion (DESIGN.md 2.3).
+// Tests of analysis::FreeBodySolution, the closed-form torque-free motion (docs/design.md 2.3).
 //
-// (a) The wing nut against the 40-digit reference numbers of DESIGN.md 6.
+// (a) The wing nut against the 40-digit reference numbers of docs/design.md 6.
 // (b) 1032 seeded random bodies (diagonal in any axis order, and full tensors from random
 //     rotations) and momenta in all 8 sign patterns: generic, near the separatrix
 //     (1 - k^2 from 1e-3 to 1e-12, built deliberately both near the intermediate axis and
@@ -316,7 +316,7 @@ std::vector<double> SampleTimes(double t0, double horizon, int n) {
 }
 
 // ---------------------------------------------------------------------------------------
-// (a) The wing nut of DESIGN.md section 6 (40-digit reference values).
+// (a) The wing nut of docs/design.md section 6 (40-digit reference values).
 // ---------------------------------------------------------------------------------------
 /// Agreement required with the 40-digit reference numbers (they differ from ours by the
 /// rounding of the decimal inputs to double: measured ~2e-15 s).

@@ -340,7 +340,7 @@ TEST(HingeMissionTest, OutcomeRunLocatesTheLargestSpinAxisAngle) {
   struct Discard final : SampleSink {
     void Append(const Trajectory&) override {}
   } discard;
-  HingeRunOptions o;
+  RunOptions o;
   o.sample_trajectory = false;
   const MissionResult lean = RunHingeMission(p, discard, {}, o);
   std::printf("largest spin-axis angle: located %.12f rad, sampled every 5 ms %.12f rad\n",

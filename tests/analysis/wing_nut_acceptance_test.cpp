@@ -1,6 +1,6 @@
-// Issue 2, acceptance 1: the wing nut against the analytic solution through the
+// The wing nut against the analytic solution through the
 // integrators: H_B(t) over 40 s on a 0.01 s output grid (dense output), and the located
-// flip events against the 40-digit reference flip times (DESIGN.md section 6).
+// flip events against the 40-digit reference flip times (docs/design.md section 6).
 
 #include <gtest/gtest.h>
 
@@ -21,8 +21,8 @@ namespace DEPLOYSIM_TEST_UNIT {
 
 constexpr double kHorizon = 40.0;             // [s]
 constexpr double kGrid = 0.01;                // [s] output grid
-constexpr double kFlipTolerance = 1e-8;       // [s] acceptance 1
-constexpr double kMomentumTolerance = 1e-10;  // relative, acceptance 1
+constexpr double kFlipTolerance = 1e-8;       // [s] required
+constexpr double kMomentumTolerance = 1e-10;  // relative, required
 // Near the separatrix the distance to it, 2T I2 - M^2, is a small difference of large
 // numbers: every step's rounding would move it and shift the later flips, so the
 // vector-space methods carry the momentum's rounding (compensated summation) and the
@@ -87,14 +87,14 @@ TEST(WingNutAcceptanceTest, AdaptiveRkf78ReachesTheDoublePrecisionFloor) {
   EXPECT_EQ(r.flips, 11u);
   // Measured 9.4e-11; the floor is rounding, so allow a factor 2 for other compilers.
   EXPECT_LT(r.max_H_error, 2 * kMomentumTolerance);
-  EXPECT_LT(r.max_flip_error, 1e-10);  // [s] measured 2.3e-11 (acceptance: kFlipTolerance)
+  EXPECT_LT(r.max_flip_error, 1e-10);  // [s] measured 2.3e-11 (required: kFlipTolerance)
 }
 
 TEST(WingNutAcceptanceTest, AdaptiveDopri5LocatesFlips) {
   const Result r = RunWingNut("dopri5", 1e-12);
   EXPECT_EQ(r.flips, 11u);
   EXPECT_LT(r.max_H_error, 3e-9);      // measured 6.3e-10
-  EXPECT_LT(r.max_flip_error, 6e-10);  // [s] measured 1.5e-10 (acceptance: kFlipTolerance)
+  EXPECT_LT(r.max_flip_error, 6e-10);  // [s] measured 1.5e-10 (required: kFlipTolerance)
 }
 
 TEST(WingNutAcceptanceTest, LieGroupAdaptiveReproducesTheAnalyticSolution) {
@@ -113,7 +113,7 @@ TEST(WingNutAcceptanceTest, LieGroupEighthOrderLocatesFlips) {
   const Result r = RunWingNut("rkmk-rkf78", 1e-12);
   EXPECT_EQ(r.flips, 11u);
   EXPECT_LT(r.max_H_error, kRkmkRkf78Floor);
-  EXPECT_LT(r.max_flip_error, 5e-10);  // [s] measured 1.2e-10 (acceptance: kFlipTolerance)
+  EXPECT_LT(r.max_flip_error, 5e-10);  // [s] measured 1.2e-10 (required: kFlipTolerance)
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT

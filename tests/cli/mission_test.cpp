@@ -1,6 +1,6 @@
-// The mission pipeline on the shipped models (issue 3, acceptance 2 and 3): the seed
-// thesis's satellite reproduces section 3.4 quantitatively, and exact against
-// quasi-rigid coupling shows the physics of DESIGN.md 2.5.
+// The mission pipeline on the shipped models: the seed thesis's satellite reproduces
+// section 3.4 quantitatively, and exact against quasi-rigid coupling shows the physics of
+// docs/design.md 2.5.
 
 #include "deploysim/analysis/mission.h"
 
@@ -133,7 +133,7 @@ schedule::Profile Deployment(double duration) {
 }
 
 TEST(CouplingTest, RateErrorScalesWithHingeRateButAttitudeOffsetWithSwing) {
-  // DESIGN.md 2.5: quasi-rigid coupling (the seed's) errs in w in proportion to the hinge
+  // docs/design.md 2.5: quasi-rigid coupling (the seed's) errs in w in proportion to the hinge
   // rate, but the attitude offset accumulated by the end of deployment, int J^-1 h_rel dt,
   // is a geometric phase set by the total swing, not its speed.
   const analysis::CouplingComparison fast = analysis::CompareCouplings(Deployment(2.0));

@@ -1,4 +1,4 @@
-// Issue 9, acceptance 2 and 5: the reduced free-hinge model against the independent
+// The reduced free-hinge model against the independent
 // Simbody model (simbody_free_hinges.h) at accuracy 1e-14, with Simbody's own error (its
 // run at 1e-12 against 1e-14) beside every figure: a symmetric two-wing spring deployment,
 // an asymmetric panel with a latch, a two-segment chain and a branched tree with skew hinge
@@ -18,11 +18,11 @@ namespace DEPLOYSIM_TEST_UNIT {
 
 using namespace free_hinge_fixtures;  // NOLINT: the shared test builders
 
-// Acceptance 2 asks for H_B / |H| and attitude [rad] within 1e-9 over >= 300 s, latch
+// Required: H_B / |H| and attitude [rad] within 1e-9 over >= 300 s, latch
 // times within 1e-8 s, impulses and hub angular-velocity jumps within 1e-9 relative. The
 // bounds below sit a few times above the largest measured difference over the six cases
 // (reduced rkmk-rkf78/exact at rtol 1e-13 against Simbody at 1e-14), so that a regression
-// fails long before the acceptance figure: H_B 5.0e-11 and attitude 5.1e-11 rad (the
+// fails long before the required figure: H_B 5.0e-11 and attitude 5.1e-11 rad (the
 // symmetric deployment, which flips: Simbody's own error, 1e-12 against 1e-14, is 5.6e-9
 // there), latch times 7.9e-14 s, impulses 4.2e-14, w jumps 4.4e-14, flips 7.1e-10 s,
 // total energy 8.6e-13 of E(t0) (the undamped chain; 1.1e-13 in the others).
@@ -31,7 +31,7 @@ constexpr double kLatchTimeTolerance = 5e-13;
 constexpr double kImpulseTolerance = 2e-13;
 constexpr double kFlipTolerance = 3e-9;
 constexpr double kEnergyTolerance = 3e-12;
-/// Acceptance 5 asks for 1e-6 relative; measured below 1e-14.
+/// 1e-6 relative is required; measured below 1e-14.
 constexpr double kCrossingTolerance = 1e-12;
 
 schedule::Profile Tight(schedule::Profile p) {
@@ -108,7 +108,7 @@ TEST(FreeHingeCrosscheckTest, MotorDrivenHinge) {
         "torque-speed motor");
 }
 
-// An undamped two-segment chain on free springs (no latch) is chaotic (DESIGN.md 2.7):
+// An undamped two-segment chain on free springs (no latch) is chaotic (docs/design.md 2.7):
 // compared over 20 s (over 100 s the two differ by 2.7e-9 in H_B and 4.7e-9 rad, Simbody's
 // own error 1.3e-8 and 2.1e-8, and Simbody takes minutes at 1e-14).
 TEST(FreeHingeCrosscheckTest, UndampedFreeChainOverAShortHorizon) {
@@ -117,7 +117,7 @@ TEST(FreeHingeCrosscheckTest, UndampedFreeChainOverAShortHorizon) {
         "undamped free chain");
 }
 
-// Acceptance 5: the minor-axis spinner with a pendulum damper ends in a flat spin about
+// The minor-axis spinner with a pendulum damper ends in a flat spin about
 // its major axis; the time its spin axis passes 45 degrees agrees with Simbody to 1e-6.
 TEST(FreeHingeCrosscheckTest, PendulumDamperMajorAxisRule) {
   schedule::Profile p = Tight(HingeProfile(PendulumDamperSpinner(), {Free(0.2, 0.0, 2.0)},

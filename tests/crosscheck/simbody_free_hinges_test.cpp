@@ -1,4 +1,4 @@
-// The independent Simbody model of free hinges (crosscheck/simbody_free_hinges.h, issue 9):
+// The independent Simbody model of free hinges (crosscheck/simbody_free_hinges.h):
 // Simbody-internal invariants (energy and momentum, the damper's energy balance, the
 // latch's closed form with an independently computed mass matrix, a stiff stop's
 // convergence to the plastic latch), the events (release after a latch, stops, rest, jam,
@@ -103,7 +103,7 @@ double SimbodyInverseMassEntry(const model::HingedBody& body,
   return RestrictedInverseEntry(SimbodyMassMatrix(body, angles), FreeIndices(free, k, 6), 6 + k);
 }
 
-/// The same from the project's mass properties (DESIGN.md 2.5, 2.7; single-level panels):
+/// The same from the project's mass properties (docs/design.md 2.5, 2.7; single-level panels):
 /// M = [[J_B, Bm], [Bm^T, M_tt]] about the system CoM in (w_NB_B, theta'), Bm's columns
 /// h_rel_B per unit rate, M_tt by polarization of T_rel. Eliminating the hub's translation
 /// from Simbody's matrix gives the same (M^-1)_kk.
@@ -248,7 +248,7 @@ double CheckPlasticEvents(const SimbodyFreeHingeRun& r,
 
 TEST(SimbodyFreeHingesTest, LatchesDissipateTheClosedFormAndKeepTheMomentum) {
   // The stiffer spring latches first, so the second latch's effective inertia is that of
-  // the mass matrix restricted to the hinges still free (DESIGN.md 2.7 pitfall).
+  // the mass matrix restricted to the hinges still free (docs/design.md 2.7 pitfall).
   const schedule::Profile p = HingeProfile(
       SmallSat(), {WithLatch(Free(0.6, -20 * kDeg), 0.0), WithLatch(Free(0.3, -20 * kDeg), 0.0)},
       SmallSatSpin(), 20.0);

@@ -1,6 +1,6 @@
-// Issue 4, acceptance 3: the quasi-rigid coupling's errors against Simbody as functions
+// The quasi-rigid coupling's errors against Simbody as functions
 // of the deployment duration (smallsat, closed -> open, minimum-jerk, 1 s to 1000 s), and
-// the physics of DESIGN.md 2.5: the angular-velocity error during the deployment falls as
+// the physics of docs/design.md 2.5: the angular-velocity error during the deployment falls as
 // it slows, while the attitude offset at its end stays nearly the same (a geometric phase
 // set by the total swing). The falling w error holds while the deployment crosses the
 // danger window (spin axis intermediate) quickly; slower deployments linger in it and

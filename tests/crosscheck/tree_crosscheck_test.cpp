@@ -1,4 +1,4 @@
-// Panel trees against Simbody (issue 9, DESIGN.md 2.7 and 3): a branched tree with skew
+// Panel trees against Simbody (docs/design.md 2.5 and 3): a branched tree with skew
 // hinge axes (a boom on the hub carrying two panels, one of which carries a tip panel;
 // no axis along a B axis, none parallel to its parent's) deploys along a prescribed
 // schedule. In Simbody each panel is a Pin on its parent's body. Checked:

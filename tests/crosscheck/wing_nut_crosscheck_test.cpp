@@ -1,7 +1,7 @@
-// Issue 4, acceptance 5: the wing nut (deployment_profiles/wing_nut.yaml) as one
+// The wing nut (deployment_profiles/wing_nut.yaml) as one
 // MobilizedBody::Free against the reduced model and the closed-form solution. Near the
 // separatrix (1 - k^2 = 6.6e-6) Simbody's free mobilizer, which integrates the ground-frame
-// angular velocity, is badly conditioned (DESIGN.md 3): at accuracy 1e-12 its H_B is off by
+// angular velocity, is badly conditioned (docs/design.md 3): at accuracy 1e-12 its H_B is off by
 // 3e-6 after 40 s. This test uses 1e-14 over the full 40 s (all 11 flips) and checks
 // Simbody's own error against the closed form beside the comparison.
 
@@ -31,7 +31,7 @@ constexpr double kFlipTolerance = 5e-8;  // [s] Simbody vs reduced, vs analytic;
 constexpr double kReducedFlipTolerance = 5e-10;  // [s] reduced vs analytic; measured 1.2e-10
 // Simbody's own H_B error against the closed form at 1e-14 over 40 s (measured 6.1e-8).
 constexpr double kSimbodyOwnErrorTolerance = 2e-7;
-constexpr double kReferenceFlipTolerance = 5e-8;  // [s] vs DESIGN.md 6's values; measured 1.5e-8
+constexpr double kReferenceFlipTolerance = 5e-8;  // [s] vs docs/design.md 6; measured 1.5e-8
 // At accuracy 1e-12 over 12 s: Simbody's flips against the reduced model's and the closed
 // form's (measured 3.5e-8 s).
 constexpr double kShortFlipTolerance = 1e-7;
@@ -71,7 +71,7 @@ TEST(WingNutCrosscheckTest, FlipsAgreeWithSimbodyAndTheClosedForm) {
   RecordProperty("simbody_wall_s", std::to_string(r.simbody.stats.wall_seconds));
 }
 
-// At accuracy 1e-12 Simbody is much worse near the separatrix (DESIGN.md 3), but over a
+// At accuracy 1e-12 Simbody is much worse near the separatrix (docs/design.md 3), but over a
 // short horizon (3 flips, 12 s) its flips still agree to 1e-7 s.
 TEST(WingNutCrosscheckTest, ShortHorizonAtAccuracy1e12) {
   const schedule::Profile p =

@@ -44,7 +44,7 @@ constexpr double kSmallestFittedError = 1e-12;
 constexpr double kTolerancePairRatio = 1e3;
 constexpr double kMinErrorReduction = 100.0;
 
-// Wing nut (DESIGN.md section 6) over [0, 1 s]: before the first flip at 1.73 s, where
+// Wing nut (docs/design.md section 6) over [0, 1 s]: before the first flip at 1.73 s, where
 // the solution's sensitivity is at most e^(lambda t) ~ 60, so the fit is well
 // conditioned.
 constexpr double kWingNutHorizon = 1.0;  // [s]

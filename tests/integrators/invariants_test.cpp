@@ -92,7 +92,7 @@ void ExpectInvariantsHeld(const std::string& label, const InvariantMonitor& m) {
 }
 
 TEST(InvariantsTest, Rkmk4HoldsMomentumOnWingNutOver1e5Steps) {
-  // 10^5 steps of 4e-4 s: 40 s, all eleven flips of DESIGN.md section 6.
+  // 10^5 steps of 4e-4 s: 40 s, all eleven flips of docs/design.md section 6.
   constexpr double kStep = 4e-4;
   WingNut w;
   IntegratorSettings s;
@@ -253,7 +253,7 @@ TEST(InvariantsTest, ThesisEulerMomentumDriftGrowsLinearly) {
   constexpr double kStep = 2e-4;
   constexpr double kMinRatio = 3.0;
   constexpr double kMaxRatio = 4.5;
-  // DESIGN.md 2.2: drift 9.1e-4 at h = 2e-5 s over 40 s; the drift is first order in
+  // docs/design.md 6: drift 9.1e-4 at h = 2e-5 s over 40 s; the drift is first order in
   // h, so 10x that here. 5 % covers the O(h^2) term and the rounding of 9.1e-4.
   constexpr double kDesignDriftAt40s = 9.1e-4 * 10.0;
   constexpr double kDesignDriftTolerance = 0.05 * kDesignDriftAt40s;

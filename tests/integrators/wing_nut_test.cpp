@@ -1,4 +1,4 @@
-// The wing nut of DESIGN.md section 6 through every stepper: flip times against the
+// The wing nut of docs/design.md section 6 through every stepper: flip times against the
 // 40-digit reference values, and the seed's explicit-Euler baseline drift.
 
 #include <gtest/gtest.h>
@@ -16,7 +16,7 @@ namespace deploysim::integrators {
 namespace {
 namespace DEPLOYSIM_TEST_UNIT {
 
-constexpr double kFlipTimeTolerance = 1e-8;  // [s], issue 2 acceptance 1
+constexpr double kFlipTimeTolerance = 1e-8;  // [s], the required flip-time accuracy
 constexpr double kHorizon = 40.0;            // [s]
 
 struct WingNut {
@@ -79,7 +79,7 @@ TEST(WingNutTest, LieGroupFixedStepLocatesFlips) {
 }
 
 TEST(WingNutTest, ThesisEulerBaselineDriftsAsMeasuredInDesign) {
-  // DESIGN.md 2.2: explicit Euler at h = 2e-5 s over 40 s drifts |H| by 9.1e-4 relative
+  // docs/design.md 6: explicit Euler at h = 2e-5 s over 40 s drifts |H| by 9.1e-4 relative
   // (measured with an independent reference); the seed claims it is conserved.
   WingNut w;
   IntegratorSettings s;

@@ -121,7 +121,7 @@ TEST(EllipticTest, CompleteIntegralMatchesTable) {
   EXPECT_EQ(EllipticK(0.0), std::numeric_limits<double>::infinity());
 }
 
-// DESIGN.md 2.3: R_F(0, mc, 1) is right to the last digit at the wing nut's mc ~ 6.6e-6 and
+// docs/design.md 2.3: R_F(0, mc, 1) is right to the last digit at the wing nut's mc ~ 6.6e-6 and
 // at mc = 1e-12, where the modulus form ellint_1(k) is wrong by ~3e-6 relative. (At
 // mc ~ 6.6e-6 the modulus form's error depends on how k happens to round: it is up to
 // delta(k^2) / (2 mc K) ~ 6e-13; the test only prints it.)

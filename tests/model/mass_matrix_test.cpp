@@ -129,7 +129,7 @@ TEST(MassMatrixTest, SubsetOfColumnsIsTheSubmatrix) {
 
 TEST(MassMatrixTest, BlocksAgreeWithMassPropertiesForHubChildren) {
   // Single-level bodies: J_B, h_rel_B = Bm theta' and T_rel = 1/2 theta'^T M_tt theta'
-  // against model::ComputeMassProperties (independent code, DESIGN.md 2.5).
+  // against model::ComputeMassProperties (independent code, docs/design.md 2.5).
   std::mt19937_64 rng(kSeed + 2);
   for (int c = 0; c < 20; ++c) {
     const int n = 1 + c % 4;

@@ -331,7 +331,7 @@ double FiniteDifferenceKineticEnergy(const HingedBody& b,
 }
 
 TEST(MassPropertiesTest, TotalKineticEnergyMatchesFiniteDifferencesOfTheMotion) {
-  // T = 1/2 w.J w + w.h_rel + T_rel (DESIGN.md 2.7; dynamics::TotalKineticEnergy) against
+  // T = 1/2 w.J w + w.h_rel + T_rel (docs/design.md 2.5; dynamics::TotalKineticEnergy) against
   // the energy of the parts' inertial motion.
   std::mt19937_64 rng(kSeed + 7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -369,7 +369,7 @@ TEST(MassPropertiesTest, TotalKineticEnergyMatchesFiniteDifferencesOfTheMotion) 
 }
 
 TEST(MassPropertiesTest, HubFramePositionsAreWrongByTheComShift) {
-  // DESIGN.md 2.5: measuring from the B origin instead of the system CoM c is wrong by
+  // docs/design.md 2.5: measuring from the B origin instead of the system CoM c is wrong by
   // M S(c) in J and by M c x c' in h_rel. The geometry makes the shift large.
   std::mt19937_64 rng(kSeed + 3);
   for (int trial = 0; trial < kRandomCases; ++trial) {
@@ -596,7 +596,7 @@ TEST(ValidatedHingedBodyTest, RejectsBadVectors) {
   ExpectRejected(b, {"hub.com", "rule: finite"});
 }
 
-// Issue 10: hinge_point 1e200 overflowed J_B and was reported as the profile's "zero
+// Unbounded, a hinge_point of 1e200 overflows J_B and shows up as the profile's "zero
 // angular momentum": masses and positions are bounded so that J_B stays finite.
 TEST(ValidatedHingedBodyTest, RejectsHugeMassesAndPositions) {
   HingedBody b = TwoPanelBody();

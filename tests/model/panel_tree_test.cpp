@@ -1,4 +1,4 @@
-// Panel trees (DESIGN.md 2.7, model.h): a panel's parent is the hub or another panel.
+// Panel trees (docs/design.md 2.5, model.h): a panel's parent is the hub or another panel.
 // model::ComputeMassProperties is checked against
 //  - bodies built by hand: the two-segment accordion of models/smallsat_two_segment.yaml
 //    folded flat (four plates placed with the parallel-axis theorem) and fully open (the
@@ -301,7 +301,7 @@ struct Particle {
 
 /// Orientation R_Bk and hinge point o_k (in B) of panel k, composed from the hub down:
 /// R_Bk = R_B,parent Exp(a_k theta_k), o_k = o_parent + R_B,parent p_k. With
-/// `unrotated_axes` the pitfall of DESIGN.md 2.7 instead: a child's axis taken in B,
+/// `unrotated_axes` the pitfall of docs/design.md 2.7 instead: a child's axis taken in B,
 /// R_Bk = Exp(a_k theta_k) R_B,parent (to show that the comparison would see it).
 void Pose(const HingedBody& b,
           const Eigen::VectorXd& theta,

@@ -1,6 +1,6 @@
 // The small spacecraft of models/smallsat.yaml, built in C++ without reading YAML: its
 // closed, half-open and open hinge angles must give the seed thesis's orderings for the
-// spin axis y (DESIGN.md 2.6): closed -> y minor, half-open -> J_y ties with another
+// spin axis y (docs/design.md 2.6): closed -> y minor, half-open -> J_y ties with another
 // principal moment, open -> y intermediate.
 
 #include <gtest/gtest.h>

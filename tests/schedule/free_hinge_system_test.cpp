@@ -122,7 +122,7 @@ void CheckBalance(bool dissipative) {
   std::printf("worst relative energy-balance error: %.3g\n", worst);
 }
 
-// DESIGN.md 2.7, first pitfall: dT/dtheta must be taken at fixed (w, theta'); with the sign
+// docs/design.md 2.7, first pitfall: dT/dtheta must be taken at fixed (w, theta'); with the sign
 // flipped (fixed (H_B, p)) the mass-matrix identities still hold but the energy balance
 // dE/dt = sum Q_nc theta' along the flow fails.
 TEST(FreeHingeSystemTest, EnergyIsConservedAlongTheFlowWithoutDissipation) { CheckBalance(false); }
@@ -161,7 +161,7 @@ TEST(FreeHingeSystemTest, PlasticImpulseStopsTheHingeAndKeepsTheOtherMomenta) {
               1e-12 * before.kinetic_energy);
   EXPECT_LT((after.w_NB_B - before.w_NB_B - imp.w_jump_B).norm(), 1e-14 * before.w_NB_B.norm());
   // The full matrix over every hinge (the locked parent included) would give another
-  // impulse (DESIGN.md 2.7, pitfall 2).
+  // impulse (docs/design.md 2.7, pitfall 2).
   Eigen::MatrixXd F;
   model::ComputeMassMatrix(body, model::PanelTree(body), pose, {0, 1, 2, 3, 4}, F);
   EXPECT_GT(std::abs(F.inverse()(4, 4) - inv_kk), 0.5 * inv_kk);

@@ -7,12 +7,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/analysis/mission.h"
+#include "deploysim/analysis/run_recorder.h"
+#include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/double_double.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/schedule/deployment_schedule.h"
 #include "deploysim/sweep/sweep_file.h"
 #include "sweep_test_support.h"
 
@@ -27,7 +34,7 @@ using testing::SweepDirTest;
 constexpr double kFlipTimeTolerance = 1e-9;    // [s] same steps, same event search
 constexpr double kSameStateTolerance = 1e-12;  // relative: the same final state
 constexpr double kMissionSampling = 0.01;      // [s] output grid of the reference run
-// The reference samples the angle every 10 ms; the lean path finds the extrema between
+// The reference samples the angle every 10 ms; the outcome run finds the extrema between
 // steps. Samples can miss a maximum by ~ (rate * dt)^2: far below this.
 constexpr double kMaxAngleSampling = 2e-4;  // [rad]
 constexpr double kConeTolerance = 1e-6;     // [rad] brute-force sampling of a period
@@ -202,6 +209,111 @@ TEST_F(SweepDirTest, SeparatrixDistanceAndFlipPeriodOfRigidBodies) {
     EXPECT_LT(o.final_separatrix_distance, 0.0);
     EXPECT_EQ(o.predicted_flip_half_period, std::numeric_limits<double>::infinity());
     EXPECT_FALSE(WillFlip(o));
+  }
+}
+
+/// A momentum (|H| = 1, h2 = 0) of the body diag(2, 3, 5) whose torque-free motion has
+/// 1 - k^2 = mc on the minor-axis side, mc = (I3 - I1)(I2 - D) / ((I2 - I1)(I3 - D)),
+/// to the rounding of H to doubles.
+math::Vec3 NearSeparatrix(long double mc) {
+  const long double I1 = 2, I2 = 3, I3 = 5;
+  const long double D = ((I3 - I1) * I2 - mc * (I2 - I1) * I3) / ((I3 - I1) - mc * (I2 - I1));
+  const long double h1sq = (1 / D - 1 / I3) / (1 / I1 - 1 / I3);
+  return math::Vec3(static_cast<double>(std::sqrt(h1sq)), 0.0,
+                    static_cast<double>(std::sqrt(1 - h1sq)));
+}
+
+/// (D - I2) / (I3 - I1) of a diagonal body in double-double arithmetic (h are doubles:
+/// their squares and quotients carry ~1e-32 relative error, so the cancellation of
+/// D - I2 leaves far more than double precision).
+double SeparatrixDistanceDD(const math::Vec3& I, const math::Vec3& h) {
+  using math::DoubleDouble;
+  DoubleDouble M2 = 0.0, two_T = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    M2 += math::TwoProd(h[i], h[i]);
+    two_T += math::TwoProd(h[i], h[i]) / I[i];
+  }
+  return static_cast<double>((M2 - two_T * I[1]) / two_T / (I[2] - I[0]));
+}
+
+// analyze's stage table (the run recorder's report of a rigid phase) and the sweep's
+// final prediction classify the same motion with the same numbers, bit for bit, down to
+// the separatrix; the separatrix distance keeps its accuracy there (the direct D - I2
+// keeps only the digits of D above its rounding: none at 1 - k^2 = 1e-15).
+TEST_F(SweepDirTest, AnalyzeAndSweepAgreeBitForBitNearTheSeparatrix) {
+  struct Body {
+    math::Vec3 I, H;
+    double mc;  // 1 - k^2 targeted
+  };
+  const std::vector<Body> bodies = {
+      {{2.0, 3.0, 5.0}, NearSeparatrix(1e-9L), 1e-9},
+      {{2.0, 3.0, 5.0}, NearSeparatrix(1e-12L), 1e-12},
+      {{2.0, 3.0, 5.0}, NearSeparatrix(1e-15L), 1e-15},
+      // Exactly on it: M^2 = 2, 2T = 1/3 + 1/6, D = 4 = I2 (2T I2 - M^2 = 1/3 - 2/6).
+      {{3.0, 4.0, 6.0}, {1.0, 0.0, 1.0}, 0.0},
+  };
+  for (const Body& b : bodies) {
+    SCOPED_TRACE(::testing::Message() << "1 - k^2 = " << b.mc);
+    const math::Mat3 J = b.I.asDiagonal();
+    const math::Vec3 s = analysis::InitialSpinAxis(J, b.H);
+    // The analyze side: one rigid phase from (J, H) to (J, H).
+    analysis::RunRecorder rec(s, b.H, nullptr, {}, 0.0, 1.0);
+    analysis::RunSample at;
+    at.H_B = b.H;
+    at.J_B = J;
+    at.w = J.inverse() * b.H;
+    rec.OpenPhase({"hold", "hold", /*rigid=*/true, false}, at);
+    at.t = 1.0;
+    rec.ClosePhase(at);
+    analysis::MissionResult m;
+    m.final_state.H_B = b.H;
+    rec.Finish(m);
+    ASSERT_EQ(m.stages.size(), 1u);
+    const analysis::StageReport& stage = m.stages[0];
+    // The sweep side.
+    const FinalPrediction f = PredictFinal(J, b.H, s);
+    EXPECT_EQ(stage.regime, analysis::ToString(f.regime));
+    EXPECT_EQ(stage.one_minus_k2, f.one_minus_k2);
+    EXPECT_EQ(stage.separatrix_distance, f.separatrix_distance);
+    if (b.mc == 0.0) {
+      EXPECT_EQ(f.regime, analysis::Regime::kSeparatrix);
+      EXPECT_EQ(f.one_minus_k2, 0.0);
+      EXPECT_EQ(f.separatrix_distance, 0.0);
+      continue;
+    }
+    EXPECT_EQ(f.regime, analysis::Regime::kMinorAxis);
+    EXPECT_NEAR(f.one_minus_k2, b.mc, 0.2 * b.mc);  // H rounded to doubles
+    const double reference = SeparatrixDistanceDD(b.I, b.H);
+    EXPECT_LT(reference, 0.0);
+    // Measured: exact at 1e-9 and 1e-12, 1.6e-16 relative at 1e-15.
+    EXPECT_NEAR(f.separatrix_distance, reference, 1e-15 * std::abs(reference));
+  }
+}
+
+// The same through whole runs: the last stage of analyze's table and the sweep's final
+// outcome come from the same end state and the same rule.
+TEST_F(SweepDirTest, AnalyzeAndSweepRunsAgreeOnTheFinalSeparatrixDistance) {
+  Write("body.yaml",
+        "name: b\nkind: tensors\nconfigurations:\n  body: {principal_moments: [2.0, 3.0, 5.0]}\n");
+  for (const long double mc : {1e-9L, 1e-12L, 1e-15L}) {
+    const math::Vec3 H = NearSeparatrix(mc);
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "name: near\nmodel: body.yaml\ninitial: {angular_momentum: [%.17g, 0, %.17g]}\n"
+                  "stages:\n  - {hold: body, until: 10}\nintegrator: {method: exact}\n",
+                  H[0], H[2]);
+    const schedule::Profile p = io::LoadProfile(Write("near.yaml", text));
+    const analysis::MissionResult m = analysis::RunMission(p);
+    Case c;
+    c.profile = p;
+    c.schedule = std::make_shared<const schedule::DeploymentSchedule>(p);
+    c.spin_axis_B = m.spin_axis_B;
+    const CaseOutcome o = SimulateOutcome(c, OutcomeSettings{});
+    ASSERT_EQ(m.stages.size(), 1u);
+    EXPECT_EQ(m.stages[0].separatrix_distance, o.final_separatrix_distance);
+    EXPECT_EQ(m.max_spin_axis_angle, o.max_spin_axis_angle);
+    EXPECT_EQ(m.flip_times.size(), static_cast<std::size_t>(o.flip_count));
+    EXPECT_LT(o.final_separatrix_distance, 0.0);
   }
 }
 

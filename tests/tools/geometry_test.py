@@ -156,7 +156,8 @@ class GeometryFiguresTest(unittest.TestCase):
         self.assertLess(worst, TOL_PLANE)
 
     def test_conic_type_of_each_projection(self):
-        """DESIGN 2.4: ellipses on (H2,H3), ellipses on (H1,H2), hyperbolas on (H1,H3)."""
+        """docs/design.md 2.4: ellipses on (H2,H3), ellipses on (H1,H2), hyperbolas on
+        (H1,H3)."""
         want = {(1, 2): -1, (0, 1): -1, (0, 2): +1}
         margin, fit = np.inf, 0.0
         for plane, ax in self.planes.items():

@@ -1,6 +1,6 @@
 #pragma once
 
-/// Exact versus quasi-rigid coupling (DESIGN.md 2.5): runs a geometry-mode profile
+/// Exact versus quasi-rigid coupling (docs/design.md 2.5): runs a geometry-mode profile
 /// twice, with h_rel from the hinge rates and with h_rel = 0 (the seed's instantaneously
 /// rigid body), on the same output grid, and measures the difference. The angular-velocity
 /// difference during deployment scales with the hinge rate; the attitude offset at the

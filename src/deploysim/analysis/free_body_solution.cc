@@ -405,4 +405,34 @@ std::vector<double> FreeBodySolution::FlipTimes(double t_begin, double t_end) co
   return times;
 }
 
+double SeparatrixDistance(const FreeBodySolution& sol, const math::Vec3& H_B) {
+  const math::Vec3& I = sol.principal_axes().moments;
+  const math::Vec3 h = sol.principal_axes().axes.transpose() * H_B;
+  const double two_T = 2.0 * sol.energy();
+  const double mc = sol.complementary_parameter();
+  switch (sol.regime()) {
+    case Regime::kMinorAxis: {
+      // P3 = 2T I3 - M^2 (a sum of non-negative terms); P2 = 2T I2 - M^2 > 0.
+      const double P3 = h[0] * h[0] * (I[2] - I[0]) / I[0] + h[1] * h[1] * (I[2] - I[1]) / I[1];
+      const double P2 = mc * (I[1] - I[0]) * P3 / (I[2] - I[0]);
+      return -P2 / two_T / (I[2] - I[0]);
+    }
+    case Regime::kMajorAxis: {
+      // P1 = M^2 - 2T I1 (non-negative terms); -P2 = M^2 - 2T I2 > 0.
+      const double P1 = h[1] * h[1] * (I[1] - I[0]) / I[1] + h[2] * h[2] * (I[2] - I[0]) / I[2];
+      const double minus_P2 = mc * (I[2] - I[1]) * P1 / (I[2] - I[0]);
+      return minus_P2 / two_T / (I[2] - I[0]);
+    }
+    case Regime::kSeparatrix:
+    case Regime::kIntermediateAxisSpin:
+      return 0.0;
+    case Regime::kAxisymmetric:
+      return (sol.D() - I[1]) / (I[2] - I[0]);
+    case Regime::kSpherical:
+    case Regime::kAtRest:
+      break;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace deploysim::analysis

@@ -1,10 +1,10 @@
 #pragma once
 
-/// Exact torque-free motion of a rigid body with constant inertia (DESIGN.md 2.3; thesis
+/// Exact torque-free motion of a rigid body with constant inertia (docs/design.md 2.3; thesis
 /// eqs. 2.22-2.64 and 3.16-3.23; Wittenburg, Dynamics of Multibody Systems, 2008, 3.3;
 /// Celledoni, Fasso, Safstrom, Zanna, SIAM J. Sci. Comput. 30(4) 2008, for the attitude).
 ///
-/// Conventions (DESIGN.md 1): SI units; H_B [kg m^2/s] is the angular momentum in body
+/// Conventions (docs/design.md 1): SI units; H_B [kg m^2/s] is the angular momentum in body
 /// components, w_NB_B [rad/s] the angular velocity, q_NB the Hamilton quaternion of R_NB
 /// (v_N = R_NB v_B). Equations: dH_B/dt = H_B x w_NB_B, w_NB_B = J_B^-1 H_B,
 /// dR_NB/dt = R_NB [w_NB_B]x. Invariants: h_N = R_NB H_B, M = |H_B|, T = 1/2 H_B . w_NB_B.
@@ -197,5 +197,12 @@ class FreeBodySolution {
   math::Quat q_right_;               ///< Constant factor Q R_PB (right).
   math::Vec3 w0_B_;                  ///< Angular velocity in the constant regimes.
 };
+
+/// The separatrix distance (D - I2) / (I3 - I1), D = M^2 / (2T), of the torque-free
+/// motion `sol` started from momentum H_B, formed without cancellation from its 1 - k^2 (so its
+/// sign is the regime's, and it stays accurate where D - I2 is far below rounding of D): 0 on the
+/// separatrix and for a pure intermediate-axis spin, < 0 about the minor axis, NaN for
+/// three equal moments or at rest.
+double SeparatrixDistance(const FreeBodySolution& sol, const math::Vec3& H_B);
 
 }  // namespace deploysim::analysis

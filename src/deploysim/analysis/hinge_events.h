@@ -1,6 +1,6 @@
 #pragma once
 
-/// Events that change a free-hinge system (issue 9, DESIGN.md 2.7): releases, latches,
+/// Events that change a free-hinge system (docs/design.md 2.7): releases, latches,
 /// stop impacts, a panel coming to rest on a stop, a jam. Each is located on the dense
 /// output, applied as an impulse on the hinge's conjugate momentum p_k (H_B and every
 /// other p_j unchanged) and reported with what a mission analyst needs: the impulse, the
@@ -30,7 +30,7 @@ struct HingeEvent {
   /// [N m s] the jump lambda of p_k: the angular impulse of the torque pair at the hinge.
   double impulse = 0.0;
   math::Vec3 w_jump_B = math::Vec3::Zero();  ///< [rad/s] hub w_NB_B+ - w_NB_B-.
-  /// [J] kinetic energy lost: (M^-1)_kk lambda^2 / 2 (DESIGN.md 2.7); 0 for a release.
+  /// [J] kinetic energy lost: (M^-1)_kk lambda^2 / 2 (docs/design.md 2.7); 0 for a release.
   double energy_dissipated = 0.0;
 };
 

@@ -1,15 +1,19 @@
 #include "deploysim/analysis/mission.h"
 
 #include <algorithm>
+#include <boost/math/tools/toms748_solve.hpp>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/analysis/run_recorder.h"
 #include "deploysim/dynamics/rigid_body.h"
+#include "deploysim/math/cubic_hermite.h"
 #include "deploysim/math/inertia.h"
 #include "deploysim/math/quaternion.h"
 #include "deploysim/schedule/deployment_schedule.h"
@@ -46,50 +50,6 @@ math::Vec3 Euler313RelativeToMomentum(const math::Quat& q_NB, const math::Vec3& 
 
 namespace {
 
-void Clear(Trajectory& t) {
-  for (std::vector<math::Vec3>* v :
-       {&t.H_B, &t.w_NB_B, &t.principal_moments, &t.h_rel_B, &t.h_N, &t.euler_313}) {
-    v->clear();
-  }
-  t.time.clear();
-  t.q_NB.clear();
-  t.J_B.clear();
-  t.energy.clear();
-  t.energy_rigid.clear();
-  t.energy_spring.clear();
-  t.spin_axis_angle.clear();
-  t.hinge_angles.clear();
-  t.hinge_rates.clear();
-}
-
-void Reserve(Trajectory& t, std::size_t n) {
-  for (std::vector<math::Vec3>* v :
-       {&t.H_B, &t.w_NB_B, &t.principal_moments, &t.h_rel_B, &t.h_N, &t.euler_313}) {
-    v->reserve(n);
-  }
-  t.time.reserve(n);
-  t.q_NB.reserve(n);
-  t.J_B.reserve(n);
-  t.energy.reserve(n);
-  t.energy_rigid.reserve(n);
-  t.energy_spring.reserve(n);
-  t.spin_axis_angle.reserve(n);
-}
-
-/// Number of times of `grid` below x (a binary search; the grid is ascending).
-std::size_t CountBelow(const integrators::OutputTimes& grid, double x) {
-  std::size_t lo = 0, hi = grid.size();
-  while (lo < hi) {
-    const std::size_t mid = lo + (hi - lo) / 2;
-    if (grid.at(mid) < x) {
-      lo = mid + 1;
-    } else {
-      hi = mid;
-    }
-  }
-  return lo;
-}
-
 /// The output grid merged with `extra` times not on it (ascending, few): the merged,
 /// sorted list of the times, unstored.
 class GridWithExtras final : public integrators::OutputTimes {
@@ -97,7 +57,7 @@ class GridWithExtras final : public integrators::OutputTimes {
   GridWithExtras(const integrators::OutputTimes& grid, std::vector<double> extra)
       : grid_(grid), extra_(std::move(extra)) {
     for (std::size_t e = 0; e < extra_.size(); ++e) {
-      position_.push_back(CountBelow(grid_, extra_[e]) + e);
+      position_.push_back(CountTimes(grid_, extra_[e], false) + e);
     }
   }
   std::size_t size() const override { return grid_.size() + extra_.size(); }
@@ -204,237 +164,318 @@ void SetRigidBodyCaveat(StageReport& report, bool dissipative) {
   }
 }
 
-MissionResult RunMission(const schedule::Profile& profile,
-                         SampleSink& sink,
-                         const std::function<void(double)>& progress) {
-  if (profile.is_hinge_profile()) return RunHingeMission(profile, sink, progress, {});
-  const auto wall0 = std::chrono::steady_clock::now();
-  const schedule::DeploymentSchedule sched(profile);
-  const double t0 = profile.t_begin();
-  const double t1 = profile.t_end();
+math::Vec3 InitialMomentum(const schedule::Profile& profile, const dynamics::InertiaSample& s0) {
+  return profile.initial.H_B ? *profile.initial.H_B
+                             : math::Vec3(s0.J_B * *profile.initial.w_NB_B + s0.h_rel_B);
+}
 
-  MissionResult out;
-  out.profile = profile;
-
-  // Initial state.
-  integrators::State y0;
-  y0.t = t0;
-  y0.q_NB =
-      math::ValidateUnitQuaternion(profile.initial.q_NB, profile.source + ": initial attitude");
-  const dynamics::InertiaSample s0 = sched.Evaluate(t0);
-  y0.H_B = profile.initial.H_B ? *profile.initial.H_B
-                               : math::Vec3(s0.J_B * *profile.initial.w_NB_B + s0.h_rel_B);
-  const math::Vec3 h_N0 = y0.q_NB * y0.H_B;
-  const double M = h_N0.norm();
-  if (!(M > 0.0)) throw std::invalid_argument(profile.source + ": initial: zero angular momentum");
-
-  // The body spin axis; flips are sign changes of the momentum along it while it is the
-  // intermediate principal axis of J(t).
-  const math::Vec3 spin_axis_B = InitialSpinAxis(s0.J_B, y0.H_B);
-  out.spin_axis_B = spin_axis_B;
-  integrators::EventFunction flip{"flip", [&sched, spin_axis_B](const integrators::State& s) {
-                                    return FlipFunction(sched.Evaluate(s.t).J_B, spin_axis_B,
-                                                        s.H_B);
-                                  }};
-
-  // Output grid plus the stage boundaries (kept apart for the stage reports), computed
-  // on demand (GridWithExtras): a sample is a grid sample unless its time is one of the
-  // boundaries that are not on the grid (`extra`).
-  const integrators::UniformGridTimes grid(t0, t1, profile.output.dt);
-  std::vector<double> boundaries;
-  for (const schedule::Stage& st : profile.stages) {
-    boundaries.push_back(st.t_begin);
-    boundaries.push_back(st.t_end);
-  }
-  std::sort(boundaries.begin(), boundaries.end());
-  boundaries.erase(std::unique(boundaries.begin(), boundaries.end()), boundaries.end());
-  std::vector<double> extra;
-  for (double b : boundaries) {
-    const std::size_t i = CountBelow(grid, b);
-    if (!(i < grid.size() && grid.at(i) == b)) extra.push_back(b);
-  }
-  const GridWithExtras times(grid, extra);
-
-  const auto stepper = MakeStepper(profile.integrator.method);
+integrators::IntegratorSettings SettingsOf(const schedule::Profile& profile) {
   integrators::IntegratorSettings settings;
   settings.step = profile.integrator.step;
   settings.tolerances = {profile.integrator.rtol, profile.integrator.atol};
   settings.max_step = profile.integrator.max_step;
-  double last_reported = -1.0;
-  integrators::StepObserver observer;
-  if (progress) {
-    observer = [&](const integrators::State& s) {
-      const double f = (s.t - t0) / (t1 - t0);
-      if (f - last_reported >= 0.01 || f >= 1.0) {
-        last_reported = f;
-        progress(f);
-      }
-    };
+  return settings;
+}
+
+namespace {
+
+// Rates of s . H_B / |H_B| below this fraction of |w| are rounding noise (a pure spin
+// has a rate of exactly zero in exact arithmetic): they count as zero, so that noise
+// does not look like an extremum.
+constexpr double kRateNoise = 1e-12;
+// Locating a minimum of s . H_B on a rigid segment: toms748 to this fraction of the step.
+constexpr double kRootRelTolerance = 1e-12;
+constexpr std::uintmax_t kMaxRootIterations = 100;
+
+/// J_B(t) as the events and the step observer see it, cached for the last time asked
+/// (the flip function and the spin-axis rate are evaluated at the same states).
+class CachedSchedule {
+ public:
+  explicit CachedSchedule(const dynamics::InertiaSource& source) : source_(source) {}
+  const dynamics::InertiaSample& At(double t) {
+    if (!valid_ || t != t_) {
+      sample_ = source_.Evaluate(t);
+      t_ = t;
+      valid_ = true;
+    }
+    return sample_;
   }
 
-  // The trajectory on the output grid, computed sample by sample as the integrator
-  // delivers them and passed on in blocks.
-  const bool geometry = profile.mode == schedule::Mode::kGeometry;
-  Trajectory block;
-  Reserve(block, kSampleBlock);
-  // Inside a rigid stage the inertia sample is the same at every time: evaluate it once
-  // per stage. The principal decomposition is cached on the exact bits of J_B.
-  std::vector<bool> stage_rigid;
+ private:
+  const dynamics::InertiaSource& source_;
+  dynamics::InertiaSample sample_{};
+  double t_ = 0.0;
+  bool valid_ = false;
+};
+
+/// The run of a stage profile: the schedule's J_B(t) and h_rel_B(t) drive the rigid-body
+/// equations; the phases are the profile's stages. Samples come on the output grid merged
+/// with the stage boundaries (kept apart for the stage reports). The spin-axis extrema
+/// inside a step are located exactly (closed form, toms748 on the rate) on rigid
+/// segments and on the cubic Hermite interpolant of f elsewhere: the error control keeps
+/// the steps short against the nutation.
+class StageRun {
+ public:
+  StageRun(const schedule::Profile& profile,
+           const schedule::DeploymentSchedule& sched,
+           SampleSink* sink,
+           const std::function<void(double)>& progress,
+           const std::optional<math::Vec3>& spin_axis_B);
+  MissionResult Run();
+
+ private:
+  RunSample SampleOf(const integrators::State& s,
+                     double t,
+                     const dynamics::InertiaSample& js) const;
+  void OnSample(const integrators::State& s);
+  void OnBoundary(const integrators::State& s, double t);
+  void OnStep(const integrators::State& s);
+  AxisPoint PointOf(const integrators::State& y);
+  double RigidMinimum(const integrators::State& a, const integrators::State& b) const;
+  double Rate(const math::Vec3& H_B, const dynamics::InertiaSample& js) const;
+
+  const schedule::Profile& profile_;
+  const schedule::DeploymentSchedule& sched_;
+  double t0_, t1_;
+  integrators::State y0_;
+  dynamics::InertiaSample s0_;
+  math::Vec3 s_;
+  double M0_;  // |H_B(t0)|
+  RunRecorder rec_;
+  CachedSchedule cache_;
+  std::vector<double> breakpoints_;
+  bool geometry_;
+
+  std::vector<double> boundaries_, extra_;
+  std::vector<bool> stage_rigid_;
+  std::size_t stage_ = 0;  // the stage of the last grid sample
+  std::size_t cached_stage_;
+  dynamics::InertiaSample stage_sample_{};
+  std::size_t next_extra_ = 0, next_boundary_ = 0, open_stage_ = 0;
+  std::size_t delivered_ = 0;
+  const integrators::OutputTimes* times_ = nullptr;
+  integrators::State last_sample_;
+  integrators::State prev_step_;
+  AxisPoint prev_point_;
+};
+
+StageRun::StageRun(const schedule::Profile& profile,
+                   const schedule::DeploymentSchedule& sched,
+                   SampleSink* sink,
+                   const std::function<void(double)>& progress,
+                   const std::optional<math::Vec3>& spin_axis_B)
+    : profile_(profile),
+      sched_(sched),
+      t0_(profile.t_begin()),
+      t1_(profile.t_end()),
+      y0_(InitialState(profile, sched)),
+      s0_(sched.Evaluate(t0_)),
+      s_(spin_axis_B ? *spin_axis_B : InitialSpinAxis(s0_.J_B, y0_.H_B)),
+      M0_(y0_.H_B.norm()),
+      rec_(s_, y0_.q_NB * y0_.H_B, sink, progress, t0_, t1_),
+      cache_(sched),
+      breakpoints_(sched.Breakpoints(t0_, t1_)),
+      geometry_(profile.mode == schedule::Mode::kGeometry),
+      cached_stage_(profile.stages.size()) {
   for (const schedule::Stage& st : profile.stages) {
-    stage_rigid.push_back(sched.IsRigidOn(st.t_begin, st.t_end));
+    boundaries_.push_back(st.t_begin);
+    boundaries_.push_back(st.t_end);
+    stage_rigid_.push_back(sched.IsRigidOn(st.t_begin, st.t_end));
   }
-  std::size_t stage = 0;
-  std::size_t cached_stage = profile.stages.size();
-  dynamics::InertiaSample stage_sample{};
-  bool have_principal = false;
-  math::Mat3 principal_J = math::Mat3::Zero();
-  math::PrincipalAxes principal{};
-  std::vector<integrators::State> boundary_states;  // at `boundaries`, as they pass
-  integrators::State last_sample = y0;
-  std::size_t next_extra = 0;
-  std::size_t next_boundary = 0;
-  bool in_window = false;
-  auto add_sample = [&](const integrators::State& s, double t) {
-    while (stage + 1 < profile.stages.size() && t >= profile.stages[stage].t_end) ++stage;
-    const bool interior = stage < profile.stages.size() && stage_rigid[stage] &&
-                          t > profile.stages[stage].t_begin && t < profile.stages[stage].t_end;
-    dynamics::InertiaSample js;
-    if (interior) {
-      if (cached_stage != stage) {
-        stage_sample = sched.Evaluate(t);
-        cached_stage = stage;
-      }
-      js = stage_sample;
-    } else {
-      js = sched.Evaluate(t);
-    }
-    if (!have_principal || js.J_B != principal_J) {
-      principal = math::PrincipalDecomposition(js.J_B);
-      principal_J = js.J_B;
-      have_principal = true;
-    }
-    const math::Vec3 w = dynamics::AngularVelocity(js, s.H_B);
-    const math::Vec3 h_N = s.q_NB * s.H_B;
-    block.time.push_back(t);
-    block.H_B.push_back(s.H_B);
-    block.w_NB_B.push_back(w);
-    block.q_NB.push_back(s.q_NB);
-    block.J_B.push_back(js.J_B);
-    block.principal_moments.push_back(principal.moments);
-    block.h_rel_B.push_back(js.h_rel_B);
-    block.h_N.push_back(h_N);
-    block.energy.push_back(dynamics::TotalKineticEnergy(js, s.H_B));
-    block.energy_rigid.push_back(dynamics::KineticEnergy(js, s.H_B));
-    block.energy_spring.push_back(0.0);
-    block.euler_313.push_back(Euler313RelativeToMomentum(s.q_NB, h_N));
-    block.spin_axis_angle.push_back(
-        std::acos(std::clamp(spin_axis_B.dot(s.H_B) / s.H_B.norm(), -1.0, 1.0)));
-    if (geometry) {
-      block.hinge_angles.push_back(sched.HingeAngles(t));
-      block.hinge_rates.push_back(sched.HingeRates(t));
-    }
-    out.max_h_N_drift = std::max(out.max_h_N_drift, (h_N - h_N0).norm() / M);
-    // Danger windows: the body spin axis is the intermediate principal axis of J(t).
-    const bool danger = LocateSpinAxis(principal, spin_axis_B).role == AxisRole::kIntermediate;
-    if (danger && !in_window) out.danger_windows.push_back({t, t});
-    if (danger) out.danger_windows.back().t_end = t;
-    in_window = danger;
-    if (block.size() == kSampleBlock) {
-      sink.Append(block);
-      Clear(block);
-    }
+  std::sort(boundaries_.begin(), boundaries_.end());
+  boundaries_.erase(std::unique(boundaries_.begin(), boundaries_.end()), boundaries_.end());
+  prev_step_ = y0_;
+  prev_point_ = PointOf(y0_);
+  rec_.SpinAxisCos(prev_point_.f);
+}
+
+RunSample StageRun::SampleOf(const integrators::State& s,
+                             double t,
+                             const dynamics::InertiaSample& js) const {
+  RunSample o;
+  o.t = t;
+  o.H_B = s.H_B;
+  o.q_NB = s.q_NB;
+  o.w = dynamics::AngularVelocity(js, s.H_B);
+  o.J_B = js.J_B;
+  o.h_rel_B = js.h_rel_B;
+  o.kinetic = dynamics::TotalKineticEnergy(js, s.H_B);
+  if (geometry_) {
+    o.theta = sched_.HingeAngles(t);
+    o.theta_dot = sched_.HingeRates(t);
+  }
+  return o;
+}
+
+// A stage boundary: the open stage ends here (J_B from the left), the next one starts
+// (from the right; the first from the given initial state itself, so that its
+// classification is a function of the inputs, the same for every method).
+void StageRun::OnBoundary(const integrators::State& s, double t) {
+  const std::vector<schedule::Stage>& stages = profile_.stages;
+  if (open_stage_ < stages.size() && stages[open_stage_].t_end == t && t != t0_) {
+    rec_.ClosePhase(SampleOf(s, t, sched_.Evaluate(t, dynamics::Side::kLeft)));
+    ++open_stage_;
+  }
+  if (open_stage_ < stages.size() && stages[open_stage_].t_begin == t) {
+    const schedule::Stage& st = stages[open_stage_];
+    PhaseInfo info;
+    info.name = st.name;
+    info.law = st.is_hold() ? "hold" : schedule::ToString(st.law);
+    info.rigid = stage_rigid_[open_stage_];
+    const integrators::State& start = t == t0_ ? y0_ : s;
+    rec_.OpenPhase(info, SampleOf(start, t, sched_.Evaluate(t, dynamics::Side::kRight)));
+  }
+}
+
+// Sample number k of the merged times (the integrator delivers them in order).
+void StageRun::OnSample(const integrators::State& s) {
+  const double t = times_->at(delivered_++);
+  last_sample_ = s;
+  if (next_boundary_ < boundaries_.size() && boundaries_[next_boundary_] == t) {
+    OnBoundary(s, t);
+    ++next_boundary_;
+  }
+  if (next_extra_ < extra_.size() && extra_[next_extra_] == t) {
+    ++next_extra_;
+    return;
+  }
+  const std::vector<schedule::Stage>& stages = profile_.stages;
+  while (stage_ + 1 < stages.size() && t >= stages[stage_].t_end) ++stage_;
+  // Inside a rigid stage the inertia sample is the same at every time: evaluated once.
+  const bool interior = stage_ < stages.size() && stage_rigid_[stage_] &&
+                        t > stages[stage_].t_begin && t < stages[stage_].t_end;
+  if (interior && cached_stage_ != stage_) {
+    stage_sample_ = sched_.Evaluate(t);
+    cached_stage_ = stage_;
+  }
+  rec_.Sample(SampleOf(s, t, interior ? stage_sample_ : sched_.Evaluate(t)));
+}
+
+double StageRun::Rate(const math::Vec3& H_B, const dynamics::InertiaSample& js) const {
+  const math::Vec3 w = js.J_inv_B * (H_B - js.h_rel_B);
+  const double rate = s_.dot(H_B.cross(w)) / M0_;
+  return std::abs(rate) <= kRateNoise * w.norm() ? 0.0 : rate;
+}
+
+AxisPoint StageRun::PointOf(const integrators::State& y) {
+  AxisPoint p;
+  p.t = y.t;
+  p.f = s_.dot(y.H_B) / M0_;
+  p.rate_start = Rate(y.H_B, cache_.At(y.t));
+  p.rate_end = std::binary_search(breakpoints_.begin(), breakpoints_.end(), y.t)
+                   ? Rate(y.H_B, sched_.Evaluate(y.t, dynamics::Side::kLeft))
+                   : p.rate_start;
+  return p;
+}
+
+double StageRun::RigidMinimum(const integrators::State& a, const integrators::State& b) const {
+  const dynamics::InertiaSample js = sched_.Evaluate(a.t, dynamics::Side::kRight);
+  const FreeBodySolution sol(math::InertiaTensor::FromMatrix(js.J_B), a.H_B, a.q_NB.normalized(),
+                             a.t);
+  auto g = [&](double t) {
+    const math::Vec3 H = sol.H_B(t);
+    const math::Vec3 w = sol.w_NB_B(t);
+    const double rate = s_.dot(H.cross(w)) / M0_;
+    return std::abs(rate) <= kRateNoise * w.norm() ? 0.0 : rate;
   };
-  // Sample number k of `times` (the integrator delivers them in order).
-  std::size_t delivered = 0;
-  auto on_sample = [&](const integrators::State& s) {
-    const double t = times.at(delivered++);
-    last_sample = s;
-    if (next_boundary < boundaries.size() && boundaries[next_boundary] == t) {
-      boundary_states.push_back(s);
-      ++next_boundary;
-    }
-    if (next_extra < extra.size() && extra[next_extra] == t) {
-      ++next_extra;
-      return;
-    }
-    add_sample(s, t);
-  };
-  // The spin axis passing 45 degrees from h_N (either way).
-  const double M0 = y0.H_B.norm();
-  integrators::EventFunction cross45{"spin axis 45 deg",
-                                     [spin_axis_B, M0](const integrators::State& s) {
-                                       return 0.70710678118654752440 - spin_axis_B.dot(s.H_B) / M0;
-                                     }};
+  const double ga = g(a.t);
+  const double gb = g(b.t);
+  if (!(ga < 0.0 && gb > 0.0)) return std::min(s_.dot(a.H_B), s_.dot(b.H_B)) / M0_;
+  std::uintmax_t iterations = kMaxRootIterations;
+  const double tol = kRootRelTolerance * (b.t - a.t);
+  const auto bracket = boost::math::tools::toms748_solve(
+      g, a.t, b.t, ga, gb, [tol](double lo, double hi) { return hi - lo <= tol; }, iterations);
+  return s_.dot(sol.H_B(0.5 * (bracket.first + bracket.second))) / M0_;
+}
+
+void StageRun::OnStep(const integrators::State& y) {
+  rec_.Progress(y.t);
+  const AxisPoint next = PointOf(y);
+  const integrators::State& a = prev_step_;
+  rec_.SpinAxisStep(prev_point_, next, [&]() -> double {
+    return sched_.IsRigidOn(a.t, y.t)
+               ? RigidMinimum(a, y)
+               : math::CubicHermiteMinimum(prev_point_.t, prev_point_.f, prev_point_.rate_start,
+                                           next.t, next.f, next.rate_end);
+  });
+  prev_step_ = y;
+  prev_point_ = next;
+}
+
+MissionResult StageRun::Run() {
+  MissionResult out;
+  out.profile = profile_;
+  out.spin_axis_B = s_;
+  // The output grid plus the stage boundaries not on it, computed on demand.
+  const integrators::UniformGridTimes full(t0_, t1_, profile_.output.dt);
+  const WindowTimes grid(full, 0, rec_.sampling() ? full.size() : 0);
+  for (double b : boundaries_) {
+    const std::size_t i = CountTimes(grid, b, false);
+    if (!(i < grid.size() && grid.at(i) == b)) extra_.push_back(b);
+  }
+  const GridWithExtras times(grid, extra_);
+  times_ = &times;
+  const math::Vec3 s = s_;
+  CachedSchedule& cache = cache_;
+  const integrators::EventFunction flip{"flip", [&cache, s](const integrators::State& y) {
+                                          return FlipFunction(cache.At(y.t).J_B, s, y.H_B);
+                                        }};
+  const integrators::EventFunction cross45{
+      "spin axis 45 deg", [s](const integrators::State& y) { return SpinAxis45Gap(s, y.H_B); }};
+  const auto stepper = MakeStepper(profile_.integrator.method);
+  last_sample_ = y0_;
   const integrators::IntegrationResult run = integrators::Integrate(
-      *stepper, settings, sched, y0, t1, times, {flip, cross45}, observer, on_sample);
+      *stepper, SettingsOf(profile_), sched_, y0_, t1_, times, {flip, cross45},
+      [this](const integrators::State& y) { OnStep(y); },
+      [this](const integrators::State& y) { OnSample(y); });
   out.stats = run.stats;
   out.termination = run.termination;
   out.message = run.message;
-  // A run that stopped early: the remaining times get its last sample (as before
-  // streaming: the trajectory always has one sample per grid time).
-  while (delivered < times.size()) on_sample(integrators::State(last_sample));
+  // A run that stopped early: the remaining times get its last sample (the trajectory
+  // has one sample per grid time, and every stage is closed).
+  while (delivered_ < times.size()) OnSample(integrators::State(last_sample_));
   out.final_state = run.final_state;
-  {
-    const dynamics::InertiaSample s1 = sched.Evaluate(run.final_state.t, dynamics::Side::kLeft);
-    out.final_J_B = s1.J_B;
-    out.energy_initial = dynamics::TotalKineticEnergy(s0, y0.H_B);
-    out.energy_final = dynamics::TotalKineticEnergy(s1, run.final_state.H_B);
-  }
-  out.max_spin_axis_angle = std::numeric_limits<double>::quiet_NaN();
-  if (!block.time.empty()) sink.Append(block);
-  Clear(block);
-
-  // Flip events: the rule of flip_rule.h.
+  const dynamics::InertiaSample s1 = sched_.Evaluate(run.final_state.t, dynamics::Side::kLeft);
+  out.final_J_B = s1.J_B;
+  out.energy_initial = dynamics::TotalKineticEnergy(s0_, y0_.H_B);
+  out.energy_final = dynamics::TotalKineticEnergy(s1, run.final_state.H_B);
   for (const integrators::Event& e : run.events) {
     if (e.index == 1) {
-      out.spin_axis_45_crossings.push_back(e.t);
-    } else if (IsFlip(sched.Evaluate(e.t).J_B, spin_axis_B, e.state.H_B)) {
-      out.flip_times.push_back(e.t);
+      rec_.Crossing45(e.t);
+    } else {
+      rec_.CandidateFlip(e.t, sched_.Evaluate(e.t).J_B, e.state.H_B);
     }
   }
+  rec_.Finish(out);
+  return out;
+}
 
-  // States at the stage boundaries.
-  auto state_at = [&](double t) -> const integrators::State& {
-    const auto it = std::lower_bound(boundaries.begin(), boundaries.end(), t);
-    const std::size_t i = static_cast<std::size_t>(it - boundaries.begin());
-    return boundary_states.at(std::min(i, boundary_states.size() - 1));
-  };
+}  // namespace
 
-  // Stage reports.
-  for (std::size_t k = 0; k < profile.stages.size(); ++k) {
-    const schedule::Stage& st = profile.stages[k];
-    StageReport rep;
-    rep.index = static_cast<int>(k);
-    rep.name = st.name;
-    rep.law = st.is_hold() ? "hold" : schedule::ToString(st.law);
-    rep.t_begin = st.t_begin;
-    rep.t_end = st.t_end;
-    rep.rigid = sched.IsRigidOn(st.t_begin, st.t_end);
-    const integrators::State& end = state_at(st.t_end);
-    const dynamics::InertiaSample js = sched.Evaluate(st.t_end, dynamics::Side::kLeft);
-    const math::PrincipalAxes p = math::PrincipalDecomposition(js.J_B);
-    rep.moments_end = p.moments;
-    rep.spin_axis_end = LocateSpinAxis(js.J_B, spin_axis_B).role;
-    const math::Vec3 w = js.J_inv_B * (end.H_B - js.h_rel_B);
-    const double two_T = w.dot(js.J_B * w);
-    const double D = end.H_B.squaredNorm() / two_T;
-    rep.separatrix_distance = (D - p.moments[1]) / (p.moments[2] - p.moments[0]);
-    for (double tf : out.flip_times) {
-      if (tf >= st.t_begin && tf < st.t_end) rep.observed_flips.push_back(tf);
-    }
-    rep.predicted_flip_half_period = std::numeric_limits<double>::infinity();
-    if (rep.rigid) {
-      // The first stage starts from the given initial state itself (the classification
-      // is a function of the inputs, the same for every method).
-      const integrators::State& start = st.t_begin == t0 ? y0 : state_at(st.t_begin);
-      // Right after the switch of a step-law stage.
-      const dynamics::InertiaSample jr = sched.Evaluate(st.t_begin, dynamics::Side::kRight);
-      SetRigidPrediction(rep, jr.J_B, start.H_B, start.q_NB, spin_axis_B);
-    }
-    SetRigidBodyCaveat(rep, /*dissipative=*/false);
-    out.stages.push_back(rep);
+integrators::State InitialState(const schedule::Profile& profile,
+                                const dynamics::InertiaSource& source) {
+  const std::string where = profile.source.empty() ? profile.name : profile.source;
+  integrators::State y0;
+  y0.t = profile.t_begin();
+  y0.q_NB = math::ValidateUnitQuaternion(profile.initial.q_NB, where + ": initial attitude");
+  y0.H_B = InitialMomentum(profile, source.Evaluate(y0.t));
+  if (!((y0.q_NB * y0.H_B).norm() > 0.0)) {
+    throw std::invalid_argument(where + ": initial: zero angular momentum");
   }
+  return y0;
+}
 
+MissionResult RunMission(const schedule::Profile& profile,
+                         SampleSink& sink,
+                         const std::function<void(double)>& progress,
+                         const RunOptions& options) {
+  if (profile.is_hinge_profile()) return RunHingeMission(profile, sink, progress, options);
+  const auto wall0 = std::chrono::steady_clock::now();
+  std::optional<schedule::DeploymentSchedule> own;
+  if (options.schedule == nullptr) own.emplace(profile);
+  StageRun run(profile, options.schedule ? *options.schedule : *own,
+               options.sample_trajectory ? &sink : nullptr, progress, options.spin_axis_B);
+  MissionResult out = run.Run();
   out.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return out;

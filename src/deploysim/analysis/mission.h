@@ -1,22 +1,28 @@
 #pragma once
 
 /// A mission run: profile -> deployment schedule -> integrator -> trajectory on the
-/// output grid, flip events, and the stability analysis of every stage (DESIGN.md 2.6).
+/// output grid, flip events, and the stability analysis of every stage (docs/design.md 2.6).
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "deploysim/analysis/flip_rule.h"
 #include "deploysim/analysis/hinge_events.h"
+#include "deploysim/dynamics/inertia_source.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/math/types.h"
 #include "deploysim/schedule/profile.h"
 
+namespace deploysim::schedule {
+class DeploymentSchedule;
+}  // namespace deploysim::schedule
+
 namespace deploysim::analysis {
 
-/// The sampled trajectory (DESIGN.md 5): one entry per output time.
+/// The sampled trajectory (docs/design.md 5): one entry per output time.
 struct Trajectory {
   std::vector<double> time;                   ///< [s]
   std::vector<math::Vec3> H_B;                ///< [kg m^2/s]
@@ -56,8 +62,10 @@ struct StageReport {
   /// analysis does not depend on the method), later the integrated state there.
   std::string regime;
   double one_minus_k2 = 0.0;  ///< Rigid stages: complementary parameter (0 on the separatrix).
-  double separatrix_distance =
-      0.0;  ///< (D - I2)/(I3 - I1): 0 on the separatrix, < 0 minor-axis side.
+  /// (D - I2)/(I3 - I1) of the torque-free motion with J_B and H_B at the stage end
+  /// (analysis::SeparatrixDistance, the sweep's rule): 0 on the separatrix, < 0 minor-axis
+  /// side.
+  double separatrix_distance = 0.0;
   double predicted_flip_half_period = 0.0;  ///< [s] rigid stages; +inf when no flips.
   std::vector<double> predicted_flips;      ///< [s] analytic flip times within the stage.
   std::vector<double> observed_flips;       ///< [s] located by the integrator within the stage.
@@ -81,7 +89,7 @@ void SetRigidPrediction(StageReport& report,
                         const math::Vec3& spin_axis_B);
 
 /// The caveat of a stage's verdict: which of its conclusions hold only for a perfectly
-/// rigid body (DESIGN.md 2.7, the major-axis rule), from the spin axis's role at the stage
+/// rigid body (docs/design.md 2.7, the major-axis rule), from the spin axis's role at the stage
 /// end. `dissipative`: energy is dissipated continuously in the stage (a damper or friction
 /// on a free hinge; a latch's loss is a single impulse, not a drift).
 /// Sets report.caveat and report.rigid_body_only.
@@ -120,20 +128,27 @@ struct MissionResult {
   math::Mat3 final_J_B = math::Mat3::Zero();
   double energy_initial = 0.0;
   double energy_final = 0.0;
-  /// Hinge profiles: [rad] the largest angle between the spin axis and h_N over the run,
-  /// located exactly (extrema of s . H_B as events); stage profiles: NaN.
+  /// [rad] the largest angle between the spin axis and h_N over the run,
+  /// located exactly (run_recorder.h).
   double max_spin_axis_angle = 0.0;
 };
 
-/// Options of RunHingeMission.
-struct HingeRunOptions {
+/// Options of a mission run.
+struct RunOptions {
   /// false: the outcome-only run of a sweep case: no output samples (the sink receives
-  /// nothing; danger windows and max_h_N_drift are not computed), everything else is.
+  /// nothing; danger windows are not computed, max_h_N_drift is the end's), everything
+  /// else is.
   bool sample_trajectory = true;
-  /// Events (latches, stops, jams, flips, 45-degree crossings) located on the dense output
-  /// and finished on partial steps (true), or on the dense output alone (false: event
-  /// times within ~1e-12 s, about 100 fewer evaluations per event; for sweeps).
+  /// Hinge profiles: events (latches, stops, jams, flips, 45-degree crossings) located on
+  /// the dense output and finished on partial steps (true), or on the dense output alone
+  /// (false: event times within ~1e-12 s, about 100 fewer evaluations per event; for
+  /// sweeps).
   bool refine_events = true;
+  /// Stage profiles: the profile's schedule, when the caller has built it already
+  /// (null: built by the run).
+  const schedule::DeploymentSchedule* schedule = nullptr;
+  /// The body axis that flips and angles are measured from (default: InitialSpinAxis).
+  std::optional<math::Vec3> spin_axis_B;
 };
 
 /// Receives the trajectory of a run as it is computed, in blocks of consecutive samples
@@ -157,14 +172,27 @@ inline constexpr std::size_t kSampleBlock = 4096;
 /// profile; exceptions from the sink pass through (the run stops).
 MissionResult RunMission(const schedule::Profile& profile,
                          SampleSink& sink,
-                         const std::function<void(double)>& progress = {});
+                         const std::function<void(double)>& progress = {},
+                         const RunOptions& options = {});
 
-/// RunMission for a hinge profile (schedule::Profile::is_hinge_profile(), issue 9): the
-/// hybrid run of analysis/hinge_mission.cc (RunMission calls it).
+/// RunMission for a hinge profile (schedule::Profile::is_hinge_profile()): the hybrid
+/// run of analysis/hinge_mission.cc (RunMission calls it).
 MissionResult RunHingeMission(const schedule::Profile& profile,
                               SampleSink& sink,
                               const std::function<void(double)>& progress = {},
-                              const HingeRunOptions& options = {});
+                              const RunOptions& options = {});
+
+/// The initial momentum H_B(t0) of a profile: initial.H_B as given, or J_B w + h_rel_B
+/// from initial.w_NB_B, with the inertia sample s0 at t0.
+math::Vec3 InitialMomentum(const schedule::Profile& profile, const dynamics::InertiaSample& s0);
+
+/// The initial state of a run: t0, the validated unit attitude, InitialMomentum. Throws
+/// std::invalid_argument (naming the profile) for a non-unit attitude or zero momentum.
+integrators::State InitialState(const schedule::Profile& profile,
+                                const dynamics::InertiaSource& source);
+
+/// The integrator settings of a profile's `integrator:` section.
+integrators::IntegratorSettings SettingsOf(const schedule::Profile& profile);
 
 /// The same run with the trajectory collected in the result (by a sink that appends).
 MissionResult RunMission(const schedule::Profile& profile,

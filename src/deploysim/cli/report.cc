@@ -63,7 +63,7 @@ std::size_t StageNameWidth(const analysis::MissionResult& r) {
 }
 
 /// One line per run of consecutive stages with the same caveat, "!" marking the ones
-/// whose verdict holds only for a perfectly rigid body (DESIGN.md 2.7, major-axis rule).
+/// whose verdict holds only for a perfectly rigid body (docs/design.md 2.7, major-axis rule).
 std::string FormatCaveats(const analysis::MissionResult& r) {
   if (r.stages.empty()) return "";
   std::string o =

@@ -1,6 +1,6 @@
 #pragma once
 
-/// The Simbody cross-check of a deployment profile (DESIGN.md 3, issue 4): the reduced
+/// The Simbody cross-check of a deployment profile (docs/design.md 3): the reduced
 /// model (analysis::RunMission, exact coupling) and the Simbody multibody model
 /// (simbody_satellite.h) run from the same initial attitude and momentum on the same
 /// output grid, and are compared sample by sample:

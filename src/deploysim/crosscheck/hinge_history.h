@@ -1,7 +1,7 @@
 #pragma once
 
 /// Replays a recorded hinge-angle history (e.g. Simbody's spring-driven deployment) as
-/// the reduced model's inertia source, with exact coupling (DESIGN.md 2.5).
+/// the reduced model's inertia source, with exact coupling (docs/design.md 2.5).
 ///
 /// Interpolant: on each knot interval [t_i, t_{i+1}] (h = t_{i+1} - t_i, s = (t - t_i)/h)
 /// the quintic Hermite polynomial matching theta, theta' and theta'' at both knots,

@@ -1,6 +1,6 @@
 #pragma once
 
-/// An independent Simbody model of free hinges (issue 9, DESIGN.md 2.7 and 3): the
+/// An independent Simbody model of free hinges (docs/design.md 2.7 and 3): the
 /// reference against which the reduced free-hinge model is verified. It is built from the
 /// same structs (model::Model, a hinge profile's schedule::HingePlan per panel) but uses
 /// none of the reduced model's dynamics: Simbody integrates the multibody system, and the
@@ -77,7 +77,7 @@ namespace deploysim::crosscheck {
 inline constexpr double kEventTimeTolerance = 1e-13;
 
 /// A compliant latch in place of the plastic one (the check that a stiff stop converges to
-/// the plastic latch, issue 9 acceptance 3): when theta_k reaches the latch angle, a
+/// the plastic latch): when theta_k reaches the latch angle, a
 /// two-sided Simbody Force::MobilityLinearStop (both bounds at the latch angle, stiffness
 /// `stiffness`, no Hunt-Crossley dissipation) and a Force::MobilityLinearDamper of damping
 /// ratio `damping_ratio` about the hinge's effective inertia 1 / (M^-1)_kk engage; no

@@ -1,4 +1,4 @@
-// The Simbody model of the satellite (DESIGN.md 3). See simbody_satellite.h for the
+// The Simbody model of the satellite (docs/design.md 3). See simbody_satellite.h for the
 // construction; everything Simbody-specific of the project is in this file.
 
 #include "deploysim/crosscheck/simbody_satellite.h"

@@ -1,6 +1,6 @@
 #pragma once
 
-/// The satellite as a Simbody multibody system (DESIGN.md 3), built from the same
+/// The satellite as a Simbody multibody system (docs/design.md 3), built from the same
 /// model::Model structs as the reduced model, and run on an output grid.
 ///
 /// Bodies. Ground is the inertial frame N. The hub is a MobilizedBody::Free on Ground
@@ -103,7 +103,7 @@ struct SimbodyOptions {
   bool locate_flips = true;
 };
 
-/// Torsional spring, damper and latch at every hinge (DESIGN.md 3, issue 4): released at
+/// Torsional spring, damper and latch at every hinge (docs/design.md 3): released at
 /// rest from the profile's first configuration at t0, each hinge is driven towards its
 /// angle in `open` and stopped there by a stiff stop; the spring's neutral angle lies
 /// `overtravel` beyond the open angle, so the spring keeps the panel pressed on the stop

@@ -1,6 +1,6 @@
 #pragma once
 
-/// Deployment-speed study (DESIGN.md 2.5, issue 4): how wrong is the seed thesis's
+/// Deployment-speed study (docs/design.md 2.5): how wrong is the seed thesis's
 /// quasi-rigid coupling (h_rel = 0) against the multibody truth (Simbody), as a function
 /// of how long the deployment takes?
 ///

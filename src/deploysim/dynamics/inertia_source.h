@@ -1,7 +1,7 @@
 #pragma once
 
 /// Sources of the time-varying mass distribution seen by the reduced model
-/// (DESIGN.md section 2.1): J_B(t) [kg m^2] about the system centre of mass in B,
+/// (docs/design.md section 2.1): J_B(t) [kg m^2] about the system centre of mass in B,
 /// dJ_B/dt [kg m^2/s] and h_rel_B(t) [kg m^2/s], the angular momentum of the parts'
 /// motion relative to B. Integrators query a source at every Runge-Kutta stage.
 
@@ -20,7 +20,7 @@ struct InertiaSample {
   math::Vec3 h_rel_B;  ///< [kg m^2/s] momentum of motion relative to B.
   math::Mat3 J_inv_B;  ///< [1/(kg m^2)] inverse of J_B.
   /// [J] T_rel, the kinetic energy of the parts' motion relative to B, about the system
-  /// CoM (DESIGN.md 2.7; model::MassProperties). It enters the energy only, not the
+  /// CoM (docs/design.md 2.5; model::MassProperties). It enters the energy only, not the
   /// equations of motion. Zero wherever the source models no relative motion, in the same
   /// places as h_rel_B: constant and tensor-interpolated inertia, and quasi-rigid coupling
   /// (h_rel = 0 and T_rel = 0 by the model's assumption of an instantaneously rigid body,
@@ -28,7 +28,7 @@ struct InertiaSample {
   double relative_kinetic_energy = 0.0;
 };
 
-/// Total kinetic energy of the system about its CoM [J] (DESIGN.md 2.7, T = 1/2 v^T M v):
+/// Total kinetic energy of the system about its CoM [J] (docs/design.md 2.7, T = 1/2 v^T M v):
 ///   T = 1/2 w.J_B w + w.h_rel_B + T_rel = 1/2 w.(H_B + h_rel_B) + T_rel,
 /// with w = J_B^-1 (H_B - h_rel_B). Under quasi-rigid coupling, and for rigid or
 /// tensor-interpolated sources, h_rel_B = 0 and T_rel = 0, so T = 1/2 w.J_B w. Its

@@ -1,7 +1,7 @@
 #pragma once
 
 /// The reduced equations of a torque-free body with time-varying inertia
-/// (DESIGN.md section 2.1, thesis 2.10-2.21, 2.65):
+/// (docs/design.md section 2.1, thesis 2.10-2.21, 2.65):
 ///   H_B = J_B(t) w_NB_B + h_rel_B(t),   dH_B/dt = H_B x w_NB_B,   dR_NB/dt = R_NB [w_NB_B]x.
 /// Invariants: h_N = R_NB H_B is constant; so is |H_B|. The kinetic energy
 /// T = 1/2 w^T J w is constant only while J is constant and h_rel = 0.

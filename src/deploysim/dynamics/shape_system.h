@@ -1,6 +1,6 @@
 #pragma once
 
-/// A torque-free body with free shape coordinates (DESIGN.md 2.7): the hub's attitude
+/// A torque-free body with free shape coordinates (docs/design.md 2.7): the hub's attitude
 /// R_NB plus m free hinges with angles theta_f [rad] and conjugate momenta p_f
 /// [kg m^2/s = N m s]. With H_B = R_NB^T h_N (h_N constant) the equations are
 ///   solve M(theta) [w; theta'] = [H_B; p] (minus the prescribed hinges' part)

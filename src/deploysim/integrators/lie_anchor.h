@@ -2,7 +2,7 @@
 
 /// For the Lie-group steppers (rkmk.cc, shape_stepper.cc), not for users of the steppers:
 /// the attitude of a run relative to an anchor state, composed in double-double so that
-/// rounding does not accumulate over the steps (the carry), DESIGN.md 2.1.
+/// rounding does not accumulate over the steps (the carry), docs/design.md 2.1.
 
 #include "deploysim/math/double_double.h"
 #include "deploysim/math/quaternion.h"

@@ -125,7 +125,7 @@ StepAttempt RkmkStepper::Step(const Problem& problem,
   // dq1 = Exp(sigma h H_ref) dq0 Exp(carry) Exp(u1) ~ Exp(sigma h H_ref) dq0 Exp(carry + u1)
   // (the BCH term carry x u1 / 2 is ~1e-18 rad), in extended precision; its rounding to
   // double becomes the next carry, so rounding does not accumulate over the steps: near
-  // the separatrix every 1e-16 rad would move the flips (DESIGN.md 6).
+  // the separatrix every 1e-16 rad would move the flips (docs/design.md 2.3).
   const Anchor a1 = Compose(a0, (sigma * h) * a0.H_ref, u1);
   StepAttempt out;
   out.result = PublicState(t_end, a1);

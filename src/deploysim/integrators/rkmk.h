@@ -1,6 +1,6 @@
 #pragma once
 
-/// Runge-Kutta-Munthe-Kaas methods on SO(3) for R_NB' = R_NB [w]x (DESIGN.md 2.1).
+/// Runge-Kutta-Munthe-Kaas methods on SO(3) for R_NB' = R_NB [w]x (docs/design.md 2.1).
 /// The attitude is the whole state: H_B = R_NB^T h_N with h_N fixed, so h_N and |H_B|
 /// are conserved to rounding by construction, for constant and time-varying J alike.
 /// With R = R0 Exp(u), u' = J_r^{-1}(u) w(R0 Exp(u)) is solved by the tableau's RK

@@ -1,7 +1,7 @@
 #pragma once
 
 /// The seed thesis's scheme, kept as the baseline every method is compared to
-/// (DESIGN.md 2.2; thesis eqs. 3.13-3.15 and 2.66-2.70): explicit Euler on H_B,
+/// (docs/design.md 2.2; thesis eqs. 3.13-3.15 and 2.66-2.70): explicit Euler on H_B,
 ///   H(t+h) = H(t) + h H(t) x w(t),
 /// and rotation reconstruction with the midpoint angular velocity held constant,
 ///   R(t+h) = R(t) Exp(h (w(t) + w(t+h)) / 2)   (Rodrigues, thesis 2.68).

@@ -1,6 +1,6 @@
 #pragma once
 
-/// Trajectory output (DESIGN.md 5, docs/file_formats.md "Trajectory files"): an HDF5
+/// Trajectory output (docs/design.md 5, docs/file_formats.md "Trajectory files"): an HDF5
 /// file readable by h5py, MATLAB h5read and h5dump, and an optional CSV. Both are written
 /// atomically (AtomicFile): on any failure nothing is left at `path` (an existing file
 /// there is kept unchanged) and no temporary remains.
@@ -8,7 +8,7 @@
 /// HDF5 layout (schema_version 2): row-major datasets of IEEE little-endian doubles
 /// (counts and indices: 64-bit integers), each with string attributes `units` and
 /// `description`; text as variable-length UTF-8 strings. Quaternions scalar first (w, x, y, z);
-/// J_B[n][i][j] = J_B(i, j) at time n. Free hinges (issue 9) add /hinge_rates,
+/// J_B[n][i][j] = J_B(i, j) at time n. Free hinges add /hinge_rates,
 /// /energy_spring, /energy_total, /panel_names, /hinge_latch_time, the hinge event table
 /// /events/hinge/*, /events/spin_axis_45_time and the stage columns caveat and
 /// rigid_body_only (docs/file_formats.md, "Hinge events").
@@ -30,7 +30,7 @@ namespace deploysim::io {
 /// per-stage analysis in /stages, /danger_windows, /events/predicted_flip_time and the
 /// model_source and model_text attributes.
 ///
-/// The free-hinge outputs (issue 9) are additions to version 2, not a version 3: no
+/// The free-hinge outputs are additions to version 2, not a version 3: no
 /// dataset or attribute of version 2 changed its name, shape, type, units or meaning
 /// (/energy is still the kinetic energy; the stored spring energy is the new
 /// /energy_spring and their sum the new /energy_total), so every reader of version 2
@@ -39,7 +39,7 @@ namespace deploysim::io {
 /// rows of /stages are the phases between hinge events instead of the profile's stages
 /// (a hinge profile has no `stages:`), with empty /stages/from and /stages/to: the same
 /// columns with the same meaning per row. ReadTrajectoryFile reads version 2 files
-/// written before issue 9 too: the new datasets are optional, and where a file has none
+/// written before those additions too: the new datasets are optional, and where a file has none
 /// of them the corresponding fields are left empty (TrajectoryFile::has_hinge_outputs
 /// is false).
 inline constexpr int kTrajectorySchemaVersion = 2;
@@ -65,7 +65,7 @@ struct StageRow {
   long long observed_flip_count = 0;        ///< Located flips within the stage.
   double max_flip_time_difference = 0.0;    ///< [s] |observed - predicted|.
   /// Which conclusions of the stage's verdict hold only for a perfectly rigid body
-  /// (analysis::StageReport::caveat; empty in files written before issue 9).
+  /// (analysis::StageReport::caveat; empty in files written before the free-hinge outputs).
   std::string caveat;
   /// The spin-axis verdict holds only without energy dissipation
   /// (analysis::StageReport::rigid_body_only).
@@ -81,7 +81,7 @@ struct HingeEventRow {
 /// The contents of a trajectory file, as read back.
 struct TrajectoryFile {
   /// hinge_angles and hinge_rates empty unless the file has them (geometry mode);
-  /// energy_spring empty only in files written before issue 9.
+  /// energy_spring empty only in files written before the free-hinge outputs.
   analysis::Trajectory trajectory;
   std::vector<double> flip_times;                      ///< [s] /events/flip_time
   std::vector<double> predicted_flip_times;            ///< [s] /events/predicted_flip_time
@@ -96,8 +96,8 @@ struct TrajectoryFile {
   /// NaN if never. Empty for stage profiles.
   std::vector<double> hinge_latch_times;
   std::vector<double> spin_axis_45_times;  ///< [s] /events/spin_axis_45_time
-  /// False for a version 2 file written before issue 9 (none of the datasets above, nor
-  /// /stages/caveat and /stages/rigid_body_only).
+  /// False for a version 2 file written before the free-hinge outputs (none of the datasets above,
+  /// nor /stages/caveat and /stages/rigid_body_only).
   bool has_hinge_outputs = false;
   /// Root attributes (all strings): deploysim_version, schema_version, profile_name,
   /// profile_source, profile_text, model_name, model_source, model_text, integrator,
@@ -187,8 +187,8 @@ class TrajectoryOutputs final : public analysis::SampleSink {
   std::optional<TrajectoryCsvWriter> csv_;
 };
 
-/// Reads a file written by WriteTrajectoryFile (or by a deploysim from before issue 9:
-/// see kTrajectorySchemaVersion). Throws std::runtime_error naming `path` and the dataset
+/// Reads a file written by WriteTrajectoryFile (or by a deploysim from before the free-hinge
+/// outputs: see kTrajectorySchemaVersion). Throws std::runtime_error naming `path` and the dataset
 /// for unreadable files, missing datasets, wrong shapes, an unknown hinge event kind or
 /// another schema_version.
 TrajectoryFile ReadTrajectoryFile(const std::string& path);

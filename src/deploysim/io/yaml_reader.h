@@ -1,7 +1,7 @@
 #pragma once
 
 /// Model and deployment-profile files (YAML) -> validated structs, strictly
-/// (docs/file_formats.md, DESIGN.md 5): unknown keys, missing required keys, wrong types,
+/// (docs/file_formats.md, docs/design.md 5): unknown keys, missing required keys, wrong types,
 /// non-finite numbers and non-physical values are errors. Every error is thrown as ONE
 /// line naming the file, the key path, the value as written and the rule:
 ///

@@ -3,7 +3,7 @@
 /// Double-double arithmetic: a value is the unevaluated sum hi + lo of two doubles with
 /// |lo| <= ulp(hi)/2 (hi = fl(hi + lo)), about 106 significant bits (unit roundoff
 /// u^2 = 2^-106 ~ 1.2e-32), the exponent range of double. It replaces the platform's
-/// extended floating type wherever double is not enough (DESIGN.md 2.3 and 6, STYLE.md):
+/// extended floating type wherever double is not enough (docs/design.md 2.3 and 6, STYLE.md):
 /// x87 extended precision exists only on x86; with MSVC and on Apple silicon that type is
 /// plain double, and on aarch64 Linux it is a software binary128 (correct, ~50x slower).
 ///

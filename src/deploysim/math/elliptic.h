@@ -3,7 +3,7 @@
 /// Jacobi elliptic functions and Legendre elliptic integrals, parameterised by the
 /// COMPLEMENTARY parameter mc = 1 - m (m = k^2 is the parameter, k the modulus), so that
 /// they stay exact near the separatrix of the free rigid body, where mc -> 0
-/// (DESIGN.md section 2.3). Conventions (Abramowitz & Stegun 16, 17; DLMF 19, 22):
+/// (docs/design.md section 2.3). Conventions (Abramowitz & Stegun 16, 17; DLMF 19, 22):
 ///   F(phi|m)    = int_0^phi dtheta / sqrt(1 - m sin^2 theta),   K(m) = F(pi/2|m),
 ///   Pi(n;phi|m) = int_0^phi dtheta / ((1 - n sin^2 theta) sqrt(1 - m sin^2 theta)),
 ///   u = F(phi|m)  <=>  phi = am(u|m), sn = sin(am), cn = cos(am), dn = sqrt(1 - m sn^2).

@@ -1,6 +1,6 @@
 #pragma once
 
-/// Inertia tensors that validate themselves (DESIGN.md section 1, STYLE.md):
+/// Inertia tensors that validate themselves (docs/design.md section 1, STYLE.md):
 /// finite, symmetric, positive definite, principal moments obeying the triangle
 /// inequalities. Units: kg m^2. Invalid input throws std::invalid_argument whose
 /// message names the violated rule and the offending values.

@@ -1,7 +1,7 @@
 #pragma once
 
 /// Fixed-size Eigen types shared by every module. Units and frames are carried by
-/// variable names (DESIGN.md section 1): `R_NB`, `w_NB_B`, `H_B`, `J_B`.
+/// variable names (docs/design.md section 1): `R_NB`, `w_NB_B`, `H_B`, `J_B`.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

@@ -1,11 +1,11 @@
 #pragma once
 
-/// The hub + panel tree as a Lagrangian system (DESIGN.md 2.7): its pose at hinge angles
+/// The hub + panel tree as a Lagrangian system (docs/design.md 2.7): its pose at hinge angles
 /// theta, its mass matrix in the velocities v = (w_NB_B, theta') and the exact gradient
 /// dT/dtheta of its kinetic energy at fixed v. Everything about the system centre of
 /// mass, in B components, SI units.
 ///
-/// Kinematics (model.h, DESIGN.md 2.7). Body 0 is the hub (origin o_0 = B's origin, CoM
+/// Kinematics (model.h, docs/design.md 2.5). Body 0 is the hub (origin o_0 = B's origin, CoM
 /// c_h, angular velocity w); panel k (parent P, hinge point p_k and axis a_k in P's axes)
 /// has R_Bk = R_BP Rot(a_k, theta_k), hinge point h_k = o_P + R_BP p_k (its origin o_k),
 /// axis in B a^_k = R_BP a_k, CoM x_k = h_k + R_Bk r_k, inertia in B I_k = R_Bk I_k0 R_Bk^T.

@@ -178,7 +178,7 @@ void CheckUnitAxis(const Vec3& a, Eigen::Index k) {
   }
 }
 
-/// Panel k's motion in B (DESIGN.md 2.7).
+/// Panel k's motion in B (docs/design.md 2.5).
 struct PanelMotion {
   Mat3 R;      ///< R_Bk.
   Vec3 y;      ///< [m] its CoM relative to the hub CoM, B.

@@ -1,6 +1,6 @@
 #pragma once
 
-/// J_B(theta) and h_rel_B(theta, theta_dot) of a hub with hinged panels (DESIGN.md 2.5),
+/// J_B(theta) and h_rel_B(theta, theta_dot) of a hub with hinged panels (docs/design.md 2.5),
 /// everything about the SYSTEM centre of mass (which moves as the panels turn).
 
 #include <Eigen/Core>
@@ -18,13 +18,13 @@ struct MassProperties {
   math::Mat3 Jdot_B = math::Mat3::Zero();      ///< [kg m^2/s] dJ_B/dt seen in B.
   /// [kg m^2/s] angular momentum of the motion relative to B, about the system CoM.
   math::Vec3 h_rel_B = math::Vec3::Zero();
-  /// [J] T_rel, kinetic energy of the motion relative to B (DESIGN.md 2.7): the
+  /// [J] T_rel, kinetic energy of the motion relative to B (docs/design.md 2.5): the
   /// system's kinetic energy about its CoM is 1/2 w.J_B w + w.h_rel_B + T_rel.
   double relative_kinetic_energy = 0.0;
 };
 
 /// Mass properties at hinge angles theta [rad] and rates theta_dot [rad/s] (one entry
-/// per panel), DESIGN.md 2.5 and 2.7 (panel trees, model.h). Panel k in B: orientation
+/// per panel), docs/design.md 2.5 (panel trees, model.h). Panel k in B: orientation
 /// R_k = R_B,parent(k) Rot(a_k, theta_k), hinge point o_k = o_parent(k) + R_B,parent(k) p_k,
 /// CoM x_k = o_k + R_k r_k, relative angular velocity
 /// w_k = sum over k and its ancestors j of theta_j' u_j with u_j = R_B,parent(j) a_j

@@ -1,6 +1,6 @@
 #pragma once
 
-/// Body models, free of YAML (DESIGN.md 2.5, 4). A model is either a set of named
+/// Body models, free of YAML (docs/design.md 2.5, 4). A model is either a set of named
 /// inertia configurations (a rigid body has one; the seed's satellite has closed,
 /// half-open and open tensors) or a hub with hinged panels whose named configurations
 /// are hinge angles. Units: SI (kg, m, rad). Frame: B, the body (hub) frame.
@@ -26,7 +26,7 @@ struct Hub {
   math::Vec3 com_B = math::Vec3::Zero();  ///< [m] CoM of the hub in B.
 };
 
-/// A panel on a revolute hinge (DESIGN.md 2.5, 2.7). Panels form a tree: a panel's
+/// A panel on a revolute hinge (docs/design.md 2.5, 2.7). Panels form a tree: a panel's
 /// parent is the hub or another panel (multi-segment arrays fold panel on panel).
 /// The hinge point p_k and axis a_k are fixed in the parent's frame; at hinge angle 0 a
 /// panel's axes equal its parent's, so with every hinge angle 0 all axes are B's and every

@@ -1,6 +1,6 @@
 #pragma once
 
-/// The deployment scheduler (DESIGN.md 2.6): turns a profile's stages into J_B(t),
+/// The deployment scheduler (docs/design.md 2.6): turns a profile's stages into J_B(t),
 /// dJ_B/dt and h_rel_B(t) for the integrators, consistently at any time asked, with
 /// the stage boundaries as breakpoints.
 ///
@@ -14,7 +14,7 @@
 ///                  theta' = s'(tau) / D (theta_to - theta_from),
 ///                  theta'' = s''(tau) / D^2 (theta_to - theta_from);
 ///                  J_B, dJ_B/dt, h_rel_B and the relative kinetic energy T_rel from
-///                  model::ComputeMassProperties (DESIGN.md 2.5, 2.7); h_rel_B and T_rel
+///                  model::ComputeMassProperties (docs/design.md 2.5); h_rel_B and T_rel
 ///                  set to 0 under quasi-rigid coupling (the instantaneously rigid body).
 /// Holds are constant. A step-law stage has its `to` configuration on (t_begin, t_end] and
 /// at t_begin from the right, zero rates. At a stage boundary Side::kLeft takes the stage

@@ -114,6 +114,40 @@ void FreeHingeSystem::Free(int k) {
   free_.push_back(k);
 }
 
+Eigen::VectorXd FreeHingeSystem::Lock(int k, double angle, const Eigen::VectorXd& x) {
+  const int m = free_count();
+  const auto it = std::find(free_.begin(), free_.end(), k);
+  if (it == free_.end()) {
+    throw std::logic_error("FreeHingeSystem::Lock: hinge " + std::to_string(k) + " is not free");
+  }
+  const int gone = static_cast<int>(it - free_.begin());
+  Eigen::VectorXd nx(2 * (m - 1));
+  for (int a = 0, j = 0; a < m; ++a) {
+    if (a == gone) continue;
+    nx[j] = x[a];
+    nx[m - 1 + j] = x[m + a];
+    ++j;
+  }
+  Lock(k, angle);
+  return nx;
+}
+
+Eigen::VectorXd FreeHingeSystem::Free(int k,
+                                      double t,
+                                      const math::Vec3& H_B,
+                                      const Eigen::VectorXd& x) {
+  const Snapshot before = Snap(t, H_B, x);
+  const int m = free_count();
+  Free(k);
+  const Eigen::VectorXd full = ShapeState(t, H_B, before.theta, before.theta_dot);
+  Eigen::VectorXd nx(2 * (m + 1));
+  nx.head(m) = x.head(m);
+  nx[m] = full[m];
+  nx.segment(m + 1, m) = x.tail(m);
+  nx[2 * m + 1] = full[2 * m + 1];
+  return nx;
+}
+
 void FreeHingeSystem::Setup(double t, const Eigen::VectorXd& x, dynamics::Side side) const {
   const int n = tree_.size();
   const int m = free_count();

@@ -1,9 +1,9 @@
 #pragma once
 
-/// The hub + panel tree of a hinge profile as a dynamical system (DESIGN.md 2.7): each
+/// The hub + panel tree of a hinge profile as a dynamical system (docs/design.md 2.7): each
 /// hinge is, at any moment, locked (held before its release, latched, jammed, resting on
 /// a stop, or a `locked` plan), prescribed (its moves) or free (state). The hybrid driver
-/// (analysis/hinge_run.h) changes the set at events; between events this class is the
+/// (analysis/hinge_mission.cc) changes the set at events; between events this class is the
 /// dynamics::ShapeSystem of the free hinges, or (no hinge free) a dynamics::InertiaSource.
 ///
 /// Evaluation at (t, H_B, x = (theta_f, p_f)): theta of every hinge (locked: its angle;
@@ -41,10 +41,18 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   int panel_count() const { return static_cast<int>(plans_.size()); }
 
   /// Locks hinge k (not prescribed) at `angle` [rad]; a free hinge leaves the free set
-  /// (the shape state loses its entries: the caller rebuilds x).
+  /// (the shape state loses its entries: the caller rebuilds x, or uses the overload).
   void Lock(int k, double angle);
   /// Frees hinge k (kFree plan, now locked): it joins the end of the free set.
   void Free(int k);
+  /// The shape state x = (theta_f, p_f) is laid out in free-set order; these change the
+  /// set and return the new state from the old one.
+  /// Locks free hinge k at `angle`: x without hinge k's entries, the other angles and
+  /// momenta unchanged.
+  Eigen::VectorXd Lock(int k, double angle, const Eigen::VectorXd& x);
+  /// Frees hinge k at time t, at rest (theta' = 0) at its locked angle: it joins the end of
+  /// the set; the other free hinges keep their angles and momenta.
+  Eigen::VectorXd Free(int k, double t, const math::Vec3& H_B, const Eigen::VectorXd& x);
   /// The free hinges in shape-state order.
   const std::vector<int>& free_hinges() const { return free_; }
   bool IsFree(int k) const;
@@ -95,7 +103,7 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
                              dynamics::Side side = dynamics::Side::kRight) const;
 
   /// The impulse at free hinge free_hinges()[a] that sets its rate to `rate_after`
-  /// (DESIGN.md 2.7: only p_k changes, by lambda = (rate_after - rate_before) /
+  /// (docs/design.md 2.7: only p_k changes, by lambda = (rate_after - rate_before) /
   /// (M^-1)_kk with M over the unknowns (w, theta'_f)). Updates x.
   struct Impulse {
     double lambda = 0.0;                         ///< [N m s]

@@ -1,6 +1,6 @@
 #pragma once
 
-/// How each hinge moves in a `hinges:` profile (issue 9, DESIGN.md 2.7): locked at its
+/// How each hinge moves in a `hinges:` profile (docs/design.md 2.7): locked at its
 /// initial angle, prescribed along laws on its own time windows, or free — driven by the
 /// dynamics with a spring, damper, motor and friction, caught by stops and a latch,
 /// released at a time or after another panel latches. Plain structs, free of YAML
@@ -9,7 +9,7 @@
 ///
 /// Sign conventions. theta_k is the panel's hinge angle about its axis a_k (right-hand
 /// rule, model.h). A generalized torque Q_k > 0 turns the panel towards increasing
-/// theta_k. The free hinge's generalized force (DESIGN.md 2.7):
+/// theta_k. The free hinge's generalized force (docs/design.md 2.7):
 ///   Q_k = -k (theta - theta_rest) + preload                       spring
 ///         - c theta'                                              damper
 ///         + tau_motor(theta')                                     motor
@@ -82,7 +82,7 @@ struct Friction {
 
 /// Hard stops: the hinge cannot pass min_angle or max_angle. At a stop the panel
 /// rebounds with coefficient of restitution e (theta'+ = -e theta'-, the impulse of
-/// DESIGN.md 2.7); a rebound slower than kRestSpeed leaves it resting on the stop: the
+/// docs/design.md 2.7); a rebound slower than kRestSpeed leaves it resting on the stop: the
 /// hinge locks there for the rest of the run (a panel pressed on its stop by its spring).
 struct Stops {
   double min_angle = -std::numeric_limits<double>::infinity();  ///< [rad]; -inf: none.
@@ -134,7 +134,7 @@ struct HingePlan {
   enum class Kind {
     kLocked,      ///< At its initial angle for the whole run.
     kPrescribed,  ///< Along `moves` (ascending, not overlapping); locked between them.
-    kFree,        ///< Driven by `drive` (DESIGN.md 2.7) once released.
+    kFree,        ///< Driven by `drive` (docs/design.md 2.7) once released.
   };
   Kind kind = Kind::kLocked;
   std::vector<HingeMove> moves;  ///< kPrescribed.

@@ -1,6 +1,6 @@
 #pragma once
 
-/// Interpolation laws of a deployment stage (DESIGN.md 2.6). A law maps the stage's
+/// Interpolation laws of a deployment stage (docs/design.md 2.6). A law maps the stage's
 /// normalized time tau in [0, 1] to a fraction s(tau) in [0, 1] with s(0) = 0, s(1) = 1.
 
 #include <string>

@@ -1,7 +1,7 @@
 #pragma once
 
 /// A deployment profile, free of YAML: the model, the initial state, the stages, the
-/// integrator and the output sampling (DESIGN.md 2.6, 5). io/ reads it from YAML with
+/// integrator and the output sampling (docs/design.md 2.6, 5). io/ reads it from YAML with
 /// strict validation; docs/file_formats.md documents the file.
 
 #include <optional>
@@ -70,7 +70,7 @@ struct OutputSpec {
 
 /// A profile is one of two kinds:
 ///  - a stage profile (`stages:`): every panel follows the stages' configurations
-///    together (DESIGN.md 2.6); `hinges` is empty;
+///    together (docs/design.md 2.6); `hinges` is empty;
 ///  - a hinge profile (`hinges:`): each panel has its own HingePlan (locked,
 ///    prescribed on its own windows, or free), the run goes from `start` to `until`,
 ///    mode is geometry and coupling exact; `stages` is empty (the stage table of a run is

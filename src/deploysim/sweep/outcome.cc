@@ -1,7 +1,6 @@
 #include "deploysim/sweep/outcome.h"
 
 #include <algorithm>
-#include <boost/math/tools/toms748_solve.hpp>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -10,144 +9,17 @@
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/analysis/mission.h"
-#include "deploysim/math/cubic_hermite.h"
 #include "deploysim/math/inertia.h"
 
 namespace deploysim::sweep {
 
 namespace {
 
-// Rates of s . H_B / |H_B| below this fraction of |w| are rounding noise (a pure spin
-// has a rate of exactly zero in exact arithmetic): they count as zero, so that noise
-// does not look like an extremum.
-constexpr double kRateNoise = 1e-12;
-// Locating a minimum of s . H_B on a rigid segment: toms748 to this fraction of the step.
-constexpr double kRootRelTolerance = 1e-12;
-constexpr std::uintmax_t kMaxRootIterations = 100;
 constexpr double kHalfPi = 1.5707963267948966;
 
 double Angle(const math::Vec3& s, const math::Vec3& H_B) {
   return std::acos(std::clamp(s.dot(H_B) / H_B.norm(), -1.0, 1.0));
 }
-
-/// J_B(t) as the integrator's events see it, cached for the last time asked (the flip
-/// and the extremum functions are evaluated at the same states).
-class CachedSchedule {
- public:
-  explicit CachedSchedule(const dynamics::InertiaSource& source) : source_(source) {}
-  const dynamics::InertiaSample& At(double t) {
-    if (!valid_ || t != t_) {
-      sample_ = source_.Evaluate(t);
-      t_ = t;
-      valid_ = true;
-    }
-    return sample_;
-  }
-
- private:
-  const dynamics::InertiaSource& source_;
-  dynamics::InertiaSample sample_{};
-  double t_ = 0.0;
-  bool valid_ = false;
-};
-
-/// The largest angle between the spin axis s and h_N, from the accepted steps: with
-/// f(t) = s . H_B / |H_B| (|H_B| is constant) and its rate f' = s . (H_B x w) / |H_B|
-/// known at both ends of every step, a minimum of f inside a step (f' from < 0 to > 0)
-/// is located
-///   - on rigid segments exactly, with the closed-form solution (FreeBodySolution) from
-///     the step's start (toms748 on f', only H_B(t) and w(t) are evaluated);
-///   - elsewhere on the cubic Hermite interpolant of f over the step (no extra
-///     right-hand-side evaluations; the steps are short against the nutation period
-///     because the error control keeps them so).
-class AngleTracker {
- public:
-  /// `cache` serves J_B(t) from the right (as the flip event asks for it);
-  /// `breakpoints` are the schedule's breakpoints in (t0, t1), where J_B's rate and
-  /// h_rel_B may jump: a step that ends there uses the left limit.
-  AngleTracker(const schedule::DeploymentSchedule& sched,
-               CachedSchedule& cache,
-               std::vector<double> breakpoints,
-               const math::Vec3& s,
-               const integrators::State& y0)
-      : sched_(sched),
-        cache_(cache),
-        breakpoints_(std::move(breakpoints)),
-        s_(s),
-        M_(y0.H_B.norm()) {
-    prev_ = Point(y0);
-    min_f_ = prev_.f;
-  }
-
-  void Step(const integrators::State& y) {
-    const Sample next = Point(y);
-    min_f_ = std::min(min_f_, next.f);
-    if (prev_.rate_start < 0.0 && next.rate_end > 0.0) {
-      min_f_ = std::min(min_f_, sched_.IsRigidOn(prev_.state.t, next.state.t)
-                                    ? RigidMinimum(prev_, next)
-                                    : HermiteMinimum(prev_, next));
-    }
-    prev_ = next;
-  }
-
-  double max_angle() const { return std::acos(std::clamp(min_f_, -1.0, 1.0)); }
-
- private:
-  struct Sample {
-    integrators::State state;
-    double f = 0.0;           // s . H_B / M
-    double rate_end = 0.0;    // df/dt [1/s] as the end of a step (left limit)
-    double rate_start = 0.0;  // as the start of the next step (right limit)
-  };
-
-  double Rate(const math::Vec3& H_B, const math::Vec3& w) const {
-    const double rate = s_.dot(H_B.cross(w)) / M_;
-    return std::abs(rate) <= kRateNoise * w.norm() ? 0.0 : rate;
-  }
-  double Rate(const math::Vec3& H_B, const dynamics::InertiaSample& js) const {
-    return Rate(H_B, math::Vec3(js.J_inv_B * (H_B - js.h_rel_B)));
-  }
-
-  Sample Point(const integrators::State& y) {
-    Sample p;
-    p.state = y;
-    p.f = s_.dot(y.H_B) / M_;
-    p.rate_start = Rate(y.H_B, cache_.At(y.t));
-    p.rate_end = std::binary_search(breakpoints_.begin(), breakpoints_.end(), y.t)
-                     ? Rate(y.H_B, sched_.Evaluate(y.t, dynamics::Side::kLeft))
-                     : p.rate_start;
-    return p;
-  }
-
-  double RigidMinimum(const Sample& a, const Sample& b) const {
-    const dynamics::InertiaSample js = sched_.Evaluate(a.state.t, dynamics::Side::kRight);
-    const analysis::FreeBodySolution sol(math::InertiaTensor::FromMatrix(js.J_B), a.state.H_B,
-                                         a.state.q_NB.normalized(), a.state.t);
-    auto g = [&](double t) { return Rate(sol.H_B(t), sol.w_NB_B(t)); };
-    const double ga = g(a.state.t);
-    const double gb = g(b.state.t);
-    if (!(ga < 0.0 && gb > 0.0)) return std::min(a.f, b.f);
-    std::uintmax_t iterations = kMaxRootIterations;
-    const double tol = kRootRelTolerance * (b.state.t - a.state.t);
-    const auto bracket = boost::math::tools::toms748_solve(
-        g, a.state.t, b.state.t, ga, gb, [tol](double lo, double hi) { return hi - lo <= tol; },
-        iterations);
-    const double t = 0.5 * (bracket.first + bracket.second);
-    return s_.dot(sol.H_B(t)) / M_;
-  }
-
-  static double HermiteMinimum(const Sample& a, const Sample& b) {
-    return math::CubicHermiteMinimum(a.state.t, a.f, a.rate_start, b.state.t, b.f, b.rate_end);
-  }
-
-  const schedule::DeploymentSchedule& sched_;
-  CachedSchedule& cache_;
-  std::vector<double> breakpoints_;
-  math::Vec3 s_;
-  double M_;
-  Sample prev_;
-  double min_f_;
-};
 
 struct FinalMotion {
   MotionClass motion = MotionClass::kTumbling;
@@ -162,38 +34,9 @@ FinalPrediction Predict(const analysis::FreeBodySolution& sol,
                         const math::Vec3& H_B,
                         const math::Vec3& s) {
   FinalPrediction f;
-  const math::PrincipalAxes& pa = sol.principal_axes();
-  const math::Vec3& I = pa.moments;
-  const math::Vec3 h = pa.axes.transpose() * H_B;
-  const double two_T = 2.0 * sol.energy();
-  const double mc = sol.complementary_parameter();
-  switch (sol.regime()) {
-    case analysis::Regime::kMinorAxis: {
-      // P3 = 2T I3 - M^2 (a sum of non-negative terms); P2 = 2T I2 - M^2 > 0.
-      const double P3 = h[0] * h[0] * (I[2] - I[0]) / I[0] + h[1] * h[1] * (I[2] - I[1]) / I[1];
-      const double P2 = mc * (I[1] - I[0]) * P3 / (I[2] - I[0]);
-      f.separatrix_distance = -P2 / two_T / (I[2] - I[0]);
-      break;
-    }
-    case analysis::Regime::kMajorAxis: {
-      // P1 = M^2 - 2T I1 (non-negative terms); -P2 = M^2 - 2T I2 > 0.
-      const double P1 = h[1] * h[1] * (I[1] - I[0]) / I[1] + h[2] * h[2] * (I[2] - I[0]) / I[2];
-      const double minus_P2 = mc * (I[2] - I[1]) * P1 / (I[2] - I[0]);
-      f.separatrix_distance = minus_P2 / two_T / (I[2] - I[0]);
-      break;
-    }
-    case analysis::Regime::kSeparatrix:
-    case analysis::Regime::kIntermediateAxisSpin:
-      f.separatrix_distance = 0.0;
-      break;
-    case analysis::Regime::kAxisymmetric:
-      f.separatrix_distance = (sol.D() - I[1]) / (I[2] - I[0]);
-      break;
-    case analysis::Regime::kSpherical:
-    case analysis::Regime::kAtRest:
-      f.separatrix_distance = std::numeric_limits<double>::quiet_NaN();
-      break;
-  }
+  f.regime = sol.regime();
+  f.one_minus_k2 = sol.complementary_parameter();
+  f.separatrix_distance = analysis::SeparatrixDistance(sol, H_B);
   f.flip_half_period = analysis::LocateSpinAxis(J_B, s).role == analysis::AxisRole::kIntermediate
                            ? sol.flip_half_period()
                            : std::numeric_limits<double>::infinity();
@@ -266,10 +109,6 @@ FinalMotion ClassifyFinal(const math::Mat3& J_B,
   return f;
 }
 
-double Energy(const dynamics::InertiaSample& s, const math::Vec3& H_B) {
-  return dynamics::TotalKineticEnergy(s, H_B);
-}
-
 }  // namespace
 
 std::string ToString(MotionClass c) {
@@ -328,17 +167,13 @@ void SetFinal(CaseOutcome& out,
   }
 }
 
-CaseOutcome SimulateHingeOutcome(const Case& c, const OutcomeSettings& settings) {
-  using analysis::HingeEvent;
-  const schedule::Profile& p = c.profile;
-  NoSamples sink;
-  analysis::HingeRunOptions options;
-  options.sample_trajectory = false;
-  const analysis::MissionResult m = analysis::RunHingeMission(p, sink, {}, options);
+/// The columns every case has, from its outcome-only mission run.
+CaseOutcome CommonOutcome(const Case& c,
+                          const analysis::MissionResult& m,
+                          const OutcomeSettings& settings) {
   const math::Vec3& s = m.spin_axis_B;
-
   CaseOutcome out;
-  out.end_time = p.t_end();
+  out.end_time = c.profile.t_end();
   out.termination = m.termination;
   out.steps = m.stats.steps;
   out.rejected = m.stats.rejected;
@@ -349,11 +184,17 @@ CaseOutcome SimulateHingeOutcome(const Case& c, const OutcomeSettings& settings)
   out.final_spin_axis_angle = Angle(s, m.final_state.H_B);
   out.energy_initial = m.energy_initial;
   out.energy_final = m.energy_final;
+  SetFinal(out, m.final_J_B, m.final_state.H_B, s, settings);
+  return out;
+}
 
-  // The deployment: from the first release to the last lock of a released panel (NaN if
-  // a released panel is still free at the end); t0 and 0 when nothing was released.
+/// The hinge events' columns: latches, shocks, and the deployment from the first release
+/// to the last lock of a released panel (NaN if a released panel is still free at the
+/// end); t0 and 0 when nothing was released.
+void SetHingeColumns(const Case& c, const analysis::MissionResult& m, CaseOutcome& out) {
+  using analysis::HingeEvent;
   double first_release = std::numeric_limits<double>::infinity();
-  std::vector<char> released(p.hinges.size(), 0);
+  std::vector<char> released(c.profile.hinges.size(), 0);
   for (const HingeEvent& e : m.hinge_events) {
     switch (e.kind) {
       case HingeEvent::Kind::kRelease:
@@ -373,31 +214,21 @@ CaseOutcome SimulateHingeOutcome(const Case& c, const OutcomeSettings& settings)
     }
   }
   out.all_latched = out.latched_count == c.latches_expected ? 1 : 0;
-  out.deploy_end_time = p.t_begin();
-  if (std::isfinite(first_release)) {
-    for (std::size_t k = 0; k < released.size(); ++k) {
-      if (released[k]) out.deploy_end_time = std::max(out.deploy_end_time, m.latch_times[k]);
-      if (released[k] && std::isnan(m.latch_times[k])) {
-        out.deploy_end_time = std::numeric_limits<double>::quiet_NaN();
-        break;
-      }
+  out.deploy_end_time = c.profile.t_begin();
+  if (!std::isfinite(first_release)) return;
+  for (std::size_t k = 0; k < released.size(); ++k) {
+    if (released[k]) out.deploy_end_time = std::max(out.deploy_end_time, m.latch_times[k]);
+    if (released[k] && std::isnan(m.latch_times[k])) {
+      out.deploy_end_time = std::numeric_limits<double>::quiet_NaN();
+      break;
     }
-    out.deploy_duration = out.deploy_end_time - first_release;
   }
-  SetFinal(out, m.final_J_B, m.final_state.H_B, s, settings);
-  return out;
+  out.deploy_duration = out.deploy_end_time - first_release;
 }
 
-CaseOutcome SimulateStageOutcome(const Case& c, const OutcomeSettings& settings) {
-  const schedule::Profile& p = c.profile;
-  const schedule::DeploymentSchedule& sched = *c.schedule;
-  const double t0 = p.t_begin();
-  const double t1 = p.t_end();
-  const math::Vec3 s = c.spin_axis_B;
-
-  CaseOutcome out;
-  out.end_time = t1;
-  out.deploy_end_time = t0;
+/// The deployment of a stage profile: the stages that move the panels.
+void SetStageColumns(const schedule::Profile& p, CaseOutcome& out) {
+  out.deploy_end_time = p.t_begin();
   for (std::size_t i = 0; i < p.stages.size(); ++i) {
     const schedule::Stage& st = p.stages[i];
     const bool moves = !st.from.empty() ? st.from != st.to : i > 0 && st.to != p.stages[i - 1].to;
@@ -406,45 +237,6 @@ CaseOutcome SimulateStageOutcome(const Case& c, const OutcomeSettings& settings)
       out.deploy_duration += st.t_end - st.t_begin;
     }
   }
-
-  integrators::State y0;
-  y0.t = t0;
-  y0.q_NB = p.initial.q_NB.normalized();
-  const dynamics::InertiaSample s0 = sched.Evaluate(t0);
-  y0.H_B = *p.initial.H_B;
-  out.energy_initial = Energy(s0, y0.H_B);
-
-  CachedSchedule cache(sched);
-  integrators::EventFunction flip{"flip", [&cache, s](const integrators::State& y) {
-                                    return analysis::FlipFunction(cache.At(y.t).J_B, s, y.H_B);
-                                  }};
-  const auto stepper = analysis::MakeStepper(p.integrator.method);
-  integrators::IntegratorSettings is;
-  is.step = p.integrator.step;
-  is.tolerances = {p.integrator.rtol, p.integrator.atol};
-  is.max_step = p.integrator.max_step;
-  AngleTracker tracker(sched, cache, sched.Breakpoints(t0, t1), s, y0);
-  const integrators::IntegrationResult run =
-      integrators::Integrate(*stepper, is, sched, y0, t1, {}, {flip},
-                             [&tracker](const integrators::State& y) { tracker.Step(y); });
-
-  out.termination = run.termination;
-  out.steps = run.stats.steps;
-  out.rejected = run.stats.rejected;
-  out.first_flip_time = std::numeric_limits<double>::quiet_NaN();
-  for (const integrators::Event& e : run.events) {
-    if (analysis::IsFlip(sched.Evaluate(e.t).J_B, s, e.state.H_B)) {
-      if (out.flip_count == 0) out.first_flip_time = e.t;
-      ++out.flip_count;
-    }
-  }
-  out.max_spin_axis_angle = tracker.max_angle();
-  const math::Vec3& H1 = run.final_state.H_B;
-  out.final_spin_axis_angle = Angle(s, H1);
-  const dynamics::InertiaSample s1 = sched.Evaluate(run.final_state.t, dynamics::Side::kLeft);
-  out.energy_final = Energy(s1, H1);
-  SetFinal(out, s1.J_B, H1, s, settings);
-  return out;
 }
 
 }  // namespace
@@ -456,8 +248,20 @@ FinalPrediction PredictFinal(const math::Mat3& J_B, const math::Vec3& H_B, const
 
 CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings) {
   const auto wall0 = std::chrono::steady_clock::now();
-  CaseOutcome out = c.profile.is_hinge_profile() ? SimulateHingeOutcome(c, settings)
-                                                 : SimulateStageOutcome(c, settings);
+  NoSamples sink;
+  analysis::RunOptions options;
+  options.sample_trajectory = false;
+  if (!c.profile.is_hinge_profile()) {
+    options.schedule = c.schedule.get();
+    options.spin_axis_B = c.spin_axis_B;
+  }
+  const analysis::MissionResult m = analysis::RunMission(c.profile, sink, {}, options);
+  CaseOutcome out = CommonOutcome(c, m, settings);
+  if (c.profile.is_hinge_profile()) {
+    SetHingeColumns(c, m, out);
+  } else {
+    SetStageColumns(c.profile, out);
+  }
   out.run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return out;
 }

@@ -1,15 +1,10 @@
 #pragma once
 
-/// The outcome of one sweep case, computed on a lean path: the same schedule, stepper,
-/// tolerances and flip rule as analysis::RunMission, but without the dense trajectory on
-/// the output grid (which costs most of a mission run: one partial step per sample).
-/// Only the accepted steps and two kinds of located events are evaluated:
-///   - flips: sign changes of H_B along the spin axis while it is the intermediate
-///     principal axis of J_B(t), located and filtered exactly as RunMission does;
-///   - extrema of s . H_B (zeros of its rate s . (H_B x w_NB_B)), where the angle
-///     between the body spin axis s and h_N is largest or smallest.
-/// The largest angle is the maximum over the start, every accepted step and every
-/// located extremum, so it is the true maximum to the integrator's accuracy.
+/// The outcome of one sweep case: the case's mission run (analysis::RunMission) without
+/// output samples (RunOptions::sample_trajectory = false: the dense trajectory on the
+/// output grid costs most of a full run, one partial step per sample). The run's flips,
+/// 45-degree crossings, largest spin-axis angle (located exactly, run_recorder.h), hinge
+/// events, energies and final state are those of `simulate` and `analyze`, bit for bit.
 ///
 /// Final motion class, from the final state (t_end) and J_B(t_end): the torque-free
 /// motion that would follow (FreeBodySolution's regime). The momentum circulates about
@@ -35,14 +30,12 @@
 ///     seconds, however long the final hold (a slow spin that did not flip within the
 ///     simulated time still will).
 ///
-/// Hinge profiles (schedule::Profile::is_hinge_profile()) run analysis::RunHingeMission
-/// without output samples (HingeRunOptions::sample_trajectory = false): flips, the
-/// largest spin-axis angle (located exactly), the hinge events and the final state come
-/// from the mission itself; energies are totals T + V (kinetic plus spring).
+/// Energies are totals T + V (kinetic plus spring, for hinge profiles).
 
 #include <cstdint>
 #include <string>
 
+#include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/sweep/sweep_spec.h"
 
@@ -103,14 +96,15 @@ bool WillFlip(const CaseOutcome& o);
 /// "+x", "+y", "+z", "-x", "-y", "-z".
 std::string AxisName(std::int32_t final_axis);
 
-/// Runs one case on the lean path (stage profiles) or the outcome-only hinge mission
-/// (hinge profiles). Thread-safe: everything it touches is its own (one stepper per
-/// call). Throws std::invalid_argument for invalid settings.
+/// Runs one case: its outcome-only mission run. Thread-safe: everything it touches is its own (one
+/// stepper per call). Throws std::invalid_argument for invalid settings.
 CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings);
 
 /// The horizon-independent outcomes of the torque-free motion with inertia J_B and
 /// momentum H_B, for the body spin axis s (see the file comment).
 struct FinalPrediction {
+  analysis::Regime regime = analysis::Regime::kAtRest;
+  double one_minus_k2 = 0.0;         ///< FreeBodySolution::complementary_parameter().
   double separatrix_distance = 0.0;  ///< (D - I2) / (I3 - I1); NaN without a separatrix.
   double flip_half_period = 0.0;     ///< [s] +inf: no flip.
 };

@@ -1,0 +1,174 @@
+#include "deploysim/analysis/run_recorder.h"
+
+#include <cmath>
+#include <limits>
+
+#include "deploysim/analysis/flip_rule.h"
+#include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/math/cubic_hermite.h"
+
+namespace deploysim::analysis {
+
+namespace {
+
+constexpr double kCos45 = 0.70710678118654752440;
+
+void Clear(Trajectory& t) {
+  for (std::vector<math::Vec3>* v :
+       {&t.H_B, &t.w_NB_B, &t.principal_moments, &t.h_rel_B, &t.h_N, &t.euler_313}) {
+    v->clear();
+  }
+  for (std::vector<double>* v :
+       {&t.time, &t.energy, &t.energy_rigid, &t.energy_spring, &t.spin_axis_angle}) {
+    v->clear();
+  }
+  t.q_NB.clear();
+  t.J_B.clear();
+  t.hinge_angles.clear();
+  t.hinge_rates.clear();
+}
+
+}  // namespace
+
+std::size_t CountTimes(const integrators::OutputTimes& grid, double x, bool inclusive) {
+  std::size_t lo = 0, hi = grid.size();
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    const double t = grid.at(mid);
+    if (t < x || (inclusive && t == x)) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+double SpinAxis45Gap(const math::Vec3& spin_axis_B, const math::Vec3& H_B) {
+  return kCos45 - spin_axis_B.dot(H_B) / H_B.norm();
+}
+
+RunRecorder::RunRecorder(const math::Vec3& spin_axis_B,
+                         const math::Vec3& h_N0,
+                         SampleSink* sink,
+                         const std::function<void(double)>& progress,
+                         double t0,
+                         double t1)
+    : s_(spin_axis_B),
+      h_N0_(h_N0),
+      M_(h_N0.norm()),
+      sink_(sink),
+      progress_(progress),
+      t0_(t0),
+      t1_(t1) {}
+
+void RunRecorder::Sample(const RunSample& s) {
+  if (!have_principal_ || s.J_B != principal_J_) {
+    principal_ = math::PrincipalDecomposition(s.J_B);
+    principal_J_ = s.J_B;
+    have_principal_ = true;
+  }
+  const math::Vec3 h_N = s.q_NB * s.H_B;
+  Trajectory& b = block_;
+  b.time.push_back(s.t);
+  b.H_B.push_back(s.H_B);
+  b.w_NB_B.push_back(s.w);
+  b.q_NB.push_back(s.q_NB);
+  b.J_B.push_back(s.J_B);
+  b.principal_moments.push_back(principal_.moments);
+  b.h_rel_B.push_back(s.h_rel_B);
+  b.h_N.push_back(h_N);
+  b.energy.push_back(s.kinetic);
+  b.energy_rigid.push_back(0.5 * s.w.dot(s.J_B * s.w));
+  b.energy_spring.push_back(s.spring);
+  b.euler_313.push_back(Euler313RelativeToMomentum(s.q_NB, h_N));
+  b.spin_axis_angle.push_back(std::acos(std::clamp(s_.dot(s.H_B) / s.H_B.norm(), -1.0, 1.0)));
+  if (s.theta.size() > 0) {
+    b.hinge_angles.push_back(s.theta);
+    b.hinge_rates.push_back(s.theta_dot);
+  }
+  max_h_N_drift_ = std::max(max_h_N_drift_, (h_N - h_N0_).norm() / M_);
+  const bool danger = LocateSpinAxis(principal_, s_).role == AxisRole::kIntermediate;
+  if (danger && !in_window_) danger_windows_.push_back({s.t, s.t});
+  if (danger) danger_windows_.back().t_end = s.t;
+  in_window_ = danger;
+  if (b.size() == kSampleBlock) {
+    sink_->Append(b);
+    Clear(b);
+  }
+}
+
+void RunRecorder::Progress(double t) {
+  if (!progress_) return;
+  const double f = (t - t0_) / (t1_ - t0_);
+  if (f - last_reported_ >= 0.01 || f >= 1.0) {
+    last_reported_ = f;
+    progress_(f);
+  }
+}
+
+void RunRecorder::CandidateFlip(double t, const math::Mat3& J_B, const math::Vec3& H_B) {
+  if (IsFlip(J_B, s_, H_B)) flips_.push_back(t);
+}
+
+void RunRecorder::SpinAxisStep(const AxisPoint& a,
+                               const AxisPoint& b,
+                               const std::function<double()>& exact_minimum) {
+  SpinAxisCos(b.f);
+  if (a.rate_start < 0.0 && b.rate_end > 0.0) {
+    SpinAxisCos(exact_minimum
+                    ? exact_minimum()
+                    : math::CubicHermiteMinimum(a.t, a.f, a.rate_start, b.t, b.f, b.rate_end));
+  }
+}
+
+void RunRecorder::OpenPhase(const PhaseInfo& info, const RunSample& start) {
+  if (!phases_.empty() && phases_.back().start.t == start.t) {
+    phases_.back() = {info, start};  // zero-length phase: replaced
+    phase_ends_.resize(phases_.size() - 1);
+    return;
+  }
+  phases_.push_back({info, start});
+}
+
+void RunRecorder::ClosePhase(const RunSample& end) { phase_ends_.push_back(end); }
+
+StageReport RunRecorder::Report(std::size_t i, const std::vector<double>& flips) const {
+  const Phase& ph = phases_[i];
+  const RunSample& end = phase_ends_[std::min(i, phase_ends_.size() - 1)];
+  StageReport rep;
+  rep.index = static_cast<int>(i);
+  rep.name = ph.info.name;
+  rep.law = ph.info.law;
+  rep.t_begin = ph.start.t;
+  rep.t_end = i + 1 < phases_.size() ? phases_[i + 1].start.t : end.t;
+  rep.rigid = ph.info.rigid;
+  const FreeBodySolution after(math::InertiaTensor::FromMatrix(end.J_B), end.H_B);
+  rep.moments_end = math::PrincipalDecomposition(end.J_B).moments;
+  rep.spin_axis_end = LocateSpinAxis(end.J_B, s_).role;
+  rep.separatrix_distance = SeparatrixDistance(after, end.H_B);
+  for (double tf : flips) {
+    if (tf >= rep.t_begin && tf < rep.t_end) rep.observed_flips.push_back(tf);
+  }
+  rep.predicted_flip_half_period = std::numeric_limits<double>::infinity();
+  if (rep.rigid) SetRigidPrediction(rep, ph.start.J_B, ph.start.H_B, ph.start.q_NB, s_);
+  SetRigidBodyCaveat(rep, ph.info.dissipative);
+  return rep;
+}
+
+void RunRecorder::Finish(MissionResult& out) {
+  if (sink_ != nullptr && !block_.time.empty()) sink_->Append(block_);
+  Clear(block_);
+  std::sort(flips_.begin(), flips_.end());
+  out.flip_times = flips_;
+  out.spin_axis_45_crossings = crossings_45_;
+  out.danger_windows = danger_windows_;
+  out.max_h_N_drift = sink_ != nullptr
+                          ? max_h_N_drift_
+                          : ((out.final_state.q_NB * out.final_state.H_B) - h_N0_).norm() / M_;
+  out.max_spin_axis_angle = std::acos(std::clamp(min_cos_, -1.0, 1.0));
+  out.stages.clear();
+  for (std::size_t i = 0; i < phases_.size(); ++i) out.stages.push_back(Report(i, out.flip_times));
+}
+
+}  // namespace deploysim::analysis

@@ -1,0 +1,155 @@
+#pragma once
+
+/// The bookkeeping every mission run shares, in one place. A runner (the stage run of
+/// mission.cc, the hinge run of hinge_mission.cc) integrates; the recorder receives what
+/// it sees and makes the result from it:
+///   - samples on the output grid -> the trajectory, block by block, every field filled
+///     here; the largest h_N drift; the danger windows (the spin axis is the
+///     intermediate principal axis of J);
+///   - located sign changes of the flip function, kept when the flip rule says so
+///     (flip_rule.h), and crossings of 45 degrees between the spin axis and h_N;
+///   - the largest spin-axis angle: the minimum of f = s . H_B / |H_B| over exact points
+///     (the start, segment ends, located extrema) and inside accepted steps;
+///   - phases (the profile's stages, or the hinge run's phases between changes of the
+///     free and moving hinges), opened and closed -> one stage report each;
+///   - progress, reported in steps of 1 % of the run.
+/// An outcome-only run (a sweep case) passes no sink: no samples, everything else.
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "deploysim/analysis/mission.h"
+#include "deploysim/integrators/integrate.h"
+#include "deploysim/math/inertia.h"
+#include "deploysim/math/types.h"
+
+namespace deploysim::analysis {
+
+/// One state of a run with what the outputs and the reports need of it.
+struct RunSample {
+  double t = 0.0;                            ///< [s]
+  math::Vec3 H_B = math::Vec3::Zero();       ///< [kg m^2/s]
+  math::Quat q_NB = math::Quat::Identity();  ///< unit
+  math::Vec3 w = math::Vec3::Zero();         ///< [rad/s] hub angular velocity
+  math::Mat3 J_B = math::Mat3::Zero();       ///< [kg m^2]
+  math::Vec3 h_rel_B = math::Vec3::Zero();   ///< [kg m^2/s]
+  double kinetic = 0.0;                      ///< [J] total kinetic energy
+  double spring = 0.0;                       ///< [J] energy in the free hinges' springs
+  Eigen::VectorXd theta, theta_dot;          ///< [rad], [rad/s]; empty in tensor mode
+};
+
+/// What a phase is, for its stage report.
+struct PhaseInfo {
+  std::string name;
+  std::string law;           ///< "hold", a law's name, "prescribed", "free"
+  bool rigid = false;        ///< J constant and h_rel = 0 throughout
+  bool dissipative = false;  ///< energy dissipated continuously (dampers, friction)
+};
+
+/// f = s . H_B / |H_B(0)| at the end of an accepted step, with its rate as the end of
+/// that step (left limit) and as the start of the next (right limit) [1/s].
+struct AxisPoint {
+  double t = 0.0;
+  double f = 0.0;
+  double rate_end = 0.0;
+  double rate_start = 0.0;
+};
+
+/// The 45-degree rule: cos 45 deg - s . H_B / |H_B|, whose zeros are the times the spin
+/// axis s passes 45 degrees from h_N (either way).
+double SpinAxis45Gap(const math::Vec3& spin_axis_B, const math::Vec3& H_B);
+
+/// A window [begin, end) of an output grid's indices (begin == end: no times).
+class WindowTimes final : public integrators::OutputTimes {
+ public:
+  WindowTimes(const integrators::OutputTimes& grid, std::size_t begin, std::size_t end)
+      : grid_(grid), begin_(begin), end_(end) {}
+  std::size_t size() const override { return end_ - begin_; }
+  double at(std::size_t i) const override { return grid_.at(begin_ + i); }
+
+ private:
+  const integrators::OutputTimes& grid_;
+  std::size_t begin_, end_;
+};
+
+/// The number of times of the ascending `grid` below x (`inclusive`: at most x).
+std::size_t CountTimes(const integrators::OutputTimes& grid, double x, bool inclusive);
+
+class RunRecorder {
+ public:
+  /// `sink` null: no samples. `h_N0`: the initial momentum in N.
+  RunRecorder(const math::Vec3& spin_axis_B,
+              const math::Vec3& h_N0,
+              SampleSink* sink,
+              const std::function<void(double)>& progress,
+              double t0,
+              double t1);
+
+  bool sampling() const { return sink_ != nullptr; }
+  /// The next sample on the output grid (in time order).
+  void Sample(const RunSample& s);
+  /// The fraction of the run done at time t, if at least 1 % more than last reported.
+  void Progress(double t);
+
+  /// A located sign change of the flip function at t (J_B, H_B there): a flip if the
+  /// flip rule says so.
+  void CandidateFlip(double t, const math::Mat3& J_B, const math::Vec3& H_B);
+  /// A located zero of SpinAxis45Gap.
+  void Crossing45(double t) { crossings_45_.push_back(t); }
+
+  /// An exact value of f = s . H_B / |H| (a start, a segment end, a located extremum).
+  void SpinAxisCos(double f) { min_cos_ = std::min(min_cos_, f); }
+  /// An accepted step from a to b: f at b, and a minimum of f inside the step when its
+  /// rate goes from < 0 to > 0: `exact_minimum()` if given, else the cubic Hermite
+  /// interpolant's.
+  void SpinAxisStep(const AxisPoint& a,
+                    const AxisPoint& b,
+                    const std::function<double()>& exact_minimum = {});
+
+  /// Opens a phase at `start` (J_B its right limit). A phase opened at the start time of
+  /// the open phase replaces it (zero length).
+  void OpenPhase(const PhaseInfo& info, const RunSample& start);
+  /// Closes the open phase at `end` (J_B its left limit).
+  void ClosePhase(const RunSample& end);
+
+  /// Hands the last samples to the sink and fills `out`: flip times (sorted), 45-degree
+  /// crossings, danger windows, max_h_N_drift (outcome-only runs: from out.final_state),
+  /// max_spin_axis_angle and one stage report per phase.
+  void Finish(MissionResult& out);
+
+ private:
+  struct Phase {
+    PhaseInfo info;
+    RunSample start;
+  };
+  StageReport Report(std::size_t i, const std::vector<double>& flips) const;
+
+  math::Vec3 s_;
+  math::Vec3 h_N0_;
+  double M_;
+  SampleSink* sink_;
+  std::function<void(double)> progress_;
+  double t0_, t1_;
+  double last_reported_ = -1.0;
+
+  Trajectory block_;
+  bool have_principal_ = false;
+  math::Mat3 principal_J_ = math::Mat3::Zero();
+  math::PrincipalAxes principal_{};
+  bool in_window_ = false;
+  std::vector<DangerWindow> danger_windows_;
+  double max_h_N_drift_ = 0.0;
+
+  std::vector<double> flips_;
+  std::vector<double> crossings_45_;
+  double min_cos_ = std::numeric_limits<double>::infinity();
+
+  std::vector<Phase> phases_;
+  std::vector<RunSample> phase_ends_;
+};
+
+}  // namespace deploysim::analysis
