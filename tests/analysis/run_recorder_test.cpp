@@ -114,7 +114,8 @@ TEST(RunRecorderTest, LargestSpinAxisAngleFromExactPointsAndInsideSteps) {
 }
 
 TEST(RunRecorderTest, PhasesBecomeStageReportsAndAZeroLengthPhaseIsReplaced) {
-  RunRecorder rec(kAxisZ, math::Vec3(0.1, 0, 1), nullptr, {}, 0.0, 3.0);
+  Blocks blocks;
+  RunRecorder rec(kAxisZ, math::Vec3(0.1, 0, 1), &blocks, {}, 0.0, 3.0);
   const math::Vec3 I(1, 2, 3), H(0.1, 0, 1);
   rec.OpenPhase({"first", "hold", true, false}, Sample(0.0, I, H));
   rec.ClosePhase(Sample(1.0, I, H));
@@ -141,11 +142,14 @@ TEST(RunRecorderTest, PhasesBecomeStageReportsAndAZeroLengthPhaseIsReplaced) {
 TEST(RunRecorderTest, AnOutcomeOnlyRunTakesTheDriftFromTheFinalState) {
   RunRecorder rec(kAxisZ, math::Vec3(0, 0, 2), nullptr, {}, 0.0, 1.0);
   EXPECT_FALSE(rec.sampling());
+  rec.OpenPhase({"hold", "hold", true, false}, Sample(0.0, math::Vec3(1, 2, 3), {0, 0, 2}));
+  rec.ClosePhase(Sample(1.0, math::Vec3(1, 2, 3), {0, 0, 2}));
   MissionResult out;
   out.final_state.H_B = math::Vec3(0, 0, 2.000002);
   rec.Finish(out);
   EXPECT_NEAR(out.max_h_N_drift, 1e-6, 1e-15);
   EXPECT_TRUE(out.danger_windows.empty());
+  EXPECT_TRUE(out.stages.empty());  // an outcome-only run reports no stages
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT

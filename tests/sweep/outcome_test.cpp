@@ -257,7 +257,10 @@ TEST_F(SweepDirTest, AnalyzeAndSweepAgreeBitForBitNearTheSeparatrix) {
     const math::Mat3 J = b.I.asDiagonal();
     const math::Vec3 s = analysis::InitialSpinAxis(J, b.H);
     // The analyze side: one rigid phase from (J, H) to (J, H).
-    analysis::RunRecorder rec(s, b.H, nullptr, {}, 0.0, 1.0);
+    struct Discard final : analysis::SampleSink {
+      void Append(const analysis::Trajectory&) override {}
+    } discard;
+    analysis::RunRecorder rec(s, b.H, &discard, {}, 0.0, 1.0);
     analysis::RunSample at;
     at.H_B = b.H;
     at.J_B = J;

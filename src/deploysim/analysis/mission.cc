@@ -409,7 +409,8 @@ MissionResult StageRun::Run() {
   // The output grid plus the stage boundaries not on it, computed on demand.
   const integrators::UniformGridTimes full(t0_, t1_, profile_.output.dt);
   const WindowTimes grid(full, 0, rec_.sampling() ? full.size() : 0);
-  for (double b : boundaries_) {
+  // An outcome-only run reports no stages: it needs no samples at their boundaries.
+  for (double b : rec_.sampling() ? boundaries_ : std::vector<double>{}) {
     const std::size_t i = CountTimes(grid, b, false);
     if (!(i < grid.size() && grid.at(i) == b)) extra_.push_back(b);
   }
@@ -424,8 +425,11 @@ MissionResult StageRun::Run() {
       "spin axis 45 deg", [s](const integrators::State& y) { return SpinAxis45Gap(s, y.H_B); }};
   const auto stepper = MakeStepper(profile_.integrator.method);
   last_sample_ = y0_;
+  // An outcome-only run locates no 45-degree crossings (RunOptions::sample_trajectory).
+  std::vector<integrators::EventFunction> events{flip};
+  if (rec_.sampling()) events.push_back(cross45);
   const integrators::IntegrationResult run = integrators::Integrate(
-      *stepper, SettingsOf(profile_), sched_, y0_, t1_, times, {flip, cross45},
+      *stepper, SettingsOf(profile_), sched_, y0_, t1_, times, events,
       [this](const integrators::State& y) { OnStep(y); },
       [this](const integrators::State& y) { OnSample(y); });
   out.stats = run.stats;

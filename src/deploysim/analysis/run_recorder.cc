@@ -168,6 +168,7 @@ void RunRecorder::Finish(MissionResult& out) {
                           : ((out.final_state.q_NB * out.final_state.H_B) - h_N0_).norm() / M_;
   out.max_spin_axis_angle = std::acos(std::clamp(min_cos_, -1.0, 1.0));
   out.stages.clear();
+  if (sink_ == nullptr) return;  // an outcome-only run: no stage reports
   for (std::size_t i = 0; i < phases_.size(); ++i) out.stages.push_back(Report(i, out.flip_times));
 }
 
