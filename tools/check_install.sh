@@ -29,6 +29,14 @@ for f in bin/deploysim include/deploysim/analysis/free_body_solution.h include/d
   [ -e "$prefix/$f" ] || { echo "check_install: $f was not installed" >&2; exit 1; }
 done
 "$prefix/bin/deploysim" --version
+# Internals stay private, and every installed header's project includes are installed.
+for f in integrators/carry_store.h integrators/lie_anchor.h integrators/driver_support.h \
+         integrators/rk_engine.h io/number_format.h; do
+  [ ! -e "$prefix/include/deploysim/$f" ] || { echo "check_install: internal $f was installed" >&2; exit 1; }
+done
+missing=$(cd "$prefix/include" && grep -rhoE '#include "deploysim/[^"]+"' deploysim | sort -u |
+          sed -E 's/#include "(.*)"/\1/' | while read -r h; do [ -e "$h" ] || echo "$h"; done)
+[ -z "$missing" ] || { echo "check_install: installed headers include uninstalled ones: $missing" >&2; exit 1; }
 tests/io/header_leaks_test.sh "$src" "yaml_fields.cc,yaml_model.cc,yaml_profile.cc" "$prefix/include"
 
 # The consumers, copied out of the source tree (they must not reach into it).

@@ -57,7 +57,7 @@ def read(path):
         n = len(d["time"])
         d["energy_rigid"] = f["energy_rigid"][()] if "energy_rigid" in f else None
         d["flips"] = f["events/flip_time"][()] if "events/flip_time" in f else np.array([])
-        # Free-hinge outputs (issue 9); files written before have none of them.
+        # Free-hinge outputs; files written before have none of them.
         d["energy_spring"] = f["energy_spring"][()] if "energy_spring" in f else np.zeros(n)
         d["energy_total"] = (f["energy_total"][()] if "energy_total" in f
                              else d["energy"] + d["energy_spring"])

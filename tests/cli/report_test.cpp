@@ -17,6 +17,7 @@
 
 #include "analysis/hinge_fixtures.h"
 #include "deploysim/analysis/mission.h"
+#include "deploysim/math/number_format.h"
 
 namespace deploysim::cli {
 namespace {
@@ -240,11 +241,12 @@ TEST(ReportTest, JsonHasCaveatsHingeEventsAndLatchTimes) {
   EXPECT_TRUE(Contains(json, "\"rigid_body_only\": ")) << json;
   EXPECT_TRUE(Contains(json, "\"panel_name\": \"wing_minus_x\", \"kind\": \"latch\""));
   EXPECT_TRUE(Contains(json, "\"kind\": \"release\""));
-  char latch[200];
-  std::snprintf(latch, sizeof(latch),
-                "\"latch_times\": {\"wing_plus_x\": %.17g, \"wing_minus_x\": %.17g}",
-                r.latch_times[0], r.latch_times[1]);
+  // JSON numbers: the shortest text that reads back as the same double.
+  const std::string latch =
+      "\"latch_times\": {\"wing_plus_x\": " + math::FormatNumber(r.latch_times[0]) +
+      ", \"wing_minus_x\": " + math::FormatNumber(r.latch_times[1]) + "}";
   EXPECT_TRUE(Contains(json, latch)) << latch << "\n" << json;
+  EXPECT_EQ(std::stod(math::FormatNumber(r.latch_times[1])), r.latch_times[1]);
   EXPECT_TRUE(Contains(json, "\"spin_axis_45_crossings\": ["));
 
   // A stage profile: the same keys, empty.

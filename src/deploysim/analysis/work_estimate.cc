@@ -45,11 +45,7 @@ double MaxRateSquaredOnEllipsoid(const math::Vec3& I, double M2, double two_T) {
 }
 
 // Three significant digits: the messages' numbers are estimates.
-std::string Num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
+std::string Num(double x) { return math::FormatSignificant(x); }
 
 }  // namespace
 

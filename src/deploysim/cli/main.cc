@@ -163,18 +163,44 @@ class DiscardSamples final : public deploysim::analysis::SampleSink {
   void Append(const deploysim::analysis::Trajectory& /*block*/) override {}
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  // A file size limit (ulimit -f) then fails a write with EFBIG, reported by name.
-  std::signal(SIGXFSZ, SIG_IGN);
-#ifdef DEPLOYSIM_HAVE_SWEEP
-  // First: under mpirun, MPI_Init may consume arguments. A no-op otherwise.
-  deploysim::sweep::MpiSession mpi(&argc, &argv);
+// Every value the command line sets. One set serves all subcommands: exactly one of them
+// runs, and the options they share (the profile, -o, --csv, -q, the overrides) fill the
+// same fields.
+struct CommandLine {
+  std::string profile_path, out_path;
+  bool csv = false, quiet = false, json = false, compare = false;
+  Overrides ov;
+#ifdef DEPLOYSIM_HAVE_CROSSCHECK
+  double cc_accuracy = 1e-12;
+  std::optional<double> cc_until;
+  bool speed_study = false;
+  std::string speed_csv;
+  double cc_own_error = 0.0;
 #endif
-  CLI::App app{
-      "deploysim: does a spinning spacecraft stay put when it deploys its panels, or "
-      "does it start to tumble? (Dzhanibekov effect with time-varying inertia)"};
+#ifdef DEPLOYSIM_HAVE_SWEEP
+  std::string sweep_path;
+  int sweep_threads = 0;
+  bool resume = false;
+#endif
+};
+
+// The subcommands, kept to ask after parsing which one the command line named.
+struct Subcommands {
+  CLI::App* sim = nullptr;
+  CLI::App* ana = nullptr;
+#ifdef DEPLOYSIM_HAVE_CROSSCHECK
+  CLI::App* cc = nullptr;
+#endif
+#ifdef DEPLOYSIM_HAVE_SWEEP
+  CLI::App* swp = nullptr;
+#endif
+  CLI::App* meth = nullptr;
+  CLI::App* rep = nullptr;
+  CLI::App* view = nullptr;
+};
+
+// The top level: --version, one-line errors, exactly one subcommand, the examples.
+void ConfigureApp(CLI::App& app) {
   app.set_version_flag("--version", deploysim::kBuildId);
   // Every command-line error on one line (subcommands inherit it).
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
@@ -197,59 +223,64 @@ int main(int argc, char** argv) {
       "  deploysim view spring.h5 -o spring.html   (3D viewer; open it in a browser)\n"
       "File formats: docs/file_formats.md. Plots: /usr/bin/python3 tools/plot_trajectory.py "
       "OUT.h5");
+}
 
-  std::string profile_path, out_path;
-  bool csv = false, quiet = false, json = false, compare = false;
-  Overrides ov;
+// The deployment profile argument of simulate, analyze and crosscheck.
+void AddProfileArgument(CLI::App* cmd, std::string& profile_path) {
+  cmd->add_option("profile", profile_path, "deployment profile (YAML)")->required();
+}
 
+CLI::App* AddSimulateCommand(CLI::App& app, CommandLine& cl) {
   CLI::App* sim =
       app.add_subcommand("simulate", "run a deployment profile and write its trajectory (HDF5)");
-  sim->add_option("profile", profile_path, "deployment profile (YAML)")->required();
-  sim->add_option("-o,--output", out_path,
+  AddProfileArgument(sim, cl.profile_path);
+  sim->add_option("-o,--output", cl.out_path,
                   "output HDF5 file (default: <profile stem>.h5 in the current folder)");
-  sim->add_flag("--csv", csv, "also write <output>.csv");
-  sim->add_flag("-q,--quiet", quiet, "no progress bar and no summary");
-  sim->add_flag("--compare-coupling", compare,
+  sim->add_flag("--csv", cl.csv, "also write <output>.csv");
+  sim->add_flag("-q,--quiet", cl.quiet, "no progress bar and no summary");
+  sim->add_flag("--compare-coupling", cl.compare,
                 "also run the other coupling and report the difference (geometry mode)");
-  AddOverrideOptions(sim, ov);
+  AddOverrideOptions(sim, cl.ov);
   sim->footer(
       "Examples:\n"
       "  deploysim simulate deployment_profiles/wing_nut.yaml -o wing_nut.h5 --method rkf78 "
       "--rtol 1e-12\n"
       "  deploysim simulate deployment_profiles/smallsat_spring_deploy.yaml -o spring.h5\n"
       "  (a hinge profile: the deployment timeline is printed; the file holds the hinge events)");
+  return sim;
+}
 
+CLI::App* AddAnalyzeCommand(CLI::App& app, CommandLine& cl) {
   CLI::App* ana =
       app.add_subcommand("analyze", "stability per stage, predicted flips, danger windows");
-  ana->add_option("profile", profile_path, "deployment profile (YAML)")->required();
-  ana->add_flag("--json", json, "print JSON instead of the table");
-  AddOverrideOptions(ana, ov);
+  AddProfileArgument(ana, cl.profile_path);
+  ana->add_flag("--json", cl.json, "print JSON instead of the table");
+  AddOverrideOptions(ana, cl.ov);
   ana->footer("Example: deploysim analyze deployment_profiles/seed_satellite.yaml --json");
+  return ana;
+}
 
 #ifdef DEPLOYSIM_HAVE_CROSSCHECK
-  double cc_accuracy = 1e-12;
-  std::optional<double> cc_until;
-  bool speed_study = false;
-  std::string speed_csv;
+CLI::App* AddCrosscheckCommand(CLI::App& app, CommandLine& cl) {
   CLI::App* cc = app.add_subcommand(
       "crosscheck", "compare the reduced model with a Simbody multibody model (table + HDF5)");
-  cc->add_option("profile", profile_path, "deployment profile (YAML)")->required();
-  cc->add_option("-o,--output", out_path,
+  AddProfileArgument(cc, cl.profile_path);
+  cc->add_option("-o,--output", cl.out_path,
                  "output HDF5 file (default: <profile stem>_crosscheck.h5 in the current folder)");
-  cc->add_option("--accuracy", cc_accuracy, "Simbody Runge-Kutta-Merson accuracy (default 1e-12)")
+  cc->add_option("--accuracy", cl.cc_accuracy,
+                 "Simbody Runge-Kutta-Merson accuracy (default 1e-12)")
       ->check(Number("in [1e-16, 0.1]", [](double v) { return v >= 1e-16 && v <= 0.1; }));
-  cc->add_option("--until", cc_until,
+  cc->add_option("--until", cl.cc_until,
                  "stop at this time [s] (inside a hold stage or on a stage end)")
       ->check(Number("(finite)", [](double) { return true; }));
-  cc->add_option("--dt", ov.dt, "output sampling interval [s]")->check(Number("> 0", [](double v) {
-    return v > 0.0;
-  }));
-  cc->add_flag("--speed-study", speed_study,
+  cc->add_option("--dt", cl.ov.dt, "output sampling interval [s]")
+      ->check(Number("> 0", [](double v) { return v > 0.0; }));
+  cc->add_flag("--speed-study", cl.speed_study,
                "also run the deployment-speed study: quasi-rigid coupling vs Simbody for "
                "deployments of 1 to 1000 s (geometry-mode profiles)");
-  cc->add_option("--csv", speed_csv, "speed-study CSV (default: <profile stem>_speed_study.csv)");
-  double cc_own_error = 0.0;
-  cc->add_option("--own-error", cc_own_error,
+  cc->add_option("--csv", cl.speed_csv,
+                 "speed-study CSV (default: <profile stem>_speed_study.csv)");
+  cc->add_option("--own-error", cl.cc_own_error,
                  "hinge profiles: also run Simbody at this looser accuracy and print its "
                  "difference from the main run beside every figure (Simbody's own error)")
       ->check(Number("in [1e-16, 0.1]", [](double v) { return v >= 1e-16 && v <= 0.1; }));
@@ -262,26 +293,26 @@ int main(int argc, char** argv) {
       "  deploysim crosscheck deployment_profiles/smallsat_three_stage.yaml --until 300 "
       "--speed-study --csv speed.csv\n"
       "  /usr/bin/python3 tools/plot_speed_study.py speed.csv -o speed.png");
+  return cc;
+}
 #endif
 
 #ifdef DEPLOYSIM_HAVE_SWEEP
-  std::string sweep_path;
-  int sweep_threads = 0;
-  bool resume = false;
+CLI::App* AddSweepCommand(CLI::App& app, CommandLine& cl) {
   CLI::App* swp = app.add_subcommand(
       "sweep",
       "run a parameter sweep (grid and/or Monte Carlo) and write one results table (HDF5)");
-  swp->add_option("sweep", sweep_path, "sweep file (YAML, docs/sweeps.md)")->required();
-  swp->add_option("-o,--output", out_path, "results HDF5 file")->required();
-  swp->add_option("--threads", sweep_threads,
+  swp->add_option("sweep", cl.sweep_path, "sweep file (YAML, docs/sweeps.md)")->required();
+  swp->add_option("-o,--output", cl.out_path, "results HDF5 file")->required();
+  swp->add_option("--threads", cl.sweep_threads,
                   "worker threads (default: all hardware threads; per rank under mpirun)")
       ->check(Number(
           "in [0, " + std::to_string(deploysim::sweep::kMaxThreads) + "]",
           [](double v) { return v >= 0 && v <= deploysim::sweep::kMaxThreads; }, true));
-  swp->add_flag("--resume", resume,
+  swp->add_flag("--resume", cl.resume,
                 "finish an interrupted sweep from its journal <output>.partial");
-  swp->add_flag("--csv", csv, "also write <output>.csv");
-  swp->add_flag("-q,--quiet", quiet, "no progress and no summary");
+  swp->add_flag("--csv", cl.csv, "also write <output>.csv");
+  swp->add_flag("-q,--quiet", cl.quiet, "no progress and no summary");
   swp->footer(
       "Examples:\n"
       "  deploysim sweep sweeps/smallsat_duration_spin.yaml -o smallsat_map.h5\n"
@@ -290,177 +321,245 @@ int main(int argc, char** argv) {
       "  /usr/bin/python3 tools/plot_stability_map.py smallsat_map.h5 -o smallsat_map.png\n"
       "Ctrl-C stops after the cases at hand (exit 130); --resume finishes the sweep.\n"
       "Sweep files and results: docs/sweeps.md");
+  return swp;
+}
 #endif
 
-  CLI::App* meth = app.add_subcommand("methods", "list the integrators");
-
-  // Python tools (python_tool.h): their arguments, --help included, go to the script.
-  CLI::App* rep = app.add_subcommand(
+// Python tools (python_tool.h): their arguments, --help included, go to the script.
+void AddPythonToolCommands(CLI::App& app, Subcommands& cmds) {
+  cmds.rep = app.add_subcommand(
       "report",
       "a self-contained HTML mission report for a design review (deploysim report PROFILE -o "
       "REPORT.html; runs tools/report.py, see deploysim report --help)");
-  CLI::App* view = app.add_subcommand(
+  cmds.view = app.add_subcommand(
       "view",
       "a self-contained 3D viewer page of a trajectory (deploysim view RESULT.h5 -o "
       "RESULT.html; runs tools/view.py, see deploysim view --help)");
-  for (CLI::App* tool : {rep, view}) {
+  for (CLI::App* tool : {cmds.rep, cmds.view}) {
     tool->prefix_command();
     tool->set_help_flag();
   }
+}
 
-  CLI11_PARSE(app, argc, argv);
+// Registers every subcommand, in the order --help lists them.
+Subcommands AddSubcommands(CLI::App& app, CommandLine& cl) {
+  Subcommands cmds;
+  cmds.sim = AddSimulateCommand(app, cl);
+  cmds.ana = AddAnalyzeCommand(app, cl);
+#ifdef DEPLOYSIM_HAVE_CROSSCHECK
+  cmds.cc = AddCrosscheckCommand(app, cl);
+#endif
+#ifdef DEPLOYSIM_HAVE_SWEEP
+  cmds.swp = AddSweepCommand(app, cl);
+#endif
+  cmds.meth = app.add_subcommand("methods", "list the integrators");
+  AddPythonToolCommands(app, cmds);
+  return cmds;
+}
 
-  for (const auto& [tool, script] : {std::pair{rep, "report.py"}, std::pair{view, "view.py"}}) {
+// Replaces this process with the Python tool the command line named. Returns false when
+// it named none; true when the named one could not be started (the error is printed).
+bool ExecNamedPythonTool(const Subcommands& cmds) {
+  for (const auto& [tool, script] :
+       {std::pair{cmds.rep, "report.py"}, std::pair{cmds.view, "view.py"}}) {
     if (!tool->parsed()) continue;
     std::string error;
     deploysim::cli::ExecPythonTool(script, tool->remaining(), error);
     std::cerr << "deploysim: error: " << error << "\n";
-    return kExitBadInput;
+    return true;
   }
+  return false;
+}
+
+// `deploysim methods`: every integrator with its summary, order and reference.
+int ListMethods() {
+  for (const std::string& name : deploysim::analysis::StepperNames()) {
+    const auto s = deploysim::analysis::MakeStepper(name);
+    std::cout << fmt::format("{:<13} {}\n{:<13} order {}{}; {}\n", name, s->info().summary, "",
+                             s->info().order, s->info().adaptive ? ", adaptive" : ", fixed step",
+                             s->info().reference);
+  }
+  return 0;
+}
+
+#ifdef DEPLOYSIM_HAVE_SWEEP
+// `deploysim sweep`: runs the sweep file into one results table; kExitInterrupted when
+// Ctrl-C stopped it (the journal then lets --resume finish it).
+int RunSweepCommand(const CommandLine& cl, const deploysim::sweep::MpiSession& mpi) {
+  const deploysim::sweep::SweepSpec spec = deploysim::sweep::LoadSweep(cl.sweep_path);
+  const std::vector<std::string> inputs{cl.sweep_path, spec.base.source, spec.base.model.source};
+  RefuseOutputOver(cl.out_path, inputs);
+  if (cl.csv) RefuseOutputOver(cl.out_path + ".csv", inputs);
+  deploysim::sweep::RunOptions o;
+  o.output = cl.out_path;
+  o.csv = cl.csv;
+  o.resume = cl.resume;
+  o.threads = cl.sweep_threads;
+  o.progress = cl.quiet ? nullptr : &std::cerr;
+  o.progress_tty = isatty(fileno(stderr)) != 0;
+  o.cancel = &deploysim::sweep::InstallInterruptHandlers();
+  o.mpi = &mpi;
+  const deploysim::sweep::RunSummary s = deploysim::sweep::RunSweep(spec, o);
+  if (!s.complete) {
+    if (mpi.rank() == 0) {
+      std::cerr << "deploysim: interrupted: " << deploysim::sweep::FormatSummary(s, o) << "\n";
+    }
+    return kExitInterrupted;
+  }
+  if (!cl.quiet && mpi.rank() == 0) std::cout << deploysim::sweep::FormatSummary(s, o) << "\n";
+  return 0;
+}
+#endif
+
+// `deploysim simulate`: runs the profile into its trajectory file(s), then prints the
+// summary, the deployment timeline and, on request, the coupling comparison.
+int RunSimulate(CommandLine& cl, const deploysim::schedule::Profile& profile, bool comparable) {
+  if (cl.out_path.empty()) {
+    cl.out_path = std::filesystem::path(cl.profile_path).stem().string() + ".h5";
+  }
+  const std::vector<std::string> inputs{cl.profile_path, profile.model.source};
+  RefuseOutputOver(cl.out_path, inputs);
+  if (cl.csv) RefuseOutputOver(cl.out_path + ".csv", inputs);
+  // Streamed to both temporaries as it runs; both complete before either is renamed
+  // (io::TrajectoryOutputs). SIGINT/SIGTERM/SIGHUP remove named temporaries.
+  deploysim::io::RemoveTemporariesOnSignals();
+  deploysim::io::TrajectoryOutputs outputs(cl.out_path, cl.csv ? cl.out_path + ".csv" : "",
+                                           profile);
+  const MissionResult r = NamingFile(
+      cl.profile_path,
+      [&] { return deploysim::analysis::RunMission(profile, outputs, Progress(cl.quiet)); },
+      {cl.out_path, cl.out_path + ".csv"});
+  if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
+    std::cerr << "deploysim: error: " << cl.profile_path << ": integration " << r.message << "\n";
+    return 3;
+  }
+  outputs.Finish(r);
+  outputs.Commit();
+  if (cl.quiet) return 0;
+  std::cout << deploysim::cli::FormatSummary(r);
+  const std::string timeline = deploysim::cli::FormatTimeline(r);
+  if (!timeline.empty()) std::cout << "\n" << timeline;
+  if (cl.compare && profile.is_hinge_profile()) {
+    std::cout << "\n--compare-coupling: not applicable to a hinge profile (free hinges "
+                 "are coupled exactly)\n";
+  }
+  if (cl.compare && comparable) {
+    std::cout << "\n"
+              << deploysim::cli::FormatCouplingComparison(NamingFile(cl.profile_path, [&] {
+                   return deploysim::analysis::CompareCouplings(profile);
+                 }));
+  }
+  std::cout << "\nwrote " << cl.out_path << (cl.csv ? " and " + cl.out_path + ".csv" : "") << "\n";
+  return 0;
+}
+
+#ifdef DEPLOYSIM_HAVE_CROSSCHECK
+// `deploysim crosscheck`: the reduced model against Simbody (the free-hinge model for a
+// hinge profile), then on request the deployment-speed study.
+int RunCrosscheck(CommandLine& cl, const deploysim::schedule::Profile& profile, bool geometry) {
+  namespace xc = deploysim::crosscheck;
+  if (cl.speed_study && (!geometry || profile.is_hinge_profile())) {
+    throw std::invalid_argument(cl.profile_path +
+                                ": --speed-study needs a geometry-mode stage profile");
+  }
+  if (cl.cc_own_error > 0.0 && !profile.is_hinge_profile()) {
+    throw std::invalid_argument(cl.profile_path + ": --own-error is for hinge profiles");
+  }
+  const std::string stem = std::filesystem::path(cl.profile_path).stem().string();
+  if (cl.out_path.empty()) cl.out_path = stem + "_crosscheck.h5";
+  RefuseOutputOver(cl.out_path, {cl.profile_path, profile.model.source});
+  if (profile.is_hinge_profile()) {
+    // Free, prescribed and locked hinges: the independent Simbody model of free hinges.
+    xc::FreeHingeCrosscheckOptions o;
+    o.accuracy = cl.cc_accuracy;
+    o.own_error_accuracy = cl.cc_own_error;
+    o.t_end = cl.cc_until;
+    const xc::FreeHingeCrosscheckResult r =
+        NamingFile(cl.profile_path, [&] { return xc::RunFreeHingeCrosscheck(profile, o); });
+    xc::WriteCrosscheckFile(cl.out_path, xc::AsCrosscheckResult(r));
+    std::cout << xc::FormatFreeHingeCrosscheckTable(r) << "\nwrote " << cl.out_path << "\n";
+    return 0;
+  }
+  xc::CrosscheckOptions o;
+  o.accuracy = cl.cc_accuracy;
+  o.t_end = cl.cc_until;
+  const xc::CrosscheckResult r =
+      NamingFile(cl.profile_path, [&] { return xc::RunCrosscheck(profile, o); });
+  xc::WriteCrosscheckFile(cl.out_path, r);
+  std::cout << xc::FormatCrosscheckTable(r) << "\nwrote " << cl.out_path << "\n";
+  if (cl.speed_study) {
+    xc::SpeedStudyOptions so;
+    so.accuracy = cl.cc_accuracy;
+    const xc::SpeedStudyResult st = xc::SpeedStudy(profile, so);
+    if (cl.speed_csv.empty()) cl.speed_csv = stem + "_speed_study.csv";
+    xc::WriteSpeedStudyCsv(cl.speed_csv, st);
+    std::cout << "\n"
+              << xc::FormatSpeedStudyTable(st) << "\nwrote " << cl.speed_csv
+              << " (plot: /usr/bin/python3 tools/plot_speed_study.py " << cl.speed_csv << ")\n";
+  }
+  return 0;
+}
+#endif
+
+// `deploysim analyze`: the summary and timeline tables (or JSON), with the coupling
+// comparison where it applies.
+int RunAnalyze(const CommandLine& cl,
+               const deploysim::schedule::Profile& profile,
+               bool comparable) {
+  // The table needs no trajectory: its samples are dropped as they come (bounded memory).
+  DiscardSamples discard;
+  const MissionResult r = NamingFile(
+      cl.profile_path, [&] { return deploysim::analysis::RunMission(profile, discard); });
+  std::optional<deploysim::analysis::CouplingComparison> c;
+  if (comparable) {
+    c = NamingFile(cl.profile_path, [&] { return deploysim::analysis::CompareCouplings(profile); });
+  }
+  if (cl.json) {
+    std::cout << deploysim::cli::FormatJson(r, c ? &*c : nullptr);
+  } else {
+    std::cout << deploysim::cli::FormatSummary(r);
+    const std::string timeline = deploysim::cli::FormatTimeline(r);
+    if (!timeline.empty()) std::cout << "\n" << timeline;
+    if (c) std::cout << "\n" << deploysim::cli::FormatCouplingComparison(*c);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // A file size limit (ulimit -f) then fails a write with EFBIG, reported by name.
+  std::signal(SIGXFSZ, SIG_IGN);
+#ifdef DEPLOYSIM_HAVE_SWEEP
+  // First: under mpirun, MPI_Init may consume arguments. A no-op otherwise.
+  deploysim::sweep::MpiSession mpi(&argc, &argv);
+#endif
+  CLI::App app{
+      "deploysim: does a spinning spacecraft stay put when it deploys its panels, or "
+      "does it start to tumble? (Dzhanibekov effect with time-varying inertia)"};
+  ConfigureApp(app);
+  CommandLine cl;
+  const Subcommands cmds = AddSubcommands(app, cl);
+
+  CLI11_PARSE(app, argc, argv);
+
+  if (ExecNamedPythonTool(cmds)) return kExitBadInput;
 
   try {
-    if (meth->parsed()) {
-      for (const std::string& name : deploysim::analysis::StepperNames()) {
-        const auto s = deploysim::analysis::MakeStepper(name);
-        std::cout << fmt::format(
-            "{:<13} {}\n{:<13} order {}{}; {}\n", name, s->info().summary, "", s->info().order,
-            s->info().adaptive ? ", adaptive" : ", fixed step", s->info().reference);
-      }
-      return 0;
-    }
+    if (cmds.meth->parsed()) return ListMethods();
 #ifdef DEPLOYSIM_HAVE_SWEEP
-    if (swp->parsed()) {
-      const deploysim::sweep::SweepSpec spec = deploysim::sweep::LoadSweep(sweep_path);
-      const std::vector<std::string> inputs{sweep_path, spec.base.source, spec.base.model.source};
-      RefuseOutputOver(out_path, inputs);
-      if (csv) RefuseOutputOver(out_path + ".csv", inputs);
-      deploysim::sweep::RunOptions o;
-      o.output = out_path;
-      o.csv = csv;
-      o.resume = resume;
-      o.threads = sweep_threads;
-      o.progress = quiet ? nullptr : &std::cerr;
-      o.progress_tty = isatty(fileno(stderr)) != 0;
-      o.cancel = &deploysim::sweep::InstallInterruptHandlers();
-      o.mpi = &mpi;
-      const deploysim::sweep::RunSummary s = deploysim::sweep::RunSweep(spec, o);
-      if (!s.complete) {
-        if (mpi.rank() == 0) {
-          std::cerr << "deploysim: interrupted: " << deploysim::sweep::FormatSummary(s, o) << "\n";
-        }
-        return kExitInterrupted;
-      }
-      if (!quiet && mpi.rank() == 0) std::cout << deploysim::sweep::FormatSummary(s, o) << "\n";
-      return 0;
-    }
+    if (cmds.swp->parsed()) return RunSweepCommand(cl, mpi);
 #endif
-    const deploysim::schedule::Profile profile = Load(profile_path, ov);
+    const deploysim::schedule::Profile profile = Load(cl.profile_path, cl.ov);
     const bool geometry = profile.mode == deploysim::schedule::Mode::kGeometry;
     // The exact vs quasi-rigid comparison concerns prescribed stages; free hinges are
     // always coupled exactly.
     const bool comparable = geometry && !profile.is_hinge_profile();
-    if (sim->parsed()) {
-      if (out_path.empty()) out_path = std::filesystem::path(profile_path).stem().string() + ".h5";
-      const std::vector<std::string> inputs{profile_path, profile.model.source};
-      RefuseOutputOver(out_path, inputs);
-      if (csv) RefuseOutputOver(out_path + ".csv", inputs);
-      // Streamed to both temporaries as it runs; both complete before either is renamed
-      // (io::TrajectoryOutputs). SIGINT/SIGTERM/SIGHUP remove named temporaries.
-      deploysim::io::RemoveTemporariesOnSignals();
-      deploysim::io::TrajectoryOutputs outputs(out_path, csv ? out_path + ".csv" : "", profile);
-      const MissionResult r = NamingFile(
-          profile_path,
-          [&] { return deploysim::analysis::RunMission(profile, outputs, Progress(quiet)); },
-          {out_path, out_path + ".csv"});
-      if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
-        std::cerr << "deploysim: error: " << profile_path << ": integration " << r.message << "\n";
-        return 3;
-      }
-      outputs.Finish(r);
-      outputs.Commit();
-      if (!quiet) {
-        std::cout << deploysim::cli::FormatSummary(r);
-        const std::string timeline = deploysim::cli::FormatTimeline(r);
-        if (!timeline.empty()) std::cout << "\n" << timeline;
-        if (compare && profile.is_hinge_profile()) {
-          std::cout << "\n--compare-coupling: not applicable to a hinge profile (free hinges "
-                       "are coupled exactly)\n";
-        }
-        if (compare && comparable) {
-          std::cout << "\n"
-                    << deploysim::cli::FormatCouplingComparison(NamingFile(profile_path, [&] {
-                         return deploysim::analysis::CompareCouplings(profile);
-                       }));
-        }
-        std::cout << "\nwrote " << out_path << (csv ? " and " + out_path + ".csv" : "") << "\n";
-      }
-      return 0;
-    }
+    if (cmds.sim->parsed()) return RunSimulate(cl, profile, comparable);
 #ifdef DEPLOYSIM_HAVE_CROSSCHECK
-    if (cc->parsed()) {
-      namespace xc = deploysim::crosscheck;
-      if (speed_study && (!geometry || profile.is_hinge_profile())) {
-        throw std::invalid_argument(profile_path +
-                                    ": --speed-study needs a geometry-mode stage profile");
-      }
-      if (cc_own_error > 0.0 && !profile.is_hinge_profile()) {
-        throw std::invalid_argument(profile_path + ": --own-error is for hinge profiles");
-      }
-      const std::string stem = std::filesystem::path(profile_path).stem().string();
-      if (out_path.empty()) out_path = stem + "_crosscheck.h5";
-      RefuseOutputOver(out_path, {profile_path, profile.model.source});
-      if (profile.is_hinge_profile()) {
-        // Free, prescribed and locked hinges: the independent Simbody model of free hinges.
-        xc::FreeHingeCrosscheckOptions o;
-        o.accuracy = cc_accuracy;
-        o.own_error_accuracy = cc_own_error;
-        o.t_end = cc_until;
-        const xc::FreeHingeCrosscheckResult r =
-            NamingFile(profile_path, [&] { return xc::RunFreeHingeCrosscheck(profile, o); });
-        xc::WriteCrosscheckFile(out_path, xc::AsCrosscheckResult(r));
-        std::cout << xc::FormatFreeHingeCrosscheckTable(r) << "\nwrote " << out_path << "\n";
-        return 0;
-      }
-      xc::CrosscheckOptions o;
-      o.accuracy = cc_accuracy;
-      o.t_end = cc_until;
-      const xc::CrosscheckResult r =
-          NamingFile(profile_path, [&] { return xc::RunCrosscheck(profile, o); });
-      xc::WriteCrosscheckFile(out_path, r);
-      std::cout << xc::FormatCrosscheckTable(r) << "\nwrote " << out_path << "\n";
-      if (speed_study) {
-        xc::SpeedStudyOptions so;
-        so.accuracy = cc_accuracy;
-        const xc::SpeedStudyResult st = xc::SpeedStudy(profile, so);
-        if (speed_csv.empty()) speed_csv = stem + "_speed_study.csv";
-        xc::WriteSpeedStudyCsv(speed_csv, st);
-        std::cout << "\n"
-                  << xc::FormatSpeedStudyTable(st) << "\nwrote " << speed_csv
-                  << " (plot: /usr/bin/python3 tools/plot_speed_study.py " << speed_csv << ")\n";
-      }
-      return 0;
-    }
+    if (cmds.cc->parsed()) return RunCrosscheck(cl, profile, geometry);
 #endif
-    if (ana->parsed()) {
-      // The table needs no trajectory: its samples are dropped as they come (bounded memory).
-      DiscardSamples discard;
-      const MissionResult r = NamingFile(
-          profile_path, [&] { return deploysim::analysis::RunMission(profile, discard); });
-      std::optional<deploysim::analysis::CouplingComparison> c;
-      if (comparable) {
-        c = NamingFile(profile_path,
-                       [&] { return deploysim::analysis::CompareCouplings(profile); });
-      }
-      if (json) {
-        std::cout << deploysim::cli::FormatJson(r, c ? &*c : nullptr);
-      } else {
-        std::cout << deploysim::cli::FormatSummary(r);
-        const std::string timeline = deploysim::cli::FormatTimeline(r);
-        if (!timeline.empty()) std::cout << "\n" << timeline;
-        if (c) std::cout << "\n" << deploysim::cli::FormatCouplingComparison(*c);
-      }
-      return 0;
-    }
+    if (cmds.ana->parsed()) return RunAnalyze(cl, profile, comparable);
   } catch (const std::exception& e) {
     std::cerr << "deploysim: error: " << e.what() << "\n";
 #ifdef DEPLOYSIM_HAVE_SWEEP

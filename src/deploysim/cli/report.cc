@@ -8,20 +8,17 @@
 #include <string>
 #include <vector>
 
+#include "deploysim/math/number_format.h"
+
 namespace deploysim::cli {
 
 namespace {
 
-std::string Num(double v) {
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  if (std::isnan(v)) return "nan";
-  return fmt::format("{:.6g}", v);
-}
+std::string Num(double v) { return math::FormatSignificant(v, 6); }
 
-std::string JsonNum(double v) {
-  if (!std::isfinite(v)) return "null";
-  return fmt::format("{:.17g}", v);
-}
+// JSON has no nan or inf: null. Finite values as the shortest text that reads back
+// exactly.
+std::string JsonNum(double v) { return std::isfinite(v) ? math::FormatNumber(v) : "null"; }
 
 std::string JsonStr(const std::string& s) {
   std::string o = "\"";

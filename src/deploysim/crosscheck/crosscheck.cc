@@ -21,11 +21,8 @@ namespace {
 // Times within this (relative to max(1, |t|)) are the same instant.
 constexpr double kSameTime = 1e-9;
 
-std::string Num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.3g", x);
-  return buf;
-}
+// Three significant digits: the messages' numbers are estimates.
+std::string Num(double x) { return math::FormatSignificant(x); }
 
 /// The project's number formatting (math/number_format.h) under a short local name.
 constexpr auto& Exact = math::FormatNumber;

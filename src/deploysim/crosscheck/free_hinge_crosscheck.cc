@@ -19,11 +19,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kQuarterPi = 0.78539816339744831;
 
-std::string Num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.3g", x);
-  return buf;
-}
+// Three significant digits: the messages' numbers are estimates.
+std::string Num(double x) { return math::FormatSignificant(x); }
 
 /// The events after the start (releases at t_begin are the initial condition).
 std::vector<analysis::HingeEvent> AfterStart(const std::vector<analysis::HingeEvent>& e,

@@ -1,4 +1,4 @@
-// The independent Simbody model of free hinges (issue 9). See simbody_free_hinges.h.
+// The independent Simbody model of free hinges. See simbody_free_hinges.h.
 // Nothing here uses the reduced model's dynamics: the bodies, forces and the integration
 // are Simbody's, and the event impulses come from Simbody's mass matrix.
 

@@ -18,11 +18,7 @@ namespace deploysim::crosscheck {
 
 namespace {
 
-std::string Num(double x, const char* format = "%.3g") {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), format, x);
-  return buf;
-}
+std::string Num(double x, int digits = 3) { return math::FormatSignificant(x, digits); }
 
 void Require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("speed study: " + what);
@@ -50,7 +46,7 @@ schedule::Profile DeploymentProfile(const schedule::Profile& base,
   Require(from != to,
           base.source + ": the first and last configurations are the same ('" + from + "')");
   schedule::Profile p = base;
-  p.name = base.name + "_speed_" + Num(duration, "%g") + "s";
+  p.name = base.name + "_speed_" + Num(duration, 6) + "s";
   p.coupling = coupling;
   p.output.dt = options.output_dt;
   const double t0 = base.t_begin();

@@ -12,6 +12,7 @@
 #include "deploysim/crosscheck/hinge_history.h"
 #include "deploysim/dynamics/rigid_body.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/schedule/deployment_schedule.h"
 
@@ -19,11 +20,8 @@ namespace deploysim::crosscheck {
 
 namespace {
 
-std::string Num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.3g", x);
-  return buf;
-}
+// Three significant digits: the messages' numbers are estimates.
+std::string Num(double x) { return math::FormatSignificant(x); }
 
 /// First time hinge k reaches `open` (moving from `closed`), linear between knots.
 double LatchTime(const HingeHistory& h, Eigen::Index k, double closed, double open) {

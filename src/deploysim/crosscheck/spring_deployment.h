@@ -1,13 +1,13 @@
 #pragma once
 
-/// Spring-driven deployment (issue 4; how real panels deploy): Simbody releases the hinges
+/// Spring-driven deployment (how real panels deploy): Simbody releases the hinges
 /// at t_begin from the profile's first configuration, torsional springs and dampers
 /// swing them open and a stiff stop latches them at the open angle (SpringDrive in
 /// simbody_satellite.h). Simbody records the hinge angles, rates and accelerations at
 /// every accepted step; the reduced model replays that history with exact coupling
 /// (HingeHistorySource: quintic Hermite interpolation, knots as breakpoints) from the same
 /// initial attitude and momentum, and the two are compared on the output grid. The
-/// replay agrees to the interpolation and integration error (issue 4 acceptance:
+/// replay agrees to the interpolation and integration error (tested:
 /// <= 1e-7 relative in H_B).
 
 #include <Eigen/Core>

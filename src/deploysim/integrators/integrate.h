@@ -1,7 +1,7 @@
 #pragma once
 
 /// The integration driver shared by every stepper: splits [t0, t_end] at the source's
-/// breakpoints (steps land on them exactly and restart, DESIGN.md 2.5), controls the
+/// breakpoints (steps land on them exactly and restart, docs/design.md 2.5), controls the
 /// step size of adaptive methods, samples the solution on a requested output grid
 /// independent of the steps, and locates events (sign changes of scalar functions of
 /// the state, e.g. the Dzhanibekov flip).

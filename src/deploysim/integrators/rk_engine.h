@@ -1,8 +1,10 @@
 #pragma once
 
-/// The one explicit Runge-Kutta loop of the project, generic over the state size, used
-/// by the rigid-body stepper (explicit_rk.h) and by tests on other ODEs (the seed's
-/// appendix B oscillator), so that every tableau is exercised by the same code.
+/// The explicit Runge-Kutta stage loop in a vector space, generic over the state size,
+/// used by the rigid-body stepper in (H_B, q_NB) coordinates (explicit_rk.h) and by tests
+/// on other ODEs (the seed's appendix B oscillator). The Lie-group steppers (rkmk.cc,
+/// shape_integrate.cc) have stage loops of their own: their stages live in the Lie
+/// algebra and are mapped back through exp, which this loop does not model.
 
 #include <Eigen/Core>
 #include <array>

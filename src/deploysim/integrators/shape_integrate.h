@@ -1,12 +1,12 @@
 #pragma once
 
-/// Integration of a body with free shape coordinates (dynamics::ShapeSystem, DESIGN.md
-/// 2.7): Runge-Kutta-Munthe-Kaas on SO(3) x R^(2m). The attitude is advanced on SO(3)
-/// exactly as by the rigid-body RKMK steppers (rkmk.h: relative to an anchor state, the
-/// spin about h_N integrated exactly, the rounding carried in double-double), and
-/// H_B = R_NB^T h_N is derived from it, so h_N is conserved to rounding by construction
-/// whatever the hinges do; the shape state x = (theta_f, p_f) is advanced by the same
-/// tableau as a vector. The Lie-algebra stage equation is
+/// Integration of a body with free shape coordinates (dynamics::ShapeSystem,
+/// docs/design.md 2.7): Runge-Kutta-Munthe-Kaas on SO(3) x R^(2m). The attitude is advanced on
+/// SO(3) exactly as by the rigid-body RKMK steppers (rkmk.h: relative to an anchor state, the spin
+/// about h_N integrated exactly, the rounding carried in double-double), and H_B = R_NB^T h_N is
+/// derived from it, so h_N is conserved to rounding by construction whatever the hinges do; the
+/// shape state x = (theta_f, p_f) is advanced by the same tableau as a vector. The Lie-algebra
+/// stage equation is
 ///   u' = J_r^-1(u) (w - sigma H),  H = Exp(-u) H_B(t0),  sigma = w(t0).H(t0) / |H|^2,
 /// with R(t0 + tau) = Exp(sigma tau h_N) R(t0) Exp(u(tau)).
 ///

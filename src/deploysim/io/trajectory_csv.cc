@@ -9,15 +9,15 @@
 #include <vector>
 
 #include "deploysim/io/atomic_file.h"
-#include "deploysim/io/number_format.h"
 #include "deploysim/io/trajectory_file.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/math/quaternion.h"
 
 namespace deploysim::io {
 
 namespace {
 
-using internal::FormatNumber;
+using math::FormatNumber;
 
 std::vector<std::string> Header(std::size_t hinge_columns) {
   std::vector<std::string> h = {"time [s]"};
@@ -40,7 +40,7 @@ std::vector<std::string> Header(std::size_t hinge_columns) {
   for (std::size_t k = 0; k < hinge_columns; ++k) {
     h.push_back("hinge_angle_" + std::to_string(k) + " [rad]");
   }
-  // Since issue 9: after the older columns, which keep their positions.
+  // The free-hinge columns come after the older ones, which keep their positions.
   h.push_back("energy_spring [J]");
   h.push_back("energy_total [J]");
   for (std::size_t k = 0; k < hinge_columns; ++k) {

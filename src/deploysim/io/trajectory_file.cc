@@ -14,7 +14,7 @@
 #include "deploysim/io/atomic_file.h"
 #include "deploysim/io/hdf5_common.h"
 #include "deploysim/io/hdf5_writer.h"
-#include "deploysim/io/number_format.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/math/quaternion.h"
 
 #ifndef DEPLOYSIM_VERSION
@@ -26,7 +26,7 @@ namespace deploysim::io {
 namespace {
 
 using analysis::Trajectory;
-using internal::FormatNumber;
+using math::FormatNumber;
 
 using hdf5::QuietErrors;
 using hdf5::TextType;
@@ -653,8 +653,8 @@ void ReadHingeEvents(const std::string& path, const H5::Group& g, TrajectoryFile
   }
 }
 
-TrajectoryFile ReadContents(const std::string& path) {
-  TrajectoryFile out;
+/// `path` can be opened for reading and holds an HDF5 file.
+void CheckReadableHdf5(const std::string& path) {
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw std::runtime_error(path + ": cannot read: " + std::strerror(errno));
@@ -662,8 +662,10 @@ TrajectoryFile ReadContents(const std::string& path) {
   if (H5Fis_hdf5(path.c_str()) <= 0) {
     throw std::runtime_error(path + ": not an HDF5 file");
   }
-  const H5::H5File file(path, H5F_ACC_RDONLY);
+}
 
+/// The file's string attributes; its schema_version must be the one this deploysim reads.
+void ReadRootAttributes(const std::string& path, const H5::H5File& file, TrajectoryFile& out) {
   for (int i = 0; i < file.getNumAttrs(); ++i) {
     const H5::Attribute a = file.openAttribute(static_cast<unsigned>(i));
     if (a.getTypeClass() != H5T_STRING) continue;
@@ -679,18 +681,79 @@ TrajectoryFile ReadContents(const std::string& path) {
         (version == out.attributes.end() ? std::string("(missing)") : version->second) +
         ": this deploysim reads schema_version " + std::to_string(kTrajectorySchemaVersion));
   }
+}
 
+/// The per-sample dataset /<name> of shape {n, trailing...}: one row per output time.
+std::vector<double> ReadSampleRows(const std::string& path,
+                                   const H5::H5File& file,
+                                   const std::string& name,
+                                   const std::vector<hsize_t>& trailing,
+                                   hsize_t n,
+                                   TrajectoryFile& out) {
+  hsize_t rows = 0;
+  std::vector<double> flat = ReadDoubles(path, file, "", name, trailing, rows, out);
+  if (rows != n) {
+    throw std::runtime_error(path + ": /" + name + ": has " + std::to_string(rows) +
+                             " rows, /time has " + std::to_string(n));
+  }
+  return flat;
+}
+
+/// The per-panel dataset /<name> of shape {n, panels}, appended to `into` row by row.
+/// /hinge_angles sets `panels`; any other must have as many columns (when n > 0).
+void ReadPanelRows(const std::string& path,
+                   const H5::H5File& file,
+                   const std::string& name,
+                   hsize_t n,
+                   std::size_t& panels,
+                   std::vector<Eigen::VectorXd>& into,
+                   TrajectoryFile& out) {
+  const std::vector<double> flat = ReadSampleRows(path, file, name, {0}, n, out);
+  const std::size_t width = n == 0 ? 0 : flat.size() / n;
+  if (name == "hinge_angles") {
+    panels = width;
+  } else if (n > 0 && width != panels) {
+    throw std::runtime_error(path + ": /" + name + ": has " + std::to_string(width) +
+                             " columns, /hinge_angles has " + std::to_string(panels));
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    into.push_back(
+        Eigen::Map<const Eigen::VectorXd>(&flat[k * width], static_cast<Eigen::Index>(width)));
+  }
+}
+
+/// The per-sample datasets of the free-hinge outputs and the geometry mode, n rows each:
+/// the free-hinge outputs come all or none (none in files written before they were
+/// added); /hinge_angles, /hinge_rates and /panel_names only in geometry mode.
+void ReadHingeSamples(const std::string& path,
+                      const H5::H5File& file,
+                      hsize_t n,
+                      TrajectoryFile& out) {
+  Trajectory& t = out.trajectory;
+  out.has_hinge_outputs = file.nameExists("energy_spring");
+  const bool geometry = file.nameExists("hinge_angles");
+  std::size_t panels = 0;
+  if (geometry) ReadPanelRows(path, file, "hinge_angles", n, panels, t.hinge_angles, out);
+  if (!out.has_hinge_outputs) return;
+  t.energy_spring = ReadSampleRows(path, file, "energy_spring", {}, n, out);
+  out.energy_total = ReadSampleRows(path, file, "energy_total", {}, n, out);
+  if (!geometry) return;
+  ReadPanelRows(path, file, "hinge_rates", n, panels, t.hinge_rates, out);
+  out.panel_names = ReadStrings(path, file, "", "panel_names", out);
+  if (n > 0 && out.panel_names.size() != panels) {
+    throw std::runtime_error(path + ": /panel_names: has " +
+                             std::to_string(out.panel_names.size()) + " names, /hinge_angles has " +
+                             std::to_string(panels) + " columns");
+  }
+}
+
+/// The per-sample datasets: /time, then every other one with as many rows.
+void ReadSamples(const std::string& path, const H5::H5File& file, TrajectoryFile& out) {
   Trajectory& t = out.trajectory;
   hsize_t n = 0;
   t.time = ReadDoubles(path, file, "", "time", {}, n, out);
   auto read_rows = [&](const std::string& name, const std::vector<hsize_t>& trailing) {
-    hsize_t rows = 0;
-    std::vector<double> flat = ReadDoubles(path, file, "", name, trailing, rows, out);
-    if (rows != n) {
-      throw std::runtime_error(path + ": /" + name + ": has " + std::to_string(rows) +
-                               " rows, /time has " + std::to_string(n));
-    }
-    return flat;
+    return ReadSampleRows(path, file, name, trailing, n, out);
   };
   t.H_B = Vec3Rows(read_rows("H_B", {3}), n);
   t.w_NB_B = Vec3Rows(read_rows("w_NB_B", {3}), n);
@@ -711,39 +774,12 @@ TrajectoryFile ReadContents(const std::string& path) {
   t.energy_rigid = read_rows("energy_rigid", {});
   t.euler_313 = Vec3Rows(read_rows("euler_313", {3}), n);
   t.spin_axis_angle = read_rows("spin_axis_angle", {});
-  // The free-hinge outputs (issue 9): all or none (none in files written before).
-  out.has_hinge_outputs = file.nameExists("energy_spring");
-  const bool geometry = file.nameExists("hinge_angles");
-  std::size_t panels = 0;
-  auto per_panel_rows = [&](const std::string& name, std::vector<Eigen::VectorXd>& into) {
-    const std::vector<double> flat = read_rows(name, {0});
-    const std::size_t width = n == 0 ? 0 : flat.size() / n;
-    if (name == "hinge_angles") {
-      panels = width;
-    } else if (n > 0 && width != panels) {
-      throw std::runtime_error(path + ": /" + name + ": has " + std::to_string(width) +
-                               " columns, /hinge_angles has " + std::to_string(panels));
-    }
-    for (std::size_t k = 0; k < n; ++k) {
-      into.push_back(
-          Eigen::Map<const Eigen::VectorXd>(&flat[k * width], static_cast<Eigen::Index>(width)));
-    }
-  };
-  if (geometry) per_panel_rows("hinge_angles", t.hinge_angles);
-  if (out.has_hinge_outputs) {
-    t.energy_spring = read_rows("energy_spring", {});
-    out.energy_total = read_rows("energy_total", {});
-    if (geometry) {
-      per_panel_rows("hinge_rates", t.hinge_rates);
-      out.panel_names = ReadStrings(path, file, "", "panel_names", out);
-      if (n > 0 && out.panel_names.size() != panels) {
-        throw std::runtime_error(
-            path + ": /panel_names: has " + std::to_string(out.panel_names.size()) +
-            " names, /hinge_angles has " + std::to_string(panels) + " columns");
-      }
-    }
-  }
+  ReadHingeSamples(path, file, n, out);
+}
 
+/// /events: located and predicted flips; with the free-hinge outputs also the 45-degree
+/// crossings, the latch times and the hinge event table.
+void ReadEvents(const std::string& path, const H5::H5File& file, TrajectoryFile& out) {
   hsize_t rows = 0;
   const H5::Group events = OpenGroup(path, file, "events");
   out.flip_times = ReadDoubles(path, events, "/events", "flip_time", {}, rows, out);
@@ -756,14 +792,28 @@ TrajectoryFile ReadContents(const std::string& path) {
     out.hinge_latch_times = ReadDoubles(path, file, "", "hinge_latch_time", {}, rows, out);
     ReadHingeEvents(path, OpenGroup(path, events, "hinge"), out);
   }
+}
 
+/// The columns of /stages, one entry per stage each.
+struct StageColumns {
+  std::size_t count = 0;
+  std::vector<double> t_begin, t_end, moments, one_minus_k2, separatrix, half_period, max_diff;
+  std::vector<long long> index, rigid, rigid_only, predicted, observed;
+  std::vector<std::string> names, laws, from, to, roles, regimes, caveats;
+};
+
+/// Reads the columns of /stages in file order; each must have as many rows as t_begin.
+StageColumns ReadStageColumns(const std::string& path,
+                              const H5::H5File& file,
+                              TrajectoryFile& out) {
   const H5::Group stages = OpenGroup(path, file, "stages");
   const std::string sp = "/stages";
   hsize_t stage_count = 0;
-  const std::vector<double> t_begin =
-      ReadDoubles(path, stages, sp, "t_begin", {}, stage_count, out);
-  const std::size_t count = static_cast<std::size_t>(stage_count);
+  StageColumns c;
+  c.t_begin = ReadDoubles(path, stages, sp, "t_begin", {}, stage_count, out);
+  c.count = static_cast<std::size_t>(stage_count);
   auto doubles = [&](const std::string& name, const std::vector<hsize_t>& trailing) {
+    hsize_t rows = 0;
     std::vector<double> v = ReadDoubles(path, stages, sp, name, trailing, rows, out);
     if (rows != stage_count) {
       throw std::runtime_error(path + ": /stages/" + name + ": has " + std::to_string(rows) +
@@ -773,65 +823,75 @@ TrajectoryFile ReadContents(const std::string& path) {
   };
   auto strings = [&](const std::string& name) {
     std::vector<std::string> v = ReadStrings(path, stages, sp, name, out);
-    if (v.size() != count) {
+    if (v.size() != c.count) {
       throw std::runtime_error(path + ": /stages/" + name + ": columns of different lengths");
     }
     return v;
   };
   auto integers = [&](const std::string& name) {
     std::vector<long long> v = ReadIntegers(path, stages, sp, name, out);
-    if (v.size() != count) {
+    if (v.size() != c.count) {
       throw std::runtime_error(path + ": /stages/" + name + ": columns of different lengths");
     }
     return v;
   };
-  const std::vector<long long> index = integers("index");
-  const std::vector<double> t_end = doubles("t_end", {});
-  const std::vector<std::string> names = strings("name");
-  const std::vector<std::string> laws = strings("law");
-  const std::vector<std::string> from = strings("from");
-  const std::vector<std::string> to = strings("to");
-  const std::vector<long long> rigid = integers("rigid");
-  const std::vector<double> moments = doubles("moments_end", {3});
-  const std::vector<std::string> roles = strings("spin_axis_role");
-  const std::vector<std::string> regimes = strings("regime");
-  // Since issue 9 (absent in version 2 files written before).
-  const std::vector<std::string> caveats =
-      out.has_hinge_outputs ? strings("caveat") : std::vector<std::string>(count);
-  const std::vector<long long> rigid_only =
-      out.has_hinge_outputs ? integers("rigid_body_only") : std::vector<long long>(count, 0);
-  const std::vector<double> one_minus_k2 = doubles("one_minus_k2", {});
-  const std::vector<double> separatrix = doubles("separatrix_distance", {});
-  const std::vector<double> half_period = doubles("predicted_flip_half_period", {});
-  const std::vector<long long> predicted = integers("predicted_flip_count");
-  const std::vector<long long> observed = integers("observed_flip_count");
-  const std::vector<double> max_diff = doubles("max_flip_time_difference", {});
-  for (std::size_t i = 0; i < count; ++i) {
+  c.index = integers("index");
+  c.t_end = doubles("t_end", {});
+  c.names = strings("name");
+  c.laws = strings("law");
+  c.from = strings("from");
+  c.to = strings("to");
+  c.rigid = integers("rigid");
+  c.moments = doubles("moments_end", {3});
+  c.roles = strings("spin_axis_role");
+  c.regimes = strings("regime");
+  // caveat and rigid_body_only came with the free-hinge outputs (absent in version 2
+  // files written before them).
+  c.caveats = out.has_hinge_outputs ? strings("caveat") : std::vector<std::string>(c.count);
+  c.rigid_only =
+      out.has_hinge_outputs ? integers("rigid_body_only") : std::vector<long long>(c.count, 0);
+  c.one_minus_k2 = doubles("one_minus_k2", {});
+  c.separatrix = doubles("separatrix_distance", {});
+  c.half_period = doubles("predicted_flip_half_period", {});
+  c.predicted = integers("predicted_flip_count");
+  c.observed = integers("observed_flip_count");
+  c.max_diff = doubles("max_flip_time_difference", {});
+  return c;
+}
+
+/// The /stages table, one row per stage.
+void ReadStages(const std::string& path, const H5::H5File& file, TrajectoryFile& out) {
+  const StageColumns c = ReadStageColumns(path, file, out);
+  for (std::size_t i = 0; i < c.count; ++i) {
     StageRow row;
-    row.index = static_cast<int>(index[i]);
-    row.name = names[i];
-    row.law = laws[i];
-    row.from = from[i];
-    row.to = to[i];
-    row.t_begin = t_begin[i];
-    row.t_end = t_end[i];
-    row.rigid = rigid[i] != 0;
-    row.moments_end = math::Vec3(moments[3 * i], moments[3 * i + 1], moments[3 * i + 2]);
-    row.spin_axis_role = roles[i];
-    row.regime = regimes[i];
-    row.one_minus_k2 = one_minus_k2[i];
-    row.separatrix_distance = separatrix[i];
-    row.predicted_flip_half_period = half_period[i];
-    row.predicted_flip_count = predicted[i];
-    row.observed_flip_count = observed[i];
-    row.max_flip_time_difference = max_diff[i];
-    row.caveat = caveats[i];
-    row.rigid_body_only = rigid_only[i] != 0;
+    row.index = static_cast<int>(c.index[i]);
+    row.name = c.names[i];
+    row.law = c.laws[i];
+    row.from = c.from[i];
+    row.to = c.to[i];
+    row.t_begin = c.t_begin[i];
+    row.t_end = c.t_end[i];
+    row.rigid = c.rigid[i] != 0;
+    row.moments_end = math::Vec3(c.moments[3 * i], c.moments[3 * i + 1], c.moments[3 * i + 2]);
+    row.spin_axis_role = c.roles[i];
+    row.regime = c.regimes[i];
+    row.one_minus_k2 = c.one_minus_k2[i];
+    row.separatrix_distance = c.separatrix[i];
+    row.predicted_flip_half_period = c.half_period[i];
+    row.predicted_flip_count = c.predicted[i];
+    row.observed_flip_count = c.observed[i];
+    row.max_flip_time_difference = c.max_diff[i];
+    row.caveat = c.caveats[i];
+    row.rigid_body_only = c.rigid_only[i] != 0;
     out.stages.push_back(row);
   }
+}
 
+/// The /danger_windows table (t_begin and t_end of one length).
+void ReadDangerWindows(const std::string& path, const H5::H5File& file, TrajectoryFile& out) {
   const H5::Group windows = OpenGroup(path, file, "danger_windows");
   hsize_t window_count = 0;
+  hsize_t rows = 0;
   const std::vector<double> w_begin =
       ReadDoubles(path, windows, "/danger_windows", "t_begin", {}, window_count, out);
   const std::vector<double> w_end =
@@ -842,6 +902,17 @@ TrajectoryFile ReadContents(const std::string& path) {
   for (std::size_t i = 0; i < w_begin.size(); ++i) {
     out.danger_windows.push_back({w_begin[i], w_end[i]});
   }
+}
+
+TrajectoryFile ReadContents(const std::string& path) {
+  TrajectoryFile out;
+  CheckReadableHdf5(path);
+  const H5::H5File file(path, H5F_ACC_RDONLY);
+  ReadRootAttributes(path, file, out);
+  ReadSamples(path, file, out);
+  ReadEvents(path, file, out);
+  ReadStages(path, file, out);
+  ReadDangerWindows(path, file, out);
   return out;
 }
 

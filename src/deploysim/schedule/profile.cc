@@ -300,28 +300,28 @@ void ValidateMoves(const Profile& p,
   }
 }
 
-/// The drive of free hinge k (key: "hinges.<panel>.free"), whose angle at start is theta0.
-void ValidateDrive(const Profile& p,
-                   const std::string& where,
-                   const std::string& key,
-                   std::size_t k,
-                   double theta0) {
-  const FreeDrive& d = p.hinges[k].drive;
-  const std::vector<model::Panel>& panels = p.model.hinged.panels;
-  // A finite value that obeys `ok`; `degrees`: shown in degrees (a `_deg` or `_deg_s` key).
-  auto require = [&](const std::string& sub, double value, bool ok, const std::string& rule,
-                     bool degrees = false) {
+/// Checks one value of a free hinge's drive (key: "hinges.<panel>.free").
+struct DriveCheck {
+  const std::string& where;
+  const std::string& key;
+
+  /// `key + sub` is finite and obeys `ok` (else the rule is cited); `degrees`: shown in
+  /// degrees (a `_deg` or `_deg_s` key).
+  void operator()(const std::string& sub,
+                  double value,
+                  bool ok,
+                  const std::string& rule,
+                  bool degrees = false) const {
     const std::string shown = degrees ? Deg(value) : Num(value);
     if (!std::isfinite(value)) Fail(where, key + sub + " = " + shown + ": must be finite");
     if (!ok) Fail(where, key + sub + " = " + shown + ": " + rule);
-  };
-  const Spring& sp = d.spring;
-  require(".spring.stiffness", sp.stiffness, sp.stiffness >= 0.0, "must be >= 0 [N m/rad]");
-  require(".spring.rest_angle_deg", sp.rest_angle, true, "", true);
-  require(".spring.preload", sp.preload, true, "");
-  require(".damper.coefficient", d.damping, d.damping >= 0.0, "must be >= 0 [N m s/rad]");
+  }
+};
 
-  const Motor& mo = d.motor;
+/// The drive's motor: its parameters by kind (a servo's moves as a prescribed hinge's).
+void ValidateMotor(const Profile& p, const DriveCheck& require, const Motor& mo) {
+  const std::string& where = require.where;
+  const std::string& key = require.key;
   if (mo.kind == Motor::Kind::kConstant) {
     require(".motor.torque", mo.torque, true, "");
   } else if (mo.kind == Motor::Kind::kTorqueSpeed) {
@@ -343,16 +343,18 @@ void ValidateDrive(const Profile& p,
             "must be >= 0 [N m s/rad]");
     ValidateMoves(p, where, key + ".motor.follow", mo.follow);
   }
+}
 
-  const Friction& fr = d.friction;
-  require(".friction.torque", fr.torque, fr.torque >= 0.0, "must be >= 0 [N m] (0: no friction)");
-  require(".friction.regularization_speed_deg_s", fr.regularization_speed,
-          fr.torque > 0.0 ? fr.regularization_speed > 0.0 : fr.regularization_speed >= 0.0,
-          "must be > 0 (below this hinge rate the friction torque fades out, tanh(rate / "
-          "speed))",
-          true);
+/// The hinge's initial angle as messages show it: "<deg> deg in configuration '<name>'".
+std::string InitialAngleText(const Profile& p, double theta0) {
+  return Deg(theta0) + " deg in configuration '" + p.initial.configuration + "'";
+}
 
-  const Stops& st = d.stops;
+/// The drive's stops: ordered limits, a restitution in [0, 1] that has a stop to rebound
+/// from, and the initial angle theta0 within them.
+void ValidateStops(const Profile& p, const DriveCheck& require, const Stops& st, double theta0) {
+  const std::string& where = require.where;
+  const std::string& key = require.key;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (std::isnan(st.min_angle) || st.min_angle == kInf) {
     Fail(where, key + ".stops.min_deg = " + Deg(st.min_angle) +
@@ -372,18 +374,22 @@ void ValidateDrive(const Profile& p,
     Fail(where, key + ".stops.restitution = " + Num(st.restitution) +
                     ": a restitution needs a stop (min_deg or max_deg) to rebound from");
   }
-  const std::string initial =
-      Deg(theta0) + " deg in configuration '" + p.initial.configuration + "'";
   if (theta0 < st.min_angle || theta0 > st.max_angle) {
     const bool below = theta0 < st.min_angle;
     Fail(where, key +
                     (below ? ".stops.min_deg = " + Deg(st.min_angle)
                            : ".stops.max_deg = " + Deg(st.max_angle)) +
-                    ": the hinge's initial angle (" + initial + ") must lie within the stops " +
-                    StopRange(st));
+                    ": the hinge's initial angle (" + InitialAngleText(p, theta0) +
+                    ") must lie within the stops " + StopRange(st));
   }
+}
 
-  const Latch& la = d.latch;
+/// The drive's latch: an angle within the stops that differs from the initial angle
+/// theta0; a jam fraction in (0, 1), and only with a latch.
+void ValidateLatch(
+    const Profile& p, const DriveCheck& require, const Latch& la, const Stops& st, double theta0) {
+  const std::string& where = require.where;
+  const std::string& key = require.key;
   if (la.enabled) {
     require(".latch.angle_deg", la.angle, true, "", true);
     if (la.angle < st.min_angle || la.angle > st.max_angle) {
@@ -392,8 +398,8 @@ void ValidateDrive(const Profile& p,
     }
     if (la.angle == theta0) {
       Fail(where, key + ".latch.angle_deg = " + Deg(la.angle) +
-                      ": the latch angle must differ from the hinge's initial angle (" + initial +
-                      "): the hinge would latch before it moves");
+                      ": the latch angle must differ from the hinge's initial angle (" +
+                      InitialAngleText(p, theta0) + "): the hinge would latch before it moves");
     }
   }
   require(".latch.jam_fraction", la.jam_fraction,
@@ -404,14 +410,22 @@ void ValidateDrive(const Profile& p,
     Fail(where, key + ".latch.jam_fraction = " + Num(la.jam_fraction) +
                     ": a jam needs a latch (it is a fraction of the swing to the latch angle)");
   }
+}
 
-  const Release& re = d.release;
+/// The release of free hinge k: at a time after start, or after the latch of another
+/// panel's free hinge that has a latch.
+void ValidateRelease(const Profile& p,
+                     const DriveCheck& require,
+                     std::size_t k,
+                     const Release& re) {
+  const std::string& where = require.where;
+  const std::vector<model::Panel>& panels = p.model.hinged.panels;
   if (re.kind == Release::Kind::kAtTime) {
     require(".release.at", re.time, re.time >= p.start,
             "must be >= start (" + Num(p.start) +
                 " s; leave release out for a hinge free from the start)");
   } else if (re.kind == Release::Kind::kAfterLatch) {
-    const std::string rk = key + ".release.after_latch = ";
+    const std::string rk = require.key + ".release.after_latch = ";
     if (re.panel < 0 || static_cast<std::size_t>(re.panel) >= panels.size()) {
       Fail(where, rk + std::to_string(re.panel) + ": no such panel (the model has " +
                       std::to_string(panels.size()) + " panels)");
@@ -434,6 +448,35 @@ void ValidateDrive(const Profile& p,
     }
     require(".release.delay", re.delay, re.delay >= 0.0, "must be >= 0 [s]");
   }
+}
+
+/// The drive of free hinge k (key: "hinges.<panel>.free"), whose angle at start is theta0.
+void ValidateDrive(const Profile& p,
+                   const std::string& where,
+                   const std::string& key,
+                   std::size_t k,
+                   double theta0) {
+  const FreeDrive& d = p.hinges[k].drive;
+  const DriveCheck require{where, key};
+  const Spring& sp = d.spring;
+  require(".spring.stiffness", sp.stiffness, sp.stiffness >= 0.0, "must be >= 0 [N m/rad]");
+  require(".spring.rest_angle_deg", sp.rest_angle, true, "", true);
+  require(".spring.preload", sp.preload, true, "");
+  require(".damper.coefficient", d.damping, d.damping >= 0.0, "must be >= 0 [N m s/rad]");
+
+  ValidateMotor(p, require, d.motor);
+
+  const Friction& fr = d.friction;
+  require(".friction.torque", fr.torque, fr.torque >= 0.0, "must be >= 0 [N m] (0: no friction)");
+  require(".friction.regularization_speed_deg_s", fr.regularization_speed,
+          fr.torque > 0.0 ? fr.regularization_speed > 0.0 : fr.regularization_speed >= 0.0,
+          "must be > 0 (below this hinge rate the friction torque fades out, tanh(rate / "
+          "speed))",
+          true);
+
+  ValidateStops(p, require, d.stops, theta0);
+  ValidateLatch(p, require, d.latch, d.stops, theta0);
+  ValidateRelease(p, require, k, d.release);
 }
 
 /// Releases that wait (after_latch) on each other in a cycle: none would ever move.

@@ -98,8 +98,16 @@ std::string JournalPath(const std::string& output, int rank) {
   return output + ".partial" + (rank == 0 ? std::string() : "." + std::to_string(rank));
 }
 
-RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
-  const auto wall0 = std::chrono::steady_clock::now();
+namespace {
+
+/// Seconds of steady-clock time since `t0`.
+double SecondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// The options a run needs before anything else: an output file, a thread count in
+/// range, a destination that can be written.
+void CheckRunOptions(const RunOptions& options) {
   if (options.output.empty()) throw std::invalid_argument("sweep: no output file given");
   if (options.threads < 0 || options.threads > kMaxThreads) {
     throw std::invalid_argument("sweep: threads = " + std::to_string(options.threads) +
@@ -107,40 +115,191 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
                                 "] (0: all hardware threads)");
   }
   CheckDestination(options.output);
+}
+
+/// The summary's fixed part: case count, rank layout, threads and this process's journal.
+RunSummary StartSummary(const SweepSpec& spec, const RunOptions& options) {
   RunSummary summary;
   summary.cases = spec.case_count();
   summary.rank = options.mpi != nullptr ? options.mpi->rank() : 0;
   summary.ranks = options.mpi != nullptr ? options.mpi->size() : 1;
   summary.threads = options.threads > 0 ? options.threads : DefaultThreads(options.mpi);
   summary.journal = JournalPath(options.output, summary.rank);
-  const bool root = summary.rank == 0;
-  const std::uint64_t fingerprint = Fingerprint(spec);
-  const std::size_t n = summary.cases;
+  return summary;
+}
 
-  // Resume: load every journal (any rank's, from any earlier run).
-  const std::vector<std::string> journals = ExistingJournals(options.output);
+/// Every journal of the output (any rank's, from any earlier run); they are in the way
+/// unless the run resumes.
+std::vector<std::string> JournalsToResume(const RunOptions& options) {
+  std::vector<std::string> journals = ExistingJournals(options.output);
   if (!journals.empty() && !options.resume) {
     throw std::runtime_error(journals.front() +
                              ": an unfinished sweep's journal is in the way: pass --resume to "
                              "finish that sweep, or delete the journal to start afresh");
   }
-  std::vector<CaseOutcome> outcomes(n);
-  std::vector<char> done(n, 0);
+  return journals;
+}
+
+/// Loads the records of `journals` into `outcomes` (the first record of a case wins)
+/// and marks them `done`; returns how many cases they held.
+std::size_t LoadJournals(const std::vector<std::string>& journals,
+                         std::uint64_t fingerprint,
+                         std::vector<CaseOutcome>& outcomes,
+                         std::vector<char>& done) {
+  const std::size_t n = outcomes.size();
+  std::size_t resumed = 0;
   for (const std::string& j : journals) {
     for (const auto& [index, outcome] : ReadJournal(j, fingerprint, n).records) {
       if (done[index]) continue;
       done[index] = 1;
       outcomes[index] = outcome;
-      ++summary.resumed;
+      ++resumed;
     }
   }
+  return resumed;
+}
 
-  // This process's share.
+/// This process's share: every ranks-th case from its rank on, less those already done.
+std::vector<std::size_t> ShareOf(const RunSummary& summary, const std::vector<char>& done) {
   std::vector<std::size_t> todo;
-  for (std::size_t i = static_cast<std::size_t>(summary.rank); i < n;
+  for (std::size_t i = static_cast<std::size_t>(summary.rank); i < done.size();
        i += static_cast<std::size_t>(summary.ranks)) {
     if (!done[i]) todo.push_back(i);
   }
+  return todo;
+}
+
+/// Runs the cases `todo` on the worker threads, each journalled as it finishes; the
+/// calling thread shows progress and syncs the journal meanwhile. Sets the summary's
+/// computed count and parallel time.
+void RunCases(const SweepSpec& spec,
+              const RunOptions& options,
+              const std::vector<std::size_t>& todo,
+              std::uint64_t fingerprint,
+              std::optional<ProgressReporter>& progress,
+              std::vector<CaseOutcome>& outcomes,
+              RunSummary& summary) {
+  JournalWriter journal(summary.journal, fingerprint, outcomes.size());
+  std::atomic<std::size_t> finished{0};
+  ParallelOptions parallel;
+  parallel.threads = summary.threads;
+  if (options.cancel != nullptr) {
+    parallel.cancelled = [&options] { return options.cancel->load(); };
+  }
+  // The calling thread: progress and periodic fsync while the workers run.
+  auto last_sync = std::chrono::steady_clock::now();
+  parallel.monitor_interval = kPollInterval;
+  parallel.monitor = [&] {
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_sync).count() >= kSyncInterval) {
+      journal.Sync();
+      last_sync = now;
+    }
+    // Rank 0 sees its own share only: scaled to the whole sweep for the display.
+    if (progress) {
+      progress->Update(summary.resumed + finished.load() * static_cast<std::size_t>(summary.ranks));
+    }
+  };
+  const auto parallel0 = std::chrono::steady_clock::now();
+  // A worker's exception is rethrown after the others have stopped (ParallelFor); the
+  // journal keeps every case finished before it.
+  try {
+    ParallelFor(
+        todo.size(),
+        [&](std::size_t k) {
+          const std::size_t i = todo[k];
+          const CaseOutcome o = SimulateCase(spec, i);
+          journal.Append(i, o);
+          outcomes[i] = o;  // slot i is this worker's alone
+          finished.fetch_add(1);
+          if (options.on_case_done) options.on_case_done(i);
+        },
+        parallel);
+  } catch (const ThreadStartError& e) {
+    // The workers that started have stopped; their cases are in the journal.
+    journal.Sync();
+    throw std::runtime_error(options.output + ": " + e.what() + "; the journal " + summary.journal +
+                             " keeps " + std::to_string(finished.load()) +
+                             " finished cases: rerun with fewer --threads and --resume");
+  }
+  summary.parallel_seconds = SecondsSince(parallel0);
+  journal.Sync();
+  summary.computed = finished.load();
+}
+
+/// With several ranks: rank 0 collects the outcomes computed on the other ranks.
+void GatherOutcomes(const MpiSession* mpi,
+                    bool root,
+                    const std::vector<std::size_t>& todo,
+                    std::vector<CaseOutcome>& outcomes,
+                    std::vector<char>& done) {
+  if (mpi == nullptr || mpi->size() <= 1) return;
+  std::vector<CaseRecord> mine;
+  mine.reserve(todo.size());
+  for (const std::size_t i : todo) mine.emplace_back(i, outcomes[i]);
+  const std::vector<char> all = mpi->GatherToRoot(EncodeRecords(mine));
+  if (!root) return;
+  for (const CaseRecord& r : DecodeRecords(all)) {
+    if (r.first >= outcomes.size()) {
+      throw std::runtime_error("sweep: a rank sent an unknown case index");
+    }
+    if (!done[r.first]) {
+      done[r.first] = 1;
+      outcomes[r.first] = r.second;
+    }
+  }
+}
+
+/// The summary's counts over all cases; every case must have its result.
+void CountOutcomes(const std::vector<CaseOutcome>& outcomes,
+                   const std::vector<char>& done,
+                   RunSummary& summary) {
+  for (std::size_t i = 0; i < outcomes.size(); ++i) {
+    if (!done[i]) {
+      throw std::runtime_error("sweep: case " + std::to_string(i) +
+                               " has no result after the run (internal error)");
+    }
+    summary.flipped += outcomes[i].flip_count > 0 ? 1 : 0;
+    summary.tumbling += outcomes[i].final_class == MotionClass::kTumbling ? 1 : 0;
+    summary.will_flip += WillFlip(outcomes[i]) ? 1 : 0;
+    summary.failed += outcomes[i].final_class == MotionClass::kFailed ? 1 : 0;
+  }
+}
+
+/// Writes the results file (and CSV), then removes the journals they replace.
+void WriteResults(const SweepSpec& spec,
+                  const RunOptions& options,
+                  const std::vector<CaseOutcome>& outcomes,
+                  const RunSummary& summary) {
+  RunInfo info;
+  info.threads = summary.threads;
+  info.ranks = summary.ranks;
+  info.wall_seconds = summary.wall_seconds;
+  info.resumed_cases = summary.resumed;
+  info.computed_cases = outcomes.size() - summary.resumed;
+  WriteSweepOutputs(options.output, options.csv ? options.output + ".csv" : "", spec, outcomes,
+                    info);
+  // Only now that the results are safe: the journals go.
+  for (const std::string& j : ExistingJournals(options.output)) fs::remove(j);
+}
+
+}  // namespace
+
+RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  CheckRunOptions(options);
+  RunSummary summary = StartSummary(spec, options);
+  const bool root = summary.rank == 0;
+  const std::uint64_t fingerprint = Fingerprint(spec);
+  const std::size_t n = summary.cases;
+
+  // Resume: load every journal (any rank's, from any earlier run).
+  const std::vector<std::string> journals = JournalsToResume(options);
+  std::vector<CaseOutcome> outcomes(n);
+  std::vector<char> done(n, 0);
+  summary.resumed = LoadJournals(journals, fingerprint, outcomes, done);
+
+  const std::vector<std::size_t> todo = ShareOf(summary, done);
 
   // Every rank has listed the journals before any rank creates its own.
   if (options.mpi != nullptr) options.mpi->Barrier();
@@ -152,56 +311,7 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
                      summary.ranks > 1 ? "sweep (rank 0 of " + std::to_string(summary.ranks) + ")"
                                        : std::string("sweep"));
   }
-  {
-    JournalWriter journal(summary.journal, fingerprint, n);
-    std::atomic<std::size_t> finished{0};
-    ParallelOptions parallel;
-    parallel.threads = summary.threads;
-    if (options.cancel != nullptr) {
-      parallel.cancelled = [&options] { return options.cancel->load(); };
-    }
-    // The calling thread: progress and periodic fsync while the workers run.
-    auto last_sync = std::chrono::steady_clock::now();
-    parallel.monitor_interval = kPollInterval;
-    parallel.monitor = [&] {
-      const auto now = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(now - last_sync).count() >= kSyncInterval) {
-        journal.Sync();
-        last_sync = now;
-      }
-      // Rank 0 sees its own share only: scaled to the whole sweep for the display.
-      if (progress) {
-        progress->Update(summary.resumed +
-                         finished.load() * static_cast<std::size_t>(summary.ranks));
-      }
-    };
-    const auto parallel0 = std::chrono::steady_clock::now();
-    // A worker's exception is rethrown after the others have stopped (ParallelFor); the
-    // journal keeps every case finished before it.
-    try {
-      ParallelFor(
-          todo.size(),
-          [&](std::size_t k) {
-            const std::size_t i = todo[k];
-            const CaseOutcome o = SimulateCase(spec, i);
-            journal.Append(i, o);
-            outcomes[i] = o;  // slot i is this worker's alone
-            finished.fetch_add(1);
-            if (options.on_case_done) options.on_case_done(i);
-          },
-          parallel);
-    } catch (const ThreadStartError& e) {
-      // The workers that started have stopped; their cases are in the journal.
-      journal.Sync();
-      throw std::runtime_error(options.output + ": " + e.what() + "; the journal " +
-                               summary.journal + " keeps " + std::to_string(finished.load()) +
-                               " finished cases: rerun with fewer --threads and --resume");
-    }
-    summary.parallel_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - parallel0).count();
-    journal.Sync();
-    summary.computed = finished.load();
-  }
+  RunCases(spec, options, todo, fingerprint, progress, outcomes, summary);
 
   const bool complete_here = summary.computed == todo.size();
   const bool complete =
@@ -212,53 +322,18 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options) {
   if (!complete) {
     summary.finished = summary.resumed + computed_everywhere;
     if (progress) progress->Finish(summary.finished, false);
-    summary.wall_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    summary.wall_seconds = SecondsSince(wall0);
     return summary;
   }
   for (const std::size_t i : todo) done[i] = 1;
-  if (options.mpi != nullptr && options.mpi->size() > 1) {
-    // Rank 0 collects the outcomes computed on the other ranks.
-    std::vector<CaseRecord> mine;
-    mine.reserve(todo.size());
-    for (const std::size_t i : todo) mine.emplace_back(i, outcomes[i]);
-    const std::vector<char> all = options.mpi->GatherToRoot(EncodeRecords(mine));
-    if (root) {
-      for (const CaseRecord& r : DecodeRecords(all)) {
-        if (r.first >= n) throw std::runtime_error("sweep: a rank sent an unknown case index");
-        if (!done[r.first]) {
-          done[r.first] = 1;
-          outcomes[r.first] = r.second;
-        }
-      }
-    }
-  }
+  GatherOutcomes(options.mpi, root, todo, outcomes, done);
   if (progress) progress->Finish(n, true);
 
   summary.complete = true;
-  summary.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  summary.wall_seconds = SecondsSince(wall0);
   if (root) {
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!done[i]) {
-        throw std::runtime_error("sweep: case " + std::to_string(i) +
-                                 " has no result after the run (internal error)");
-      }
-      summary.flipped += outcomes[i].flip_count > 0 ? 1 : 0;
-      summary.tumbling += outcomes[i].final_class == MotionClass::kTumbling ? 1 : 0;
-      summary.will_flip += WillFlip(outcomes[i]) ? 1 : 0;
-      summary.failed += outcomes[i].final_class == MotionClass::kFailed ? 1 : 0;
-    }
-    RunInfo info;
-    info.threads = summary.threads;
-    info.ranks = summary.ranks;
-    info.wall_seconds = summary.wall_seconds;
-    info.resumed_cases = summary.resumed;
-    info.computed_cases = n - summary.resumed;
-    WriteSweepOutputs(options.output, options.csv ? options.output + ".csv" : "", spec, outcomes,
-                      info);
-    // Only now that the results are safe: the journals go.
-    for (const std::string& j : ExistingJournals(options.output)) fs::remove(j);
+    CountOutcomes(outcomes, done, summary);
+    WriteResults(spec, options, outcomes, summary);
   }
   summary.finished = n;
   if (options.mpi != nullptr) options.mpi->Barrier();

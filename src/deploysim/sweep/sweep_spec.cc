@@ -2,11 +2,12 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 
 #include "deploysim/analysis/mission.h"
-#include "deploysim/io/number_format.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/model/model.h"
 #include "deploysim/schedule/free_hinge_system.h"
 #include "deploysim/schedule/laws.h"
@@ -16,7 +17,7 @@ namespace deploysim::sweep {
 
 namespace {
 
-using io::internal::FormatNumber;
+using math::FormatNumber;
 
 // A transverse momentum smaller than this fraction of |H_B| has no direction of its own:
 // the tilt then goes towards the next principal axis.
@@ -363,6 +364,158 @@ math::Vec3 BaseSpinAxis(const schedule::Profile& base) {
   return analysis::InitialSpinAxis(s0.J_B, H_B0);
 }
 
+namespace {
+
+/// Step 1 of the file comment of sweep_spec.h: panel masses and configuration inertias.
+void ApplyModelParameters(const std::vector<Target>& targets,
+                          const std::vector<double>& v,
+                          schedule::Profile& p) {
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    const Target& t = targets[k];
+    if (t.parameter == Parameter::kPanelMassScale) {
+      for (std::size_t i = 0; i < p.model.hinged.panels.size(); ++i) {
+        if (t.panel >= 0 && static_cast<std::size_t>(t.panel) != i) continue;
+        model::MassElement& b = p.model.hinged.panels[i].body;
+        b.mass *= v[k];
+        b.inertia_cm *= v[k];
+      }
+    } else if (t.parameter == Parameter::kInertiaScale) {
+      math::Mat3 S = math::Mat3::Identity();
+      if (t.axis >= 0) {
+        S(t.axis, t.axis) = std::sqrt(v[k]);
+      } else {
+        S *= std::sqrt(v[k]);
+      }
+      for (model::Configuration& conf : p.model.configurations) {
+        if (!t.configuration.empty() && conf.name != t.configuration) continue;
+        conf.J_B = S * conf.J_B * S;
+      }
+    }
+  }
+}
+
+/// Applies the hinge or stage parameters to the case's profile and returns J_B(t0) (and
+/// the rest of the inertia sample) of the result. Stage profiles: sets the case's schedule.
+dynamics::InertiaSample ApplyProfileParameters(const std::vector<Target>& targets,
+                                               const std::vector<double>& v,
+                                               Case& c) {
+  schedule::Profile& p = c.profile;
+  if (p.is_hinge_profile()) {
+    // 2. Free-hinge drives and failures; the plans are checked before J_B(t0) is
+    // formed from them.
+    ApplyHingeParameters(targets, v, p);
+    schedule::ValidateProfile(p);
+    return InitialInertia(p);
+  }
+  ApplyStageParameters(targets, v, p);
+  // The schedule validates the profile (model, modes, stages) and gives J_B(t0).
+  c.schedule = std::make_shared<const schedule::DeploymentSchedule>(p);
+  return c.schedule->Evaluate(p.t_begin());
+}
+
+/// The initial-state parameters a case sets (unset: the base profile's value stands).
+struct InitialParameters {
+  std::optional<double> nutation, azimuth, spin_rate;
+};
+
+InitialParameters InitialParametersOf(const std::vector<Target>& targets,
+                                      const std::vector<double>& v) {
+  InitialParameters in;
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    switch (targets[k].parameter) {
+      case Parameter::kNutation:
+        in.nutation = v[k];
+        break;
+      case Parameter::kNutationAzimuth:
+        in.azimuth = v[k];
+        break;
+      case Parameter::kSpinRate:
+        in.spin_rate = v[k];
+        break;
+      default:
+        break;
+    }
+  }
+  return in;
+}
+
+/// The unit direction, normal to the spin axis s, towards which H tilts when it has no
+/// transverse part: the next principal axis (ascending moments, cyclic) of J_B after the
+/// one nearest s.
+math::Vec3 TiltTowardsNextAxis(const math::Mat3& J_B, const math::Vec3& s) {
+  const math::PrincipalAxes pa = math::PrincipalDecomposition(J_B);
+  int i = 0;
+  for (int j = 0; j < 3; ++j) {
+    if (std::abs(pa.axes.col(j).dot(s)) > std::abs(pa.axes.col(i).dot(s))) i = j;
+  }
+  math::Vec3 u = pa.axes.col((i + 1) % 3);
+  return (u - u.dot(s) * s).normalized();
+}
+
+/// H tilted from the spin axis s by the nutation (default: its present tilt), towards
+/// its transverse direction (without one: the next principal axis) turned about s by the
+/// azimuth; |H| unchanged.
+math::Vec3 Tilted(const math::Vec3& H,
+                  const math::Vec3& s,
+                  const math::Mat3& J_B,
+                  const InitialParameters& in) {
+  const double M = H.norm();
+  const math::Vec3 transverse = H - H.dot(s) * s;
+  math::Vec3 u;
+  if (transverse.norm() > kNoTransverse * M) {
+    u = transverse.normalized();
+  } else {
+    // No tilt in the base.
+    u = TiltTowardsNextAxis(J_B, s);
+  }
+  if (in.azimuth) u = std::cos(*in.azimuth) * u + std::sin(*in.azimuth) * s.cross(u);
+  const double theta = in.nutation ? *in.nutation : std::atan2(transverse.norm(), H.dot(s));
+  return M * (std::cos(theta) * s + std::sin(theta) * u);
+}
+
+/// Step 4 of the file comment of sweep_spec.h: H_B(t0) of the case, from the profile's
+/// initial state with the nutation, azimuth and spin rate the case sets.
+math::Vec3 InitialMomentum(const std::vector<Target>& targets,
+                           const std::vector<double>& v,
+                           const schedule::Profile& p,
+                           const dynamics::InertiaSample& s0,
+                           const math::Vec3& s) {
+  math::Vec3 H =
+      p.initial.H_B ? *p.initial.H_B : math::Vec3(s0.J_B * *p.initial.w_NB_B + s0.h_rel_B);
+  const InitialParameters in = InitialParametersOf(targets, v);
+  if (in.nutation || in.azimuth) H = Tilted(H, s, s0.J_B, in);
+  if (in.spin_rate) {
+    const math::Vec3 w = s0.J_inv_B * (H - s0.h_rel_B);
+    const double ws = w.dot(s);
+    if (!(std::abs(ws) > 0.0)) {
+      throw std::invalid_argument(
+          "spin_rate: the base angular velocity has no component along the spin axis");
+    }
+    H = s0.J_B * (w * (*in.spin_rate / std::abs(ws))) + s0.h_rel_B;
+  }
+  return H;
+}
+
+/// A hinge-profile case: its run measures angles from the same spin axis as the case
+/// (RunHingeMission: the principal axis nearest H_B(t0)); counts the latches expected.
+void FinishHingeCase(const SweepSpec& spec, const dynamics::InertiaSample& s0, Case& c) {
+  const math::Vec3 run_axis = analysis::InitialSpinAxis(s0.J_B, *c.profile.initial.H_B);
+  if ((run_axis - c.spin_axis_B).norm() > kSameAxis) {
+    throw std::invalid_argument(
+        "initial: H_B(t0) is nearer another principal axis than the spin axis s (rule: a "
+        "hinge-profile run measures its angles from the principal axis nearest H_B(t0); "
+        "keep the nutation below the angle that takes H_B nearer another axis)");
+  }
+  c.latches_expected = 0;
+  for (const schedule::HingePlan& h : spec.base.hinges) {
+    if (h.kind == schedule::HingePlan::Kind::kFree && h.drive.latch.enabled) {
+      ++c.latches_expected;
+    }
+  }
+}
+
+}  // namespace
+
 Case BuildCase(const SweepSpec& spec, std::size_t index) {
   Case c;
   c.parameters = ParametersOf(spec, index);
@@ -374,113 +527,17 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
                             std::to_string(index) + " " + DescribeParameters(spec, c.parameters);
   try {
     // 1. Model.
-    for (std::size_t k = 0; k < targets.size(); ++k) {
-      const Target& t = targets[k];
-      if (t.parameter == Parameter::kPanelMassScale) {
-        for (std::size_t i = 0; i < p.model.hinged.panels.size(); ++i) {
-          if (t.panel >= 0 && static_cast<std::size_t>(t.panel) != i) continue;
-          model::MassElement& b = p.model.hinged.panels[i].body;
-          b.mass *= v[k];
-          b.inertia_cm *= v[k];
-        }
-      } else if (t.parameter == Parameter::kInertiaScale) {
-        math::Mat3 S = math::Mat3::Identity();
-        if (t.axis >= 0) {
-          S(t.axis, t.axis) = std::sqrt(v[k]);
-        } else {
-          S *= std::sqrt(v[k]);
-        }
-        for (model::Configuration& conf : p.model.configurations) {
-          if (!t.configuration.empty() && conf.name != t.configuration) continue;
-          conf.J_B = S * conf.J_B * S;
-        }
-      }
-    }
-    dynamics::InertiaSample s0;
-    if (p.is_hinge_profile()) {
-      // 2. Free-hinge drives and failures; the plans are checked before J_B(t0) is
-      // formed from them.
-      ApplyHingeParameters(targets, v, p);
-      schedule::ValidateProfile(p);
-      s0 = InitialInertia(p);
-    } else {
-      ApplyStageParameters(targets, v, p);
-      // The schedule validates the profile (model, modes, stages) and gives J_B(t0).
-      c.schedule = std::make_shared<const schedule::DeploymentSchedule>(p);
-      s0 = c.schedule->Evaluate(p.t_begin());
-    }
+    ApplyModelParameters(targets, v, p);
+    // 2-3. Hinges, or coupling, law and timing.
+    const dynamics::InertiaSample s0 = ApplyProfileParameters(targets, v, c);
     const math::Vec3 base_axis =
         spec.base_spin_axis_B ? *spec.base_spin_axis_B : BaseSpinAxis(spec.base);
     c.spin_axis_B = analysis::InitialSpinAxis(s0.J_B, base_axis);
 
     // 4. Initial state.
-    math::Vec3 H =
-        p.initial.H_B ? *p.initial.H_B : math::Vec3(s0.J_B * *p.initial.w_NB_B + s0.h_rel_B);
-    const math::Vec3& s = c.spin_axis_B;
-    std::optional<double> nutation, azimuth, spin_rate;
-    for (std::size_t k = 0; k < targets.size(); ++k) {
-      switch (targets[k].parameter) {
-        case Parameter::kNutation:
-          nutation = v[k];
-          break;
-        case Parameter::kNutationAzimuth:
-          azimuth = v[k];
-          break;
-        case Parameter::kSpinRate:
-          spin_rate = v[k];
-          break;
-        default:
-          break;
-      }
-    }
-    if (nutation || azimuth) {
-      const double M = H.norm();
-      const math::Vec3 transverse = H - H.dot(s) * s;
-      math::Vec3 u;
-      if (transverse.norm() > kNoTransverse * M) {
-        u = transverse.normalized();
-      } else {
-        // No tilt in the base: tilt towards the next principal axis (ascending moments,
-        // cyclic) of J_B(t0).
-        const math::PrincipalAxes pa = math::PrincipalDecomposition(s0.J_B);
-        int i = 0;
-        for (int j = 0; j < 3; ++j) {
-          if (std::abs(pa.axes.col(j).dot(s)) > std::abs(pa.axes.col(i).dot(s))) i = j;
-        }
-        u = pa.axes.col((i + 1) % 3);
-        u = (u - u.dot(s) * s).normalized();
-      }
-      if (azimuth) u = std::cos(*azimuth) * u + std::sin(*azimuth) * s.cross(u);
-      const double theta = nutation ? *nutation : std::atan2(transverse.norm(), H.dot(s));
-      H = M * (std::cos(theta) * s + std::sin(theta) * u);
-    }
-    if (spin_rate) {
-      const math::Vec3 w = s0.J_inv_B * (H - s0.h_rel_B);
-      const double ws = w.dot(s);
-      if (!(std::abs(ws) > 0.0)) {
-        throw std::invalid_argument(
-            "spin_rate: the base angular velocity has no component along the spin axis");
-      }
-      H = s0.J_B * (w * (*spin_rate / std::abs(ws))) + s0.h_rel_B;
-    }
-    p.initial.H_B = H;
+    p.initial.H_B = InitialMomentum(targets, v, p, s0, c.spin_axis_B);
     p.initial.w_NB_B.reset();
-    if (p.is_hinge_profile()) {
-      // RunHingeMission measures its angles from the principal axis nearest H_B(t0).
-      const math::Vec3 run_axis = analysis::InitialSpinAxis(s0.J_B, H);
-      if ((run_axis - c.spin_axis_B).norm() > kSameAxis) {
-        throw std::invalid_argument(
-            "initial: H_B(t0) is nearer another principal axis than the spin axis s (rule: a "
-            "hinge-profile run measures its angles from the principal axis nearest H_B(t0); "
-            "keep the nutation below the angle that takes H_B nearer another axis)");
-      }
-      c.latches_expected = 0;
-      for (const schedule::HingePlan& h : spec.base.hinges) {
-        if (h.kind == schedule::HingePlan::Kind::kFree && h.drive.latch.enabled) {
-          ++c.latches_expected;
-        }
-      }
-    }
+    if (p.is_hinge_profile()) FinishHingeCase(spec, s0, c);
     schedule::ValidateProfile(p);
     io::CheckRunSettings(p);
   } catch (const std::invalid_argument& e) {
