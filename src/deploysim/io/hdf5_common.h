@@ -7,6 +7,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace deploysim::io::hdf5 {
 
@@ -62,6 +63,20 @@ inline H5::StrType TextType() {
   H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
   type.setCset(H5T_CSET_UTF8);
   return type;
+}
+
+/// The values of a string dataset, read as TextType (the caller has checked its type).
+inline std::vector<std::string> ReadTextValues(const H5::DataSet& ds) {
+  const H5::DataSpace space = ds.getSpace();
+  const H5::StrType type = TextType();
+  std::vector<char*> buffer(static_cast<std::size_t>(space.getSimpleExtentNpoints()), nullptr);
+  std::vector<std::string> values;
+  if (!buffer.empty()) {
+    ds.read(buffer.data(), type);
+    for (char* s : buffer) values.emplace_back(s == nullptr ? "" : s);
+    H5::DataSet::vlenReclaim(buffer.data(), type, space);
+  }
+  return values;
 }
 
 }  // namespace deploysim::io::hdf5

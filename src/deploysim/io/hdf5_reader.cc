@@ -138,16 +138,7 @@ std::vector<std::string> Hdf5Reader::Strings(const std::string& dataset) const {
     if (ds.getTypeClass() != H5T_STRING) {
       throw std::runtime_error(impl_->path + ": " + dataset + ": expected strings");
     }
-    const H5::DataSpace space = ds.getSpace();
-    const H5::StrType type = hdf5::TextType();
-    std::vector<char*> buffer(static_cast<std::size_t>(space.getSimpleExtentNpoints()), nullptr);
-    std::vector<std::string> values;
-    if (!buffer.empty()) {
-      ds.read(buffer.data(), type);
-      for (char* s : buffer) values.emplace_back(s == nullptr ? "" : s);
-      H5::DataSet::vlenReclaim(buffer.data(), type, space);
-    }
-    return values;
+    return hdf5::ReadTextValues(ds);
   });
 }
 

@@ -560,15 +560,7 @@ std::vector<std::string> ReadStrings(const std::string& path,
   if (ds.getTypeClass() != H5T_STRING || !ds.getStrType().isVariableStr()) {
     throw std::runtime_error(path + ": " + full + ": expected variable-length strings");
   }
-  const H5::DataSpace space = ds.getSpace();
-  const H5::StrType type = TextType();
-  std::vector<char*> buffer(static_cast<std::size_t>(space.getSimpleExtentNpoints()), nullptr);
-  std::vector<std::string> values;
-  if (!buffer.empty()) {
-    ds.read(buffer.data(), type);
-    for (char* s : buffer) values.emplace_back(s == nullptr ? "" : s);
-    H5::DataSet::vlenReclaim(buffer.data(), type, space);
-  }
+  std::vector<std::string> values = hdf5::ReadTextValues(ds);
   std::string units;
   const H5::Attribute a = ds.openAttribute("units");
   a.read(a.getStrType(), units);
