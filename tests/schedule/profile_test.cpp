@@ -304,6 +304,19 @@ TEST(ProfileTest, NamesTheProfileWhenItHasNoSource) {
   ExpectRejected(p, "profile 'three_stage': output.dt = -1: must be > 0");
 }
 
+// The one statement of the integrator ranges (profiles, sweeps and Python use it).
+TEST(IntegratorRulesTest, EachKeyHasOneRange) {
+  EXPECT_EQ(IntegratorRuleViolated("rtol", 1e-16), "");
+  EXPECT_EQ(IntegratorRuleViolated("rtol", 1.0), "must be in [1e-16, 1)");
+  EXPECT_EQ(IntegratorRuleViolated("rtol", 9e-17), "must be in [1e-16, 1)");
+  EXPECT_EQ(IntegratorRuleViolated("atol", 0.0), "must be > 0");
+  EXPECT_EQ(IntegratorRuleViolated("step", 0.0), "");
+  EXPECT_EQ(IntegratorRuleViolated("step", -1e-300), "must be >= 0 (0: automatic)");
+  EXPECT_EQ(IntegratorRuleViolated("max_step", 0.0), "must be > 0");
+  EXPECT_EQ(IntegratorRuleViolated("max_step", std::nan("")), "must be > 0");
+  EXPECT_THROW(IntegratorRuleViolated("method", 1.0), std::invalid_argument);
+}
+
 }  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::schedule

@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "deploysim/math/inertia.h"
 #include "deploysim/math/number_format.h"
@@ -531,18 +532,28 @@ void ValidateHinges(const Profile& p, const std::string& where) {
 
 void ValidateNumerics(const Profile& p, const std::string& where) {
   const IntegratorSpec& s = p.integrator;
-  auto require = [&](const std::string& key, double value, bool ok, const std::string& rule) {
+  auto require = [&](const std::string& key, double value, const std::string& rule) {
     if (!std::isfinite(value)) Fail(where, key + " = " + Num(value) + ": must be finite");
-    if (!ok) Fail(where, key + " = " + Num(value) + ": " + rule);
+    if (!rule.empty()) Fail(where, key + " = " + Num(value) + ": " + rule);
   };
-  require("integrator.rtol", s.rtol, s.rtol >= 1e-16 && s.rtol < 1.0, "must be in [1e-16, 1)");
-  require("integrator.atol", s.atol, s.atol > 0.0, "must be > 0");
-  require("integrator.step", s.step, s.step >= 0.0, "must be >= 0 (0: automatic)");
-  require("integrator.max_step", s.max_step, s.max_step > 0.0, "must be > 0");
-  require("output.dt", p.output.dt, p.output.dt > 0.0, "must be > 0");
+  for (const auto& [key, value] : {std::pair<std::string, double>{"rtol", s.rtol},
+                                   {"atol", s.atol},
+                                   {"step", s.step},
+                                   {"max_step", s.max_step}}) {
+    require("integrator." + key, value, IntegratorRuleViolated(key, value));
+  }
+  require("output.dt", p.output.dt, p.output.dt > 0.0 ? "" : "must be > 0");
 }
 
 }  // namespace
+
+std::string IntegratorRuleViolated(const std::string& key, double value) {
+  if (key == "rtol") return value >= 1e-16 && value < 1.0 ? "" : "must be in [1e-16, 1)";
+  if (key == "atol") return value > 0.0 ? "" : "must be > 0";
+  if (key == "step") return value >= 0.0 ? "" : "must be >= 0 (0: automatic)";
+  if (key == "max_step") return value > 0.0 ? "" : "must be > 0";
+  throw std::invalid_argument("IntegratorRuleViolated: no rule for integrator." + key);
+}
 
 std::string ToString(Mode m) {
   switch (m) {

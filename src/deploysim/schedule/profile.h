@@ -63,6 +63,11 @@ struct IntegratorSpec {
   double max_step = 1e300;
 };
 
+/// The rule that `value` of an `integrator:` key ("rtol", "atol", "step", "max_step")
+/// violates, as the text after "must ..." ("must be in [1e-16, 1)"); empty when it keeps
+/// it. The one statement of these ranges, for profiles, sweeps and Python dicts.
+std::string IntegratorRuleViolated(const std::string& key, double value);
+
 struct OutputSpec {
   double dt = 0.1;   ///< [s] output sampling interval.
   bool csv = false;  ///< Also write a CSV next to the HDF5 file.

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "deploysim/analysis/exact_flow.h"
@@ -547,21 +548,14 @@ void ReadIntegrator(const Fields& top, schedule::Profile& base) {
     for (const std::string& n : names) known = known || n == s.method;
     if (!known) f.Fail("method", "unknown integrator (valid: " + JoinNames(names) + ")");
   }
-  if (f.Has("rtol")) {
-    s.rtol = f.Number("rtol");
-    if (!(s.rtol >= 1e-16 && s.rtol < 1.0)) f.Fail("rtol", "must be in [1e-16, 1)");
-  }
-  if (f.Has("atol")) {
-    s.atol = f.Number("atol");
-    if (!(s.atol > 0.0)) f.Fail("atol", "must be > 0 (relative to |H_B(0)|)");
-  }
-  if (f.Has("step")) {
-    s.step = f.Number("step");
-    if (!(s.step >= 0.0)) f.Fail("step", "must be >= 0 [s] (0: automatic)");
-  }
-  if (f.Has("max_step")) {
-    s.max_step = f.Number("max_step");
-    if (!(s.max_step > 0.0)) f.Fail("max_step", "must be > 0 [s]");
+  for (const auto& [key, value] : {std::pair<const char*, double*>{"rtol", &s.rtol},
+                                   {"atol", &s.atol},
+                                   {"step", &s.step},
+                                   {"max_step", &s.max_step}}) {
+    if (!f.Has(key)) continue;
+    *value = f.Number(key);
+    const std::string rule = schedule::IntegratorRuleViolated(key, *value);
+    if (!rule.empty()) f.Fail(key, rule);
   }
   if (!analysis::MakeStepper(s.method)->info().adaptive && !(s.step > 0.0)) {
     top.doc().Fail(f.Key(f.Has("method") ? "method" : "step"),
