@@ -11,6 +11,7 @@
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/integrators/carry_store.h"
 #include "deploysim/integrators/factory.h"
+#include "deploysim/integrators/shape_integrate.h"
 
 namespace deploysim::analysis {
 
@@ -233,6 +234,17 @@ std::vector<std::string> StepperNames() {
   std::vector<std::string> names = integrators::NumericalStepperNames();
   names.push_back("exact");
   return names;
+}
+
+bool RunsFreeHinges(const std::string& method) {
+  return method == "exact" || integrators::IsShapeMethod(method);
+}
+
+std::string FreeHingeMethodRule() {
+  std::string list;
+  for (const std::string& m : integrators::ShapeMethodNames()) list += m + ", ";
+  return "free hinges need a Lie-group method (rule: one of " + list +
+         "exact: closed form while every hinge is locked)";
 }
 
 std::unique_ptr<integrators::Stepper> MakeStepper(const std::string& name) {

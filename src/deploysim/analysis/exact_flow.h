@@ -83,6 +83,15 @@ std::vector<std::string> StepperNames();
 /// A stepper by name ("exact" uses rkmk-rkf78 on non-rigid segments).
 std::unique_ptr<integrators::Stepper> MakeStepper(const std::string& name);
 
+/// True when `method` can run a profile with free hinges: a Lie-group method
+/// (integrators::ShapeMethodNames: h_N exact by construction) or exact (closed form while
+/// every hinge is locked, rkmk-rkf78 while one is free).
+bool RunsFreeHinges(const std::string& method);
+
+/// The rule RunsFreeHinges decides, for messages: "free hinges need a Lie-group method
+/// (rule: one of rkmk4, rkmk-dopri5, rkmk-rkf78, exact: ...)".
+std::string FreeHingeMethodRule();
+
 /// FlipEvent (the flip of a body of constant inertia) is in flip_rule.h.
 
 }  // namespace deploysim::analysis

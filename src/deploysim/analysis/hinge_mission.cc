@@ -165,14 +165,9 @@ HingeRun::HingeRun(const schedule::Profile& profile,
   const std::string& method = profile.integrator.method;
   shape_method_ = method == "exact" ? "rkmk-rkf78" : method;
   rigid_stepper_ = MakeStepper(method);
-  bool any_free = false;
-  for (const HingePlan& p : plans_) any_free = any_free || p.kind == HingePlan::Kind::kFree;
-  if (any_free && !integrators::IsShapeMethod(shape_method_)) {
-    std::string list;
-    for (const std::string& m : integrators::ShapeMethodNames()) list += m + ", ";
-    throw std::invalid_argument(where_ + ": integrator.method = " + method +
-                                ": free hinges need a Lie-group method (rule: one of " + list +
-                                "exact)");
+  if (profile.has_free_hinge() && !RunsFreeHinges(method)) {
+    throw std::invalid_argument(where_ + ": integrator.method = " + method + ": " +
+                                FreeHingeMethodRule());
   }
   // Releases: time-based ones now; after-latch ones when their latch happens. Every free
   // hinge is at rest (held) until its release.

@@ -11,7 +11,6 @@
 
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/work_estimate.h"
-#include "deploysim/integrators/shape_integrate.h"
 #include "deploysim/math/number_format.h"
 
 namespace deploysim::io {
@@ -52,17 +51,9 @@ void CheckRunSettings(const schedule::Profile& p) {
                                 ": the fixed-step method " + method +
                                 " needs integrator.step > 0 [s]");
   }
-  // Free hinges are integrated on SO(3) x R^2m (integrators/shape_integrate.h): h_N exact
-  // by construction needs a Lie-group method.
-  bool any_free = false;
-  for (const schedule::HingePlan& h : p.hinges) {
-    any_free = any_free || h.kind == schedule::HingePlan::Kind::kFree;
-  }
-  if (any_free && method != "exact" && !integrators::IsShapeMethod(method)) {
-    throw std::invalid_argument(where + ": integrator.method = " + method +
-                                ": free hinges need a Lie-group method (rule: one of " +
-                                Join(integrators::ShapeMethodNames()) +
-                                ", exact: closed form while every hinge is locked)");
+  if (p.has_free_hinge() && !analysis::RunsFreeHinges(method)) {
+    throw std::invalid_argument(where + ": integrator.method = " + method + ": " +
+                                analysis::FreeHingeMethodRule());
   }
   if ((!p.stages.empty() || p.is_hinge_profile()) && p.output.dt > 0.0) {
     const double samples = (p.t_end() - p.t_begin()) / p.output.dt + 1.0;

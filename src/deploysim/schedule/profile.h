@@ -97,6 +97,13 @@ struct Profile {
   IntegratorSpec integrator;
   OutputSpec output;
   bool is_hinge_profile() const { return !hinges.empty(); }
+  /// True when a hinge has a free plan (it needs analysis::RunsFreeHinges's methods).
+  bool has_free_hinge() const {
+    for (const HingePlan& h : hinges) {
+      if (h.kind == HingePlan::Kind::kFree) return true;
+    }
+    return false;
+  }
   double t_begin() const { return is_hinge_profile() ? start : stages.front().t_begin; }
   double t_end() const { return is_hinge_profile() ? until : stages.back().t_end; }
 };

@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "deploysim/analysis/exact_flow.h"
-#include "deploysim/integrators/shape_integrate.h"
 #include "deploysim/io/yaml_fields.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/number_format.h"
@@ -567,14 +566,9 @@ void ReadIntegrator(const Fields& top, schedule::Profile& base) {
 /// Free hinges are integrated by a Lie-group method (analysis::RunHingeMission): a hinge
 /// base with a free hinge and another method would fail in every case.
 void RequireShapeMethod(const Fields& top, const schedule::Profile& base) {
-  bool any_free = false;
-  for (const schedule::HingePlan& h : base.hinges) {
-    any_free = any_free || h.kind == schedule::HingePlan::Kind::kFree;
-  }
   const std::string& method = base.integrator.method;
-  if (!any_free || method == "exact" || integrators::IsShapeMethod(method)) return;
-  const std::string rule = ": free hinges need a Lie-group method (rule: one of " +
-                           JoinNames(integrators::ShapeMethodNames()) + ", exact)";
+  if (!base.has_free_hinge() || analysis::RunsFreeHinges(method)) return;
+  const std::string rule = ": " + analysis::FreeHingeMethodRule();
   if (top.Has("integrator")) {
     const Fields f = top.Mapping("integrator", {"method", "rtol", "atol", "step", "max_step"});
     if (f.Has("method")) f.Fail("method", "the base " + base.source + " has free hinges" + rule);
