@@ -1,11 +1,11 @@
-// Sweep throughput (issue 5, benchmark row 4; issue 8): deployment simulations of 300 s
+// Sweep throughput (benchmark row 4): deployment simulations of 300 s
 // per second with 1 and 2 worker threads (and 2 MPI ranks when built with MPI), and the
 // parallel efficiency, measured side by side in one run. (The full mission pipeline
 // against the sweep's outcome-only path is bench/pipeline_bench.cpp's table.)
-// Issue 9 adds a free-hinge sweep (table 4b): the small satellite's spring deployment
+// A free-hinge sweep (table 4b): the small satellite's spring deployment
 // (deployment_profiles/smallsat_spring_deploy.yaml, 300 s) over spin rates x Monte Carlo
-// samples of nutation, spring, damper and failure modes, on the outcome-only hinge
-// mission (analysis::RunHingeMission without output samples), at the sweep settings of
+// samples of nutation, spring, damper and failure modes, on the outcome-only mission run
+// (analysis::RunMission without output samples), at the sweep settings of
 // table 4 (`exact`, rtol 1e-9, atol 1e-11) and at the profile's own integrator settings
 // (rkmk-rkf78, rtol 1e-11, atol 1e-13); the outcomes of both against a reference at rtol
 // 1e-13 on a subset of the cases.
