@@ -19,6 +19,7 @@
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/dynamics/inertia_source.h"
 #include "deploysim/integrators/integrate.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/math/quaternion.h"
 #include "test_support.h"
 
@@ -172,8 +173,8 @@ math::Vec3 NearSeparatrix(const math::Vec3& I, double mc, bool minor, double M0)
 }
 
 void Report(const std::string& name, const Comparison& c) {
-  ::testing::Test::RecordProperty(name + "_max_H", std::to_string(c.H));
-  ::testing::Test::RecordProperty(name + "_max_attitude", std::to_string(c.att));
+  ::testing::Test::RecordProperty(name + "_max_H", math::FormatNumber(c.H));
+  ::testing::Test::RecordProperty(name + "_max_attitude", math::FormatNumber(c.att));
   std::printf(
       "%s: %zu samples (%zu from the interpolant differ in bits), %zu flips; against the "
       "closed form: max |dH|/M %.2e, attitude %.2e rad (%.2f and %.2f roundings); against the "

@@ -20,6 +20,7 @@
 #include "deploysim/dynamics/inertia_source.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/math/quaternion.h"
 
 namespace deploysim::analysis {
@@ -181,7 +182,7 @@ TEST(StepperContractTest, InitialMomentumIsUsedBitForBitForEveryMethod) {
     for (std::size_t i = 0; i < rotated.samples.size(); ++i) {
       worst = std::max(worst, (rotated.samples[i].H_B - plain.samples[i].H_B).norm() / H0.norm());
     }
-    ::testing::Test::RecordProperty(name + "_rotated_vs_identity_H", std::to_string(worst));
+    ::testing::Test::RecordProperty(name + "_rotated_vs_identity_H", math::FormatNumber(worst));
     // Measured: 0 (bit-identical H_B) for exact, the Lie-group methods, rk4 and
     // thesis-euler; 2.9e-12 (dopri5) and 5.7e-12 (rkf78): their quaternion enters the
     // step-size control (the error weights), so their steps differ.

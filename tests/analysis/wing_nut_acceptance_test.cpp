@@ -12,6 +12,7 @@
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/dynamics/inertia_source.h"
 #include "deploysim/integrators/integrate.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/math/quaternion.h"
 #include "test_support.h"
 
@@ -60,8 +61,9 @@ Result RunWingNut(const std::string& method, double rtol) {
   for (std::size_t i = 0; i < std::min(ref.size(), r.events.size()); ++i) {
     out.max_flip_error = std::max(out.max_flip_error, std::abs(r.events[i].t - ref[i]));
   }
-  ::testing::Test::RecordProperty(method + "_max_H_error", std::to_string(out.max_H_error));
-  ::testing::Test::RecordProperty(method + "_max_flip_error", std::to_string(out.max_flip_error));
+  ::testing::Test::RecordProperty(method + "_max_H_error", math::FormatNumber(out.max_H_error));
+  ::testing::Test::RecordProperty(method + "_max_flip_error",
+                                  math::FormatNumber(out.max_flip_error));
   return out;
 }
 

@@ -17,6 +17,7 @@
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/math/number_format.h"
 
 namespace deploysim {
 namespace {
@@ -69,8 +70,8 @@ TEST(SeedSatelliteTest, ClosedSpinsStablyWithinThePerturbationBound) {
   for (double a : r.trajectory.spin_axis_angle) worst = std::max(worst, a);
   EXPECT_LE(worst, bound * (1 + 1e-9));
   EXPECT_GE(worst, 0.5 * bound);  // the wobble really explores the bound
-  ::testing::Test::RecordProperty("closed_max_angle_rad", std::to_string(worst));
-  ::testing::Test::RecordProperty("closed_bound_rad", std::to_string(bound));
+  ::testing::Test::RecordProperty("closed_max_angle_rad", math::FormatNumber(worst));
+  ::testing::Test::RecordProperty("closed_bound_rad", math::FormatNumber(bound));
 }
 
 TEST(SeedSatelliteTest, HalfOpenIsTheAxisymmetricSolution) {
@@ -93,7 +94,7 @@ TEST(SeedSatelliteTest, HalfOpenIsTheAxisymmetricSolution) {
     err = std::max(err, (tr.H_B[i] - exact).norm() / M);
   }
   EXPECT_LT(err, 1e-10);
-  ::testing::Test::RecordProperty("half_open_max_rel_error", std::to_string(err));
+  ::testing::Test::RecordProperty("half_open_max_rel_error", math::FormatNumber(err));
 }
 
 TEST(SeedSatelliteTest, OpenFlipsAtTheAnalyticPeriod) {
@@ -144,8 +145,10 @@ TEST(CouplingTest, RateErrorScalesWithHingeRateButAttitudeOffsetWithSwing) {
   EXPECT_GT(fast.attitude_offset_at_deployment_end, 0.1);  // it is not small: ~0.28 rad
   EXPECT_NEAR(fast.attitude_offset_at_deployment_end, slow.attitude_offset_at_deployment_end,
               0.02 * fast.attitude_offset_at_deployment_end);
-  ::testing::Test::RecordProperty("w_diff_fast", std::to_string(fast.max_w_difference_deploying));
-  ::testing::Test::RecordProperty("w_diff_slow", std::to_string(slow.max_w_difference_deploying));
+  ::testing::Test::RecordProperty("w_diff_fast",
+                                  math::FormatNumber(fast.max_w_difference_deploying));
+  ::testing::Test::RecordProperty("w_diff_slow",
+                                  math::FormatNumber(slow.max_w_difference_deploying));
   ::testing::Test::RecordProperty("offset_fast",
                                   std::to_string(fast.attitude_offset_at_deployment_end));
   ::testing::Test::RecordProperty("offset_slow",

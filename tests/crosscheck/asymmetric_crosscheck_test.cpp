@@ -13,6 +13,7 @@
 
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
 
 namespace deploysim::crosscheck {
@@ -74,11 +75,11 @@ TEST(AsymmetricCrosscheckTest, ExactCouplingAgreesWithSimbody) {
   Measured("r.simbody.max_momentum_drift", r.simbody.max_momentum_drift);
   EXPECT_LE(r.simbody.max_momentum_drift, kSimbodyDriftTolerance);
   EXPECT_EQ(r.simbody.stats.restarts, 4);  // at every stage boundary but the end
-  RecordProperty("max_H_B_relative", std::to_string(r.difference.max_H_B_relative));
-  RecordProperty("max_attitude_rad", std::to_string(r.difference.max_attitude));
-  RecordProperty("max_w_rad_s", std::to_string(r.difference.max_w));
-  RecordProperty("max_flip_s", std::to_string(r.max_flip_difference));
-  RecordProperty("simbody_drift", std::to_string(r.simbody.max_momentum_drift));
+  RecordProperty("max_H_B_relative", math::FormatNumber(r.difference.max_H_B_relative));
+  RecordProperty("max_attitude_rad", math::FormatNumber(r.difference.max_attitude));
+  RecordProperty("max_w_rad_s", math::FormatNumber(r.difference.max_w));
+  RecordProperty("max_flip_s", math::FormatNumber(r.max_flip_difference));
+  RecordProperty("simbody_drift", math::FormatNumber(r.simbody.max_momentum_drift));
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT

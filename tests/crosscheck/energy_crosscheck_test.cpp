@@ -13,6 +13,7 @@
 
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/number_format.h"
 
 namespace deploysim::crosscheck {
 namespace {
@@ -68,8 +69,8 @@ TEST(EnergyCrosscheckTest, TotalKineticEnergyAgreesWithSimbody) {
   std::cout << "smooth laws: total " << d.total << ", rigid part " << d.rigid << "\n";
   EXPECT_LE(d.total, kEnergyTolerance);
   EXPECT_GE(d.rigid, kRigidPartMisses);
-  RecordProperty("max_energy_relative", std::to_string(d.total));
-  RecordProperty("max_rigid_part_relative", std::to_string(d.rigid));
+  RecordProperty("max_energy_relative", math::FormatNumber(d.total));
+  RecordProperty("max_rigid_part_relative", math::FormatNumber(d.rigid));
 }
 
 TEST(EnergyCrosscheckTest, TotalKineticEnergyAgreesWithSimbodyAcrossRateJumps) {
@@ -83,7 +84,7 @@ TEST(EnergyCrosscheckTest, TotalKineticEnergyAgreesWithSimbodyAcrossRateJumps) {
   std::cout << "linear law: total " << d.total << ", rigid part " << d.rigid << "\n";
   EXPECT_LE(d.total, kEnergyTolerance);
   EXPECT_GE(d.rigid, kRigidPartMisses);
-  RecordProperty("max_energy_relative", std::to_string(d.total));
+  RecordProperty("max_energy_relative", math::FormatNumber(d.total));
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT

@@ -18,6 +18,7 @@
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/crosscheck_file.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/schedule/deployment_schedule.h"
 
 namespace deploysim::crosscheck {
@@ -70,12 +71,12 @@ TEST(SmallsatCrosscheckTest, ExactCouplingAgreesWithSimbodyOverTheWholeProfile) 
   EXPECT_LE(r.max_flip_difference, kFlipTolerance);
   Measured("r.simbody.max_momentum_drift", r.simbody.max_momentum_drift);
   EXPECT_LE(r.simbody.max_momentum_drift, kSimbodyDriftTolerance);
-  RecordProperty("max_H_B_relative", std::to_string(r.difference.max_H_B_relative));
-  RecordProperty("max_attitude_rad", std::to_string(r.difference.max_attitude));
-  RecordProperty("max_w_rad_s", std::to_string(r.difference.max_w));
-  RecordProperty("max_flip_s", std::to_string(r.max_flip_difference));
-  RecordProperty("simbody_drift", std::to_string(r.simbody.max_momentum_drift));
-  RecordProperty("simbody_wall_s", std::to_string(r.simbody.stats.wall_seconds));
+  RecordProperty("max_H_B_relative", math::FormatNumber(r.difference.max_H_B_relative));
+  RecordProperty("max_attitude_rad", math::FormatNumber(r.difference.max_attitude));
+  RecordProperty("max_w_rad_s", math::FormatNumber(r.difference.max_w));
+  RecordProperty("max_flip_s", math::FormatNumber(r.max_flip_difference));
+  RecordProperty("simbody_drift", math::FormatNumber(r.simbody.max_momentum_drift));
+  RecordProperty("simbody_wall_s", math::FormatNumber(r.simbody.stats.wall_seconds));
 }
 
 // Both start from the same attitude and momentum; w_NB_B = J^-1 (H - h_rel) agrees too.

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/number_format.h"
 
 namespace deploysim::crosscheck {
 namespace {
@@ -83,8 +84,8 @@ TEST(SpringDeploymentTest, ReplayAgreesWithSimbody) {
   EXPECT_LE(r.simbody.max_momentum_drift, 3e-11);  // measured 9.3e-12
   Measured("r.replay_max_h_N_drift", r.replay_max_h_N_drift);
   EXPECT_LE(r.replay_max_h_N_drift, 5e-15);  // measured 1.6e-15
-  RecordProperty("max_H_B_relative", std::to_string(r.difference.max_H_B_relative));
-  RecordProperty("max_attitude_rad", std::to_string(r.difference.max_attitude));
+  RecordProperty("max_H_B_relative", math::FormatNumber(r.difference.max_H_B_relative));
+  RecordProperty("max_attitude_rad", math::FormatNumber(r.difference.max_attitude));
   RecordProperty("knots", std::to_string(r.simbody.history.size()));
 }
 

@@ -22,6 +22,7 @@
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/spring_deployment.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
 
 namespace deploysim::crosscheck {
@@ -188,10 +189,10 @@ TEST(TreeCrosscheckTest, BranchedTreeWithSkewAxesAgreesWithSimbody) {
   EXPECT_LT((r.simbody.trajectory.hinge_angles.front() - closed).norm(), 1e-12);
   EXPECT_LT(r.simbody.trajectory.hinge_angles.back().norm(), 1e-12);
 
-  RecordProperty("momentum_identity", std::to_string(id.momentum));
-  RecordProperty("max_H_B_relative", std::to_string(r.difference.max_H_B_relative));
-  RecordProperty("max_attitude_rad", std::to_string(r.difference.max_attitude));
-  RecordProperty("simbody_drift", std::to_string(r.simbody.max_momentum_drift));
+  RecordProperty("momentum_identity", math::FormatNumber(id.momentum));
+  RecordProperty("max_H_B_relative", math::FormatNumber(r.difference.max_H_B_relative));
+  RecordProperty("max_attitude_rad", math::FormatNumber(r.difference.max_attitude));
+  RecordProperty("simbody_drift", math::FormatNumber(r.simbody.max_momentum_drift));
 }
 
 TEST(TreeCrosscheckTest, AccordionUnfoldsOnSpringsAndTheReplayAgrees) {

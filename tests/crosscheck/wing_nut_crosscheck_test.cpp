@@ -13,6 +13,7 @@
 
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/math/number_format.h"
 #include "test_support.h"
 
 namespace deploysim::crosscheck {
@@ -62,13 +63,13 @@ TEST(WingNutCrosscheckTest, FlipsAgreeWithSimbodyAndTheClosedForm) {
   EXPECT_LE(r.simbody_max_analytic_error, kSimbodyOwnErrorTolerance);
   Measured("r.difference.max_H_B_relative", r.difference.max_H_B_relative);
   EXPECT_LE(r.difference.max_H_B_relative, kSimbodyOwnErrorTolerance);
-  RecordProperty("flip_simbody_vs_reduced_s", std::to_string(r.max_flip_difference));
+  RecordProperty("flip_simbody_vs_reduced_s", math::FormatNumber(r.max_flip_difference));
   RecordProperty("flip_simbody_vs_analytic_s",
                  std::to_string(r.max_flip_difference_simbody_analytic));
   RecordProperty("flip_reduced_vs_analytic_s",
                  std::to_string(r.max_flip_difference_reduced_analytic));
-  RecordProperty("simbody_H_B_error", std::to_string(r.simbody_max_analytic_error));
-  RecordProperty("simbody_wall_s", std::to_string(r.simbody.stats.wall_seconds));
+  RecordProperty("simbody_H_B_error", math::FormatNumber(r.simbody_max_analytic_error));
+  RecordProperty("simbody_wall_s", math::FormatNumber(r.simbody.stats.wall_seconds));
 }
 
 // At accuracy 1e-12 Simbody is much worse near the separatrix (docs/design.md 3), but over a
@@ -88,7 +89,7 @@ TEST(WingNutCrosscheckTest, ShortHorizonAtAccuracy1e12) {
   EXPECT_LE(r.max_flip_difference_simbody_analytic, kShortFlipTolerance);
   // Simbody's own error is visible at this accuracy (and reported).
   EXPECT_GT(r.simbody_max_analytic_error, 10.0 * r.reduced_max_analytic_error);
-  RecordProperty("simbody_H_B_error", std::to_string(r.simbody_max_analytic_error));
+  RecordProperty("simbody_H_B_error", math::FormatNumber(r.simbody_max_analytic_error));
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT

@@ -10,6 +10,7 @@
 #include "deploysim/integrators/factory.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/math/number_format.h"
 #include "test_support.h"
 
 namespace deploysim::integrators {
@@ -43,7 +44,7 @@ void ExpectWingNutFlips(const std::string& method, const IntegratorSettings& set
   EXPECT_LT(worst, kFlipTimeTolerance) << method << " steps=" << r.stats.steps;
   // A few times the largest measured (1.6e-10 s), so that a regression shows.
   EXPECT_LT(worst, 6e-10) << method << " steps=" << r.stats.steps;
-  ::testing::Test::RecordProperty(method + "_max_flip_error_s", std::to_string(worst));
+  ::testing::Test::RecordProperty(method + "_max_flip_error_s", math::FormatNumber(worst));
 }
 
 TEST(WingNutTest, ElevenFlipsInFortySeconds) {
