@@ -1,4 +1,4 @@
-// The full mission pipeline against the outcome-only path (issue 8, "dense output"):
+// The full mission pipeline against the outcome-only path:
 // analysis::RunMission (schedule built, integration with the dense trajectory on the
 // output grid, flip events, stage reports) against sweep::SimulateOutcome (the same
 // schedule, stepper, tolerances and flip rule, no trajectory) for the same profile,

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The Python package's overhead (issue 11, acceptance 2 and 3), table 8.
+"""The Python package's overhead, table 8.
 
 Rows:
   1. a 1,000-case sweep (the small satellite's three-stage deployment, 50 deployment
@@ -162,7 +162,7 @@ def main():
 
     load = " ".join(f"{x:.2f}" for x in os.getloadavg())
     lines = [
-        "### 8. The Python package (issue 11)",
+        "### 8. The Python package",
         "",
         "`bench/python_bench.py` (`PYTHONPATH=build/release/python`, Debian's /usr/bin/python3):",
         "the package against the CLI and against its own C++ run.",

@@ -1,11 +1,10 @@
-// deploysim against Simbody 3.7 at matched accuracy (issue 5, benchmark rows 2 and 3;
-// issue 8):
+// deploysim against Simbody 3.7 at matched accuracy (benchmark rows 2 and 3):
 //   A. the wing nut as a free rigid body over 40 s: Simbody's MobilizedBody::Free with
 //      Runge-Kutta-Merson against deploysim's integrators and closed form;
 //   B. the small satellite's deployment (deployment_profiles/smallsat_three_stage.yaml),
 //      first 300 s: Simbody's hinged model with prescribed hinge motion against deploysim
 //      with exact coupling;
-//   C. the small satellite's spring-driven deployment (issue 9, acceptance 7:
+//   C. the small satellite's spring-driven deployment (
 //      deployment_profiles/smallsat_spring_deploy.yaml, free hinges with springs, dampers,
 //      friction and latches), first 300 s: the independent Simbody model of free hinges
 //      (crosscheck::RunSimbodyFreeHinges) against deploysim's hinge mission (RunMission, as
