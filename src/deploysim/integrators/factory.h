@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "deploysim/integrators/butcher_tableau.h"
 #include "deploysim/integrators/stepper.h"
 
 namespace deploysim::integrators {
@@ -16,5 +17,18 @@ std::vector<std::string> NumericalStepperNames();
 
 /// Throws std::invalid_argument listing the valid names for an unknown one.
 std::unique_ptr<Stepper> MakeNumericalStepper(const std::string& name);
+
+/// One numerical method of the registry: the one table of names, steppers and which
+/// methods integrate free hinges.
+struct MethodEntry {
+  const char* name;
+  const char* description;  ///< kExplicitRk and kRkmk (the others describe themselves).
+  enum class Family { kThesisEuler, kExplicitRk, kRkmk, kSplitting } family;
+  const ButcherTableau& (*tableau)();  ///< kExplicitRk and kRkmk; null otherwise.
+};
+
+/// The registry, in the order `deploysim methods` lists it. The RKMK entries are the
+/// methods that integrate free hinges (shape_integrate.h, ShapeMethodNames).
+const std::vector<MethodEntry>& NumericalMethods();
 
 }  // namespace deploysim::integrators

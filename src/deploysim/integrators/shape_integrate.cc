@@ -11,6 +11,7 @@
 #include "deploysim/integrators/butcher_tableau.h"
 #include "deploysim/integrators/dense_output.h"
 #include "deploysim/integrators/driver_support.h"
+#include "deploysim/integrators/factory.h"
 #include "deploysim/integrators/lie_anchor.h"
 #include "deploysim/math/quaternion.h"
 #include "deploysim/math/so3.h"
@@ -253,9 +254,9 @@ class ShapeStepper {
 };
 
 const ButcherTableau& TableauOf(const std::string& method) {
-  if (method == "rkmk4") return ClassicRk4();
-  if (method == "rkmk-dopri5") return DormandPrince54();
-  if (method == "rkmk-rkf78") return Fehlberg78();
+  for (const MethodEntry& m : NumericalMethods()) {
+    if (m.family == MethodEntry::Family::kRkmk && method == m.name) return m.tableau();
+  }
   std::string list;
   for (const std::string& n : ShapeMethodNames()) list += (list.empty() ? "" : ", ") + n;
   throw std::invalid_argument("integrator '" + method +
@@ -269,7 +270,13 @@ bool Finite(const ShapeState& s) {
 
 }  // namespace
 
-std::vector<std::string> ShapeMethodNames() { return {"rkmk4", "rkmk-dopri5", "rkmk-rkf78"}; }
+std::vector<std::string> ShapeMethodNames() {
+  std::vector<std::string> names;
+  for (const MethodEntry& m : NumericalMethods()) {
+    if (m.family == MethodEntry::Family::kRkmk) names.emplace_back(m.name);
+  }
+  return names;
+}
 
 bool IsShapeMethod(const std::string& name) {
   for (const std::string& n : ShapeMethodNames()) {
