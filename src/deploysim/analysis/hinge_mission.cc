@@ -96,7 +96,6 @@ class HingeRun {
   bool Stopped(integrators::Termination t, const std::string& message);
   double Cos(const Vec3& H_B) const { return s_.dot(H_B) / H_B.norm(); }
 
-  const schedule::Profile& profile_;
   const std::string where_;
   const model::HingedBody body_;
   const int n_;
@@ -140,8 +139,7 @@ HingeRun::HingeRun(const schedule::Profile& profile,
                    SampleSink* sink,
                    const std::function<void(double)>& progress,
                    const RunOptions& options)
-    : profile_(profile),
-      where_(profile.source.empty() ? profile.name : profile.source),
+    : where_(profile.source.empty() ? profile.name : profile.source),
       body_(BodyOf(profile, where_)),
       n_(static_cast<int>(body_.panels.size())),
       plans_(profile.hinges),
