@@ -209,10 +209,10 @@ class GuardHandler : public YAML::EventHandler {
   std::size_t documents() const { return documents_; }
 
   void OnDocumentStart(const YAML::Mark& mark) override {
-    // yaml-cpp 0.7 (issue 1040, fixed upstream by PR 1319): on a token that no rule
-    // consumes (a ',' outside a flow collection: `,` `!,` `a: ,` `- ,`) the parser emits
-    // an empty document without advancing, forever; LoadAll collects them until memory
-    // runs out. A document that starts where the previous one started is that loop.
+    // yaml-cpp 0.7 (upstream bug report no. 1040, fixed by pull request 1319): on a token that no
+    // rule consumes (a ',' outside a flow collection: `,` `!,` `a: ,` `- ,`) the parser emits an
+    // empty document without advancing, forever; LoadAll collects them until memory runs out. A
+    // document that starts where the previous one started is that loop.
     if (documents_ > 0 && mark.pos == last_start_.pos) {
       const std::size_t pos = static_cast<std::size_t>(std::max(mark.pos, 0));
       const std::string c = pos < text_.size() ? text_.substr(pos, 1) : std::string();

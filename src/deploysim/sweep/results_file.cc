@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 
@@ -49,6 +50,140 @@ Column Make(std::string name,
 
 }  // namespace
 
+namespace {
+
+/// An outcome column: its header and how a case's outcome fills it (one entry per
+/// column, so that a header and its values cannot drift apart).
+struct OutcomeColumn {
+  const char* name;
+  const char* units;
+  std::string description;
+  ColumnType type;
+  std::function<void(Column&, const CaseOutcome&)> put;
+};
+
+template <typename F>
+OutcomeColumn Int(const char* name, const char* units, std::string description, F f) {
+  return {name, units, std::move(description), ColumnType::kInt,
+          [f](Column& c, const CaseOutcome& o) { c.i.push_back(f(o)); }};
+}
+template <typename F>
+OutcomeColumn Real(const char* name, const char* units, std::string description, F f) {
+  return {name, units, std::move(description), ColumnType::kDouble,
+          [f](Column& c, const CaseOutcome& o) { c.d.push_back(f(o)); }};
+}
+template <typename F>
+OutcomeColumn Text(const char* name, std::string description, F f) {
+  return {name, "none", std::move(description), ColumnType::kText,
+          [f](Column& c, const CaseOutcome& o) { c.s.push_back(f(o)); }};
+}
+
+// The columns every sweep has, up to the deployment's timing.
+std::vector<OutcomeColumn> MotionColumns(bool hinges) {
+  using O = const CaseOutcome&;
+  return {
+      Int("flipped", "1", "1 if the body flipped at least once (Dzhanibekov flip), else 0",
+          [](O o) -> std::int64_t { return o.flip_count > 0 ? 1 : 0; }),
+      Int("flip_count", "1",
+          "number of flips: sign changes of H_B along the spin axis while it is the "
+          "intermediate principal axis",
+          [](O o) -> std::int64_t { return o.flip_count; }),
+      Real("first_flip_time", "s", "time of the first flip (NaN: no flip)",
+           [](O o) { return o.first_flip_time; }),
+      Real("first_flip_after_deploy", "s",
+           "first_flip_time - deploy_end_time (NaN: no flip; < 0: during the deployment)",
+           [](O o) {
+             return o.flip_count > 0 ? o.first_flip_time - o.deploy_end_time : std::nan("");
+           }),
+      Real("max_spin_axis_angle", "rad",
+           "largest angle between the body spin axis and h_N over the run",
+           [](O o) { return o.max_spin_axis_angle; }),
+      Real("final_spin_axis_angle", "rad", "angle between the body spin axis and h_N at the end",
+           [](O o) { return o.final_spin_axis_angle; }),
+      Text("final_class",
+           "final motion: spin-minor | spin-major | spin-intermediate | tumbling | failed",
+           [](O o) { return ToString(o.final_class); }),
+      Text("final_axis",
+           "body axis (+x ... -z) nearest the final circulation axis, signed along H_B",
+           [](O o) {
+             return o.final_class == MotionClass::kFailed ? "none" : AxisName(o.final_axis);
+           }),
+      Text("final_regime", "torque-free regime after the end (FreeBodySolution)",
+           [](O o) {
+             return o.final_class == MotionClass::kFailed
+                        ? "none"
+                        : analysis::ToString(static_cast<analysis::Regime>(o.final_regime));
+           }),
+      Real("final_cone_angle", "rad",
+           "largest half-angle of the final momentum cone about its circulation axis",
+           [](O o) { return o.final_cone_angle; }),
+      Real("final_separatrix_distance", "1",
+           "(D - I2) / (I3 - I1) of the torque-free motion after the end (D = M^2 / 2T): < 0 "
+           "about the minor axis, > 0 about the major axis, 0 on the separatrix",
+           [](O o) { return o.final_separatrix_distance; }),
+      Real("predicted_flip_half_period", "s",
+           "time between flips of the torque-free motion after the end (closed form; inf: it "
+           "will not flip)",
+           [](O o) { return o.predicted_flip_half_period; }),
+      Int("will_flip", "1",
+          "1 if the torque-free motion after the end flips (the spin axis is then the "
+          "intermediate axis), whatever the simulated time",
+          [](O o) -> std::int64_t { return WillFlip(o) ? 1 : 0; }),
+      Real("energy_initial", "J",
+           hinges ? "total energy (kinetic + spring) at the start"
+                  : "total kinetic energy at the start",
+           [](O o) { return o.energy_initial; }),
+      Real(
+          "energy_final", "J",
+          hinges ? "total energy (kinetic + spring) at the end" : "total kinetic energy at the end",
+          [](O o) { return o.energy_final; }),
+      Real("energy_change", "1", "(energy_final - energy_initial) / energy_initial",
+           [](O o) { return (o.energy_final - o.energy_initial) / o.energy_initial; }),
+  };
+}
+
+// The deployment's timing, the hinge events (hinge profiles) and the integration.
+std::vector<OutcomeColumn> RunColumns(bool hinges) {
+  using O = const CaseOutcome&;
+  std::vector<OutcomeColumn> cols{
+      Real("deploy_end_time", "s",
+           hinges ? "last lock (latch, jam or rest on a stop) of a released panel (NaN: a "
+                    "released panel is still free at the end; start: nothing released)"
+                  : "end of the last move stage",
+           [](O o) { return o.deploy_end_time; }),
+      Real("deploy_duration", "s",
+           hinges ? "deploy_end_time - the first release (0: nothing released)"
+                  : "total duration of the move stages",
+           [](O o) { return o.deploy_duration; }),
+      Real("end_time", "s", "end of the case's run", [](O o) { return o.end_time; }),
+  };
+  if (hinges) {
+    cols.push_back(Int("latched_count", "1", "latch events (panels caught by their latch)",
+                       [](O o) -> std::int64_t { return o.latched_count; }));
+    cols.push_back(Int("all_latched", "1",
+                       "1 if every free panel that has a latch in the base profile latched",
+                       [](O o) -> std::int64_t { return o.all_latched; }));
+    cols.push_back(Real("max_latch_w_jump", "rad/s",
+                        "latch shock: largest |hub angular-velocity jump| over the latch, jam, "
+                        "stop and rest events",
+                        [](O o) { return o.max_latch_w_jump; }));
+    cols.push_back(Real("max_latch_impulse", "N m s",
+                        "largest |impulse| over the latch, jam, stop and rest events",
+                        [](O o) { return o.max_latch_impulse; }));
+    cols.push_back(Real("energy_dissipated_events", "J", "energy dissipated by all hinge events",
+                        [](O o) { return o.energy_dissipated_events; }));
+  }
+  cols.push_back(Text("termination", "why the integration stopped",
+                      [](O o) { return integrators::ToString(o.termination); }));
+  cols.push_back(
+      Int("steps", "1", "accepted integrator steps", [](O o) -> std::int64_t { return o.steps; }));
+  cols.push_back(Int("rejected", "1", "rejected integrator step attempts",
+                     [](O o) -> std::int64_t { return o.rejected; }));
+  return cols;
+}
+
+}  // namespace
+
 std::vector<ResultColumn> ResultColumns(const SweepSpec& spec,
                                         const std::vector<CaseOutcome>& outcomes) {
   const std::size_t n = spec.case_count();
@@ -70,84 +205,12 @@ std::vector<ResultColumn> ResultColumns(const SweepSpec& spec,
                         IsCategorical(t.parameter) ? ColumnType::kText : ColumnType::kDouble));
   }
   const std::size_t first_outcome = cols.size();
-  auto outcome = [&cols](const char* name, const char* units, const char* description,
-                         ColumnType type) {
-    cols.push_back(Make(name, units, description, "outcome", type));
-  };
-  outcome("flipped", "1", "1 if the body flipped at least once (Dzhanibekov flip), else 0",
-          ColumnType::kInt);
-  outcome("flip_count", "1",
-          "number of flips: sign changes of H_B along the spin axis while it is the "
-          "intermediate principal axis",
-          ColumnType::kInt);
-  outcome("first_flip_time", "s", "time of the first flip (NaN: no flip)", ColumnType::kDouble);
-  outcome("first_flip_after_deploy", "s",
-          "first_flip_time - deploy_end_time (NaN: no flip; < 0: during the deployment)",
-          ColumnType::kDouble);
-  outcome("max_spin_axis_angle", "rad",
-          "largest angle between the body spin axis and h_N over the run", ColumnType::kDouble);
-  outcome("final_spin_axis_angle", "rad", "angle between the body spin axis and h_N at the end",
-          ColumnType::kDouble);
-  outcome("final_class", "none",
-          "final motion: spin-minor | spin-major | spin-intermediate | tumbling | failed",
-          ColumnType::kText);
-  outcome("final_axis", "none",
-          "body axis (+x ... -z) nearest the final circulation axis, signed along H_B",
-          ColumnType::kText);
-  outcome("final_regime", "none", "torque-free regime after the end (FreeBodySolution)",
-          ColumnType::kText);
-  outcome("final_cone_angle", "rad",
-          "largest half-angle of the final momentum cone about its circulation axis",
-          ColumnType::kDouble);
   const bool hinges = spec.base.is_hinge_profile();
-  outcome("final_separatrix_distance", "1",
-          "(D - I2) / (I3 - I1) of the torque-free motion after the end (D = M^2 / 2T): < 0 "
-          "about the minor axis, > 0 about the major axis, 0 on the separatrix",
-          ColumnType::kDouble);
-  outcome("predicted_flip_half_period", "s",
-          "time between flips of the torque-free motion after the end (closed form; inf: it "
-          "will not flip)",
-          ColumnType::kDouble);
-  outcome("will_flip", "1",
-          "1 if the torque-free motion after the end flips (the spin axis is then the "
-          "intermediate axis), whatever the simulated time",
-          ColumnType::kInt);
-  outcome(
-      "energy_initial", "J",
-      hinges ? "total energy (kinetic + spring) at the start" : "total kinetic energy at the start",
-      ColumnType::kDouble);
-  outcome("energy_final", "J",
-          hinges ? "total energy (kinetic + spring) at the end" : "total kinetic energy at the end",
-          ColumnType::kDouble);
-  outcome("energy_change", "1", "(energy_final - energy_initial) / energy_initial",
-          ColumnType::kDouble);
-  outcome("deploy_end_time", "s",
-          hinges ? "last lock (latch, jam or rest on a stop) of a released panel (NaN: a released "
-                   "panel is still free at the end; start: nothing released)"
-                 : "end of the last move stage",
-          ColumnType::kDouble);
-  outcome("deploy_duration", "s",
-          hinges ? "deploy_end_time - the first release (0: nothing released)"
-                 : "total duration of the move stages",
-          ColumnType::kDouble);
-  outcome("end_time", "s", "end of the case's run", ColumnType::kDouble);
-  if (hinges) {
-    outcome("latched_count", "1", "latch events (panels caught by their latch)", ColumnType::kInt);
-    outcome("all_latched", "1",
-            "1 if every free panel that has a latch in the base profile latched", ColumnType::kInt);
-    outcome("max_latch_w_jump", "rad/s",
-            "latch shock: largest |hub angular-velocity jump| over the latch, jam, stop and rest "
-            "events",
-            ColumnType::kDouble);
-    outcome("max_latch_impulse", "N m s",
-            "largest |impulse| over the latch, jam, stop and rest events", ColumnType::kDouble);
-    outcome("energy_dissipated_events", "J", "energy dissipated by all hinge events",
-            ColumnType::kDouble);
+  std::vector<OutcomeColumn> outcome_cols = MotionColumns(hinges);
+  for (OutcomeColumn& c : RunColumns(hinges)) outcome_cols.push_back(std::move(c));
+  for (const OutcomeColumn& c : outcome_cols) {
+    cols.push_back(Make(c.name, c.units, c.description, "outcome", c.type));
   }
-  outcome("termination", "none", "why the integration stopped", ColumnType::kText);
-  outcome("steps", "1", "accepted integrator steps", ColumnType::kInt);
-  outcome("rejected", "1", "rejected integrator step attempts", ColumnType::kInt);
-
   for (std::size_t k = 0; k < n; ++k) {
     const CaseParameters p = ParametersOf(spec, k);
     cols[0].i.push_back(static_cast<std::int64_t>(p.index));
@@ -161,40 +224,9 @@ std::vector<ResultColumn> ResultColumns(const SweepSpec& spec,
         c.d.push_back(p.values[t]);
       }
     }
-    const CaseOutcome& o = outcomes[k];
-    const double nan = std::nan("");
-    std::size_t j = first_outcome;
-    cols[j++].i.push_back(o.flip_count > 0 ? 1 : 0);
-    cols[j++].i.push_back(o.flip_count);
-    cols[j++].d.push_back(o.first_flip_time);
-    cols[j++].d.push_back(o.flip_count > 0 ? o.first_flip_time - o.deploy_end_time : nan);
-    cols[j++].d.push_back(o.max_spin_axis_angle);
-    cols[j++].d.push_back(o.final_spin_axis_angle);
-    cols[j++].s.push_back(ToString(o.final_class));
-    cols[j++].s.push_back(o.final_class == MotionClass::kFailed ? "none" : AxisName(o.final_axis));
-    cols[j++].s.push_back(o.final_class == MotionClass::kFailed
-                              ? "none"
-                              : analysis::ToString(static_cast<analysis::Regime>(o.final_regime)));
-    cols[j++].d.push_back(o.final_cone_angle);
-    cols[j++].d.push_back(o.final_separatrix_distance);
-    cols[j++].d.push_back(o.predicted_flip_half_period);
-    cols[j++].i.push_back(WillFlip(o) ? 1 : 0);
-    cols[j++].d.push_back(o.energy_initial);
-    cols[j++].d.push_back(o.energy_final);
-    cols[j++].d.push_back((o.energy_final - o.energy_initial) / o.energy_initial);
-    cols[j++].d.push_back(o.deploy_end_time);
-    cols[j++].d.push_back(o.deploy_duration);
-    cols[j++].d.push_back(o.end_time);
-    if (hinges) {
-      cols[j++].i.push_back(o.latched_count);
-      cols[j++].i.push_back(o.all_latched);
-      cols[j++].d.push_back(o.max_latch_w_jump);
-      cols[j++].d.push_back(o.max_latch_impulse);
-      cols[j++].d.push_back(o.energy_dissipated_events);
+    for (std::size_t j = 0; j < outcome_cols.size(); ++j) {
+      outcome_cols[j].put(cols[first_outcome + j], outcomes[k]);
     }
-    cols[j++].s.push_back(integrators::ToString(o.termination));
-    cols[j++].i.push_back(o.steps);
-    cols[j++].i.push_back(o.rejected);
   }
   return cols;
 }
