@@ -35,6 +35,7 @@ __all__ = [
     "FreeBody", "Model", "Profile", "SweepSpec", "SimulationResult", "methods",
     "load_model", "load_profile", "load_sweep", "model_from_dict", "profile_from_dict",
     "sweep_from_dict", "simulate", "run_sweep", "hardware_threads", "crosscheck",
+    "trajectory_columns",
 ]
 
 
@@ -145,14 +146,9 @@ class SimulationResult:
       spin_axis_B, profile (the Profile as run)
     """
 
-    _TRAJECTORY = ("time", "H_B", "w_NB_B", "q_NB", "J_B", "principal_moments", "h_rel_B",
-                   "h_N", "energy", "energy_rigid", "energy_spring", "energy_total",
-                   "euler_313", "spin_axis_angle", "hinge_angles", "hinge_rates")
-
     def __init__(self, raw):
-        trajectory = raw.pop("trajectory")
-        for k in self._TRAJECTORY:
-            setattr(self, k, trajectory[k])
+        for k, v in raw.pop("trajectory").items():  # one per trajectory_columns() entry
+            setattr(self, k, v)
         self.flips = raw.pop("flip_times")
         self.predicted_flips = raw.pop("predicted_flip_times")
         self.events = raw.pop("hinge_events")
@@ -172,6 +168,13 @@ class SimulationResult:
         return (f"<deploysim.SimulationResult '{self.profile.name}': {len(self.time)} samples "
                 f"{self.time[0] if len(self.time) else 0:g}..{self.final_time:g} s, "
                 f"{len(self.flips)} flips, {self.termination}>")
+
+
+def trajectory_columns():
+    """The trajectory's columns, as the HDF5 file, the CSV and SimulationResult hold them:
+    a list of dicts name, units, shape ('scalar', 'vector3', 'quaternion' (w, x, y, z),
+    'matrix3', 'per-panel'), description and derived (computed from other columns)."""
+    return _deploysim._trajectory_columns()
 
 
 def simulate(profile, method=None, rtol=None, atol=None, step=None, dt=None, coupling=None,

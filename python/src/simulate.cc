@@ -11,96 +11,13 @@
 #include "convert.h"
 #include "deploysim/analysis/mission.h"
 #include "deploysim/integrators/integrate.h"
+#include "trajectory_arrays.h"
 
 namespace py = pybind11;
 
 namespace deploysim::python {
 
 namespace {
-
-/// Receives the samples as RunMission streams them (the path `deploysim simulate` takes to
-/// its HDF5 file) into flat arrays in the layouts numpy gets: no per-sample allocations
-/// (hinge rows) to build or free, quaternions already (w, x, y, z), J_B as stored.
-class FlatSink final : public analysis::SampleSink {
- public:
-  FlatSink(std::size_t expected, std::size_t panels) : panels_(panels) {
-    for (std::vector<double>* v :
-         {&time, &energy, &energy_rigid, &energy_spring, &spin_axis_angle}) {
-      v->reserve(expected);
-    }
-    for (std::vector<math::Vec3>* v : {&H_B, &w_NB_B, &moments, &h_rel_B, &h_N, &euler}) {
-      v->reserve(expected);
-    }
-    J_B.reserve(expected);
-    q_wxyz.reserve(4 * expected);
-    hinge_angles.reserve(panels * expected);
-    hinge_rates.reserve(panels * expected);
-  }
-
-  void Append(const analysis::Trajectory& b) override {
-    auto add = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
-    add(time, b.time);
-    add(H_B, b.H_B);
-    add(w_NB_B, b.w_NB_B);
-    add(J_B, b.J_B);
-    add(moments, b.principal_moments);
-    add(h_rel_B, b.h_rel_B);
-    add(h_N, b.h_N);
-    add(energy, b.energy);
-    add(energy_rigid, b.energy_rigid);
-    add(energy_spring, b.energy_spring);
-    add(euler, b.euler_313);
-    add(spin_axis_angle, b.spin_axis_angle);
-    for (const math::Quat& q : b.q_NB) {
-      q_wxyz.insert(q_wxyz.end(), {q.w(), q.x(), q.y(), q.z()});
-    }
-    if (panels_ > 0) {
-      for (std::size_t n = 0; n < b.hinge_angles.size(); ++n) {
-        if (static_cast<std::size_t>(b.hinge_angles[n].size()) != panels_ ||
-            static_cast<std::size_t>(b.hinge_rates[n].size()) != panels_) {
-          throw std::runtime_error("hinge samples of the wrong size (internal)");
-        }
-        hinge_angles.insert(hinge_angles.end(), b.hinge_angles[n].data(),
-                            b.hinge_angles[n].data() + panels_);
-        hinge_rates.insert(hinge_rates.end(), b.hinge_rates[n].data(),
-                           b.hinge_rates[n].data() + panels_);
-      }
-    }
-  }
-
-  py::dict ToDict() && {
-    const auto n = static_cast<py::ssize_t>(time.size());
-    const auto p = static_cast<py::ssize_t>(panels_);
-    std::vector<double> total(energy.size());
-    for (std::size_t k = 0; k < total.size(); ++k) total[k] = energy[k] + energy_spring[k];
-    py::dict d;
-    d["time"] = Doubles(std::move(time));
-    d["H_B"] = Vec3s(std::move(H_B));
-    d["w_NB_B"] = Vec3s(std::move(w_NB_B));
-    d["q_NB"] = Doubles(std::move(q_wxyz)).attr("reshape")(n, 4);
-    d["J_B"] = Mat3s(std::move(J_B));
-    d["principal_moments"] = Vec3s(std::move(moments));
-    d["h_rel_B"] = Vec3s(std::move(h_rel_B));
-    d["h_N"] = Vec3s(std::move(h_N));
-    d["energy"] = Doubles(std::move(energy));
-    d["energy_rigid"] = Doubles(std::move(energy_rigid));
-    d["energy_spring"] = Doubles(std::move(energy_spring));
-    d["energy_total"] = Doubles(std::move(total));
-    d["euler_313"] = Vec3s(std::move(euler));
-    d["spin_axis_angle"] = Doubles(std::move(spin_axis_angle));
-    d["hinge_angles"] = Doubles(std::move(hinge_angles)).attr("reshape")(n, p);
-    d["hinge_rates"] = Doubles(std::move(hinge_rates)).attr("reshape")(n, p);
-    return d;
-  }
-
-  std::vector<double> time, energy, energy_rigid, energy_spring, spin_axis_angle, q_wxyz;
-  std::vector<math::Vec3> H_B, w_NB_B, moments, h_rel_B, h_N, euler;
-  std::vector<math::Mat3> J_B;
-  std::vector<double> hinge_angles, hinge_rates;
-
- private:
-  std::size_t panels_;
-};
 
 py::dict StageDict(const analysis::StageReport& a, const schedule::Profile& p, std::size_t i) {
   py::dict d;
@@ -171,7 +88,7 @@ py::dict EventColumns(const analysis::MissionResult& r) {
   return d;
 }
 
-py::dict MissionDict(analysis::MissionResult&& r, FlatSink&& samples) {
+py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
   const schedule::Profile& p = r.profile;
   const bool geometry = p.mode == schedule::Mode::kGeometry;
   py::dict d;
@@ -226,7 +143,25 @@ py::dict MissionDict(analysis::MissionResult&& r, FlatSink&& samples) {
 
 }  // namespace
 
+/// The trajectory schema as the package describes it: one dict per column.
+py::list TrajectoryColumns() {
+  py::list out;
+  for (const analysis::TrajectoryColumn& c : analysis::TrajectorySchema::Standard().columns()) {
+    static const char* const kShapes[] = {"scalar", "vector3", "quaternion", "matrix3",
+                                          "per-panel"};
+    py::dict d;
+    d["name"] = c.name;
+    d["units"] = c.units;
+    d["shape"] = kShapes[static_cast<int>(c.shape)];
+    d["description"] = c.description;
+    d["derived"] = c.storage == nullptr;
+    out.append(d);
+  }
+  return out;
+}
+
 void RegisterSimulate(py::module_& m) {
+  m.def("_trajectory_columns", &TrajectoryColumns);
   m.def(
       "_simulate",
       [](const schedule::Profile& profile, py::object progress) {
@@ -234,8 +169,8 @@ void RegisterSimulate(py::module_& m) {
         const bool geometry = profile.mode == schedule::Mode::kGeometry;
         const double span = profile.t_end() - profile.t_begin();
         const double expected = profile.output.dt > 0.0 ? span / profile.output.dt + 2.0 : 2.0;
-        FlatSink samples(expected < 1e7 ? static_cast<std::size_t>(expected) : 0,
-                         geometry ? profile.model.hinged.panels.size() : 0);
+        TrajectoryArrays samples(geometry ? profile.model.hinged.panels.size() : 0,
+                                 expected < 1e7 ? static_cast<std::size_t>(expected) : 0);
         analysis::MissionResult r;
         {
           py::gil_scoped_release release;

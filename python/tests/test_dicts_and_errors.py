@@ -122,7 +122,7 @@ def test_dict_profile_runs_like_the_file(path):
     assert from_dict.model.text == from_file.model.text
     a = deploysim.simulate(from_file, dt=max(from_file.dt, from_file.t_end / 200))
     b = deploysim.simulate(from_dict, dt=max(from_file.dt, from_file.t_end / 200))
-    for k in deploysim.SimulationResult._TRAJECTORY:
+    for k in (c["name"] for c in deploysim.trajectory_columns()):
         assert np.array_equal(getattr(a, k), getattr(b, k), equal_nan=True), k
     assert np.array_equal(a.flips, b.flips)
 

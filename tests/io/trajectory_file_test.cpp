@@ -281,7 +281,7 @@ TEST_F(TrajectoryFileTest, StreamedInBlocksIsTheSameFile) {
     EXPECT_EQ(a.units, b.units);
     EXPECT_EQ(a.flip_times, b.flip_times);
     EXPECT_EQ(a.stages.size(), b.stages.size());
-    EXPECT_EQ(a.energy_total, b.energy_total);
+    EXPECT_EQ(a.derived, b.derived);
     ExpectSameHingeOutputs(r, b);
     std::ifstream ca(Path("whole.csv")), cb(Path("streamed.csv"));
     EXPECT_EQ(std::string(std::istreambuf_iterator<char>(ca), {}),
@@ -378,9 +378,10 @@ TEST_F(TrajectoryFileTest, HingeOutputsRoundTripBitExact) {
   WriteTrajectoryFile(path, r);
   const TrajectoryFile f = ReadTrajectoryFile(path);
   ExpectSameTrajectory(r.trajectory, f.trajectory);  // hinge_rates, energy_spring included
-  ASSERT_EQ(f.energy_total.size(), r.trajectory.size());
+  ASSERT_EQ(f.derived.at("energy_total").size(), r.trajectory.size());
   for (std::size_t k = 0; k < r.trajectory.size(); ++k) {
-    EXPECT_EQ(f.energy_total[k], r.trajectory.energy[k] + r.trajectory.energy_spring[k]);
+    EXPECT_EQ(f.derived.at("energy_total")[k],
+              r.trajectory.energy[k] + r.trajectory.energy_spring[k]);
   }
   EXPECT_EQ(f.panel_names, (std::vector<std::string>{"wing_\xce\xb8", "boom"}));
   ExpectSameHingeOutputs(r, f);
@@ -448,7 +449,7 @@ TEST_F(TrajectoryFileTest, HingeProfileRunRoundTrips) {
     EXPECT_EQ(f.stages.front().law, "free");
     // Springs store energy: the total is kinetic + spring, and without dampers it drops
     // only at the latches, by what they dissipate.
-    const std::vector<double>& E = f.energy_total;
+    const std::vector<double>& E = f.derived.at("energy_total");
     ASSERT_EQ(E.size(), f.trajectory.size());
     EXPECT_GT(f.trajectory.energy_spring.front(), 0.0);
     const double lost = r.hinge_events[1].energy_dissipated + r.hinge_events[3].energy_dissipated;
@@ -462,7 +463,7 @@ TEST_F(TrajectoryFileTest, HingeProfileRunRoundTrips) {
 // `deploysim simulate deployment_profiles/smallsat_three_stage.yaml --dt 40` at commit
 // 6f38410 and repacked with `h5repack -l CONTI` to drop the chunk padding) still reads:
 // the free-hinge outputs are additions to schema version 2, absent there.
-TEST_F(TrajectoryFileTest, ReadsAVersion2FileWrittenBeforeIssue9) {
+TEST_F(TrajectoryFileTest, ReadsAVersion2FileWrittenBeforeTheFreeHingeOutputs) {
   const std::string path =
       std::string(DEPLOYSIM_SOURCE_DIR) + "/tests/io/data/trajectory_v2_before_issue9.h5";
   const TrajectoryFile f = ReadTrajectoryFile(path);
@@ -472,7 +473,7 @@ TEST_F(TrajectoryFileTest, ReadsAVersion2FileWrittenBeforeIssue9) {
   EXPECT_EQ(f.trajectory.hinge_angles.size(), 16u);
   EXPECT_TRUE(f.trajectory.hinge_rates.empty());
   EXPECT_TRUE(f.trajectory.energy_spring.empty());
-  EXPECT_TRUE(f.energy_total.empty());
+  EXPECT_EQ(f.derived.count("energy_total"), 0u);
   EXPECT_TRUE(f.panel_names.empty());
   EXPECT_TRUE(f.hinge_events.empty());
   EXPECT_TRUE(f.hinge_latch_times.empty());
@@ -788,8 +789,8 @@ TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
   std::string line;
   ASSERT_TRUE(std::getline(in, line));
   const std::vector<std::string> header = Split(line);
-  // The columns before issue 9 keep their positions; energy_spring, energy_total and the
-  // hinge rates follow.
+  // The columns before the free-hinge outputs keep their positions; energy_spring, energy_total and
+  // the hinge rates follow.
   const std::size_t old_columns = 1 + 3 + 3 + 4 + 6 + 3 + 3 + 3 + 1 + 1 + 3 + 1 + kPanels;
   const std::size_t columns = old_columns + 2 + kPanels;
   ASSERT_EQ(header.size(), columns) << line;
@@ -854,6 +855,33 @@ TEST_F(TrajectoryFileTest, CsvFailureLeavesNothing) {
       WriteTrajectoryCsv(Path("taken.csv"), SyntheticResult(schedule::Mode::kTensor).trajectory),
       std::runtime_error);
   EXPECT_EQ(Entries(), std::vector<std::string>{"taken.csv"});
+}
+
+}  // namespace DEPLOYSIM_TEST_UNIT
+}  // namespace
+}  // namespace deploysim::io
+
+namespace deploysim::io {
+namespace {
+namespace DEPLOYSIM_TEST_UNIT {
+
+// docs/file_formats.md lists every column of the trajectory schema with its shape and
+// units, as the file has them.
+TEST(TrajectorySchemaDocs, FileFormatsListsEveryColumnWithShapeAndUnits) {
+  std::ifstream in(std::string(DEPLOYSIM_SOURCE_DIR) + "/docs/file_formats.md");
+  ASSERT_TRUE(in);
+  std::stringstream text;
+  text << in.rdbuf();
+  for (const analysis::TrajectoryColumn& c : analysis::TrajectorySchema::Standard().columns()) {
+    std::string shape = "N";
+    if (c.shape == analysis::ColumnShape::kPerPanel) {
+      shape += "×P";
+    } else {
+      for (std::size_t d : analysis::RowShape(c, 0)) shape += "×" + std::to_string(d);
+    }
+    const std::string row = "| `/" + c.name + "` | " + shape + " | " + c.units + " |";
+    EXPECT_NE(text.str().find(row), std::string::npos) << row;
+  }
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT

@@ -12,6 +12,7 @@
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/analysis/run_recorder.h"
+#include "deploysim/analysis/trajectory_schema.h"
 #include "deploysim/dynamics/rigid_body.h"
 #include "deploysim/math/cubic_hermite.h"
 #include "deploysim/math/inertia.h"
@@ -78,24 +79,7 @@ class GridWithExtras final : public integrators::OutputTimes {
 class CollectSink final : public SampleSink {
  public:
   explicit CollectSink(Trajectory& t) : t_(t) {}
-  void Append(const Trajectory& b) override {
-    auto add = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
-    add(t_.time, b.time);
-    add(t_.H_B, b.H_B);
-    add(t_.w_NB_B, b.w_NB_B);
-    add(t_.q_NB, b.q_NB);
-    add(t_.J_B, b.J_B);
-    add(t_.principal_moments, b.principal_moments);
-    add(t_.h_rel_B, b.h_rel_B);
-    add(t_.h_N, b.h_N);
-    add(t_.energy, b.energy);
-    add(t_.energy_rigid, b.energy_rigid);
-    add(t_.energy_spring, b.energy_spring);
-    add(t_.hinge_rates, b.hinge_rates);
-    add(t_.euler_313, b.euler_313);
-    add(t_.spin_axis_angle, b.spin_axis_angle);
-    add(t_.hinge_angles, b.hinge_angles);
-  }
+  void Append(const Trajectory& b) override { TrajectorySchema::Standard().Append(t_, b); }
 
  private:
   Trajectory& t_;

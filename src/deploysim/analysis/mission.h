@@ -22,7 +22,8 @@ class DeploymentSchedule;
 
 namespace deploysim::analysis {
 
-/// The sampled trajectory (docs/design.md 5): one entry per output time.
+/// The sampled trajectory (docs/design.md 5): one entry per output time. Its columns (units,
+/// shapes, file and CSV names) are listed once, in trajectory_schema.h.
 struct Trajectory {
   std::vector<double> time;                   ///< [s]
   std::vector<math::Vec3> H_B;                ///< [kg m^2/s]
@@ -131,6 +132,8 @@ struct MissionResult {
   /// [rad] the largest angle between the spin axis and h_N over the run,
   /// located exactly (run_recorder.h).
   double max_spin_axis_angle = 0.0;
+  /// The last output sample of the run (one entry per array; empty without samples).
+  Trajectory last_sample;
 };
 
 /// Options of a mission run.

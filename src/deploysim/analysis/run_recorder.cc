@@ -5,6 +5,7 @@
 
 #include "deploysim/analysis/flip_rule.h"
 #include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/analysis/trajectory_schema.h"
 #include "deploysim/math/cubic_hermite.h"
 
 namespace deploysim::analysis {
@@ -12,21 +13,6 @@ namespace deploysim::analysis {
 namespace {
 
 constexpr double kCos45 = 0.70710678118654752440;
-
-void Clear(Trajectory& t) {
-  for (std::vector<math::Vec3>* v :
-       {&t.H_B, &t.w_NB_B, &t.principal_moments, &t.h_rel_B, &t.h_N, &t.euler_313}) {
-    v->clear();
-  }
-  for (std::vector<double>* v :
-       {&t.time, &t.energy, &t.energy_rigid, &t.energy_spring, &t.spin_axis_angle}) {
-    v->clear();
-  }
-  t.q_NB.clear();
-  t.J_B.clear();
-  t.hinge_angles.clear();
-  t.hinge_rates.clear();
-}
 
 }  // namespace
 
@@ -92,10 +78,14 @@ void RunRecorder::Sample(const RunSample& s) {
   if (danger && !in_window_) danger_windows_.push_back({s.t, s.t});
   if (danger) danger_windows_.back().t_end = s.t;
   in_window_ = danger;
-  if (b.size() == kSampleBlock) {
-    sink_->Append(b);
-    Clear(b);
-  }
+  if (b.size() == kSampleBlock) Flush();
+}
+
+void RunRecorder::Flush() {
+  const TrajectorySchema& schema = TrajectorySchema::Standard();
+  last_sample_ = schema.Row(block_, block_.size() - 1);
+  sink_->Append(block_);
+  schema.Clear(block_);
 }
 
 void RunRecorder::Progress(double t) {
@@ -157,8 +147,8 @@ StageReport RunRecorder::Report(std::size_t i, const std::vector<double>& flips)
 }
 
 void RunRecorder::Finish(MissionResult& out) {
-  if (sink_ != nullptr && !block_.time.empty()) sink_->Append(block_);
-  Clear(block_);
+  if (sink_ != nullptr && !block_.time.empty()) Flush();
+  out.last_sample = last_sample_;
   std::sort(flips_.begin(), flips_.end());
   out.flip_times = flips_;
   out.spin_axis_45_crossings = crossings_45_;

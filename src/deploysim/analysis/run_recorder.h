@@ -116,8 +116,8 @@ class RunRecorder {
   /// Closes the open phase at `end` (J_B its left limit).
   void ClosePhase(const RunSample& end);
 
-  /// Hands the last samples to the sink and fills `out`: flip times (sorted), 45-degree
-  /// crossings, danger windows, max_h_N_drift (outcome-only runs: from out.final_state),
+  /// Hands the last samples to the sink and fills `out`: the last sample, flip times (sorted),
+  /// 45-degree crossings, danger windows, max_h_N_drift (outcome-only runs: from out.final_state),
   /// max_spin_axis_angle and one stage report per phase.
   void Finish(MissionResult& out);
 
@@ -127,6 +127,8 @@ class RunRecorder {
     RunSample start;
   };
   StageReport Report(std::size_t i, const std::vector<double>& flips) const;
+  /// Hands the block to the sink (keeping its last sample) and empties it.
+  void Flush();
 
   math::Vec3 s_;
   math::Vec3 h_N0_;
@@ -137,6 +139,7 @@ class RunRecorder {
   double last_reported_ = -1.0;
 
   Trajectory block_;
+  Trajectory last_sample_;
   bool have_principal_ = false;
   math::Mat3 principal_J_ = math::Mat3::Zero();
   math::PrincipalAxes principal_{};

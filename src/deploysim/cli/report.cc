@@ -43,6 +43,32 @@ std::string JsonList(const std::vector<double>& v) {
 
 constexpr double kDegPerRad = 180.0 / M_PI;
 
+/// One sample as a JSON object, a member per column of the schema: a number (scalars),
+/// a list (vectors, quaternions w x y z, per-panel values) or a list of rows (matrices).
+/// "null" when there is no sample.
+std::string SampleJson(const analysis::Trajectory& t,
+                       std::size_t k,
+                       const analysis::TrajectorySchema& schema) {
+  if (k >= t.size()) return "null";
+  const std::size_t panels = analysis::PanelCount(t);
+  std::string o = "{";
+  for (const analysis::TrajectoryColumn& c : schema.columns()) {
+    std::vector<double> v(analysis::Width(c, panels));
+    if (!v.empty()) c.values(t, k, v.data());
+    std::string value;
+    if (c.shape == analysis::ColumnShape::kScalar) {
+      value = JsonNum(v[0]);
+    } else if (c.shape == analysis::ColumnShape::kMatrix3) {
+      value = fmt::format("[{}, {}, {}]", JsonList({v[0], v[1], v[2]}),
+                          JsonList({v[3], v[4], v[5]}), JsonList({v[6], v[7], v[8]}));
+    } else {
+      value = JsonList(v);
+    }
+    o += fmt::format("{}{}: {}", o.size() > 1 ? ", " : "", JsonStr(c.name), value);
+  }
+  return o + "}";
+}
+
 std::string PanelName(const analysis::MissionResult& r, int panel) {
   const auto& panels = r.profile.model.hinged.panels;
   if (panel < 0 || static_cast<std::size_t>(panel) >= panels.size()) {
@@ -266,7 +292,9 @@ std::string FormatCouplingComparison(const analysis::CouplingComparison& c) {
   return o;
 }
 
-std::string FormatJson(const analysis::MissionResult& r, const analysis::CouplingComparison* c) {
+std::string FormatJson(const analysis::MissionResult& r,
+                       const analysis::CouplingComparison* c,
+                       const analysis::TrajectorySchema& schema) {
   const auto& p = r.profile;
   std::string o = "{\n";
   o += fmt::format("  \"profile\": {},\n  \"source\": {},\n  \"model\": {},\n", JsonStr(p.name),
@@ -323,6 +351,7 @@ std::string FormatJson(const analysis::MissionResult& r, const analysis::Couplin
   }
   o += "}";
   o += fmt::format(",\n  \"spin_axis_45_crossings\": {}", JsonList(r.spin_axis_45_crossings));
+  o += ",\n  \"last_sample\": " + SampleJson(r.last_sample, 0, schema);
   if (c != nullptr) {
     o += fmt::format(
         ",\n  \"coupling_comparison\": {{\"max_w_difference_deploying\": {}, \"w_scale\": {}, "

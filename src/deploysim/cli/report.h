@@ -7,6 +7,7 @@
 
 #include "deploysim/analysis/coupling_comparison.h"
 #include "deploysim/analysis/mission.h"
+#include "deploysim/analysis/trajectory_schema.h"
 
 namespace deploysim::cli {
 
@@ -23,8 +24,12 @@ std::string FormatTimeline(const analysis::MissionResult& r);
 
 /// The content of FormatSummary and FormatTimeline as a JSON document (SI units: hinge
 /// angles in rad, rates in rad/s; "hinge_events", "latch_times" (by panel name, null:
-/// never) and "spin_axis_45_crossings" are empty for stage profiles).
-std::string FormatJson(const analysis::MissionResult& r, const analysis::CouplingComparison* c);
+/// never) and "spin_axis_45_crossings" are empty for stage profiles), and "last_sample":
+/// the run's last output sample, one member per column of `schema` (null without samples).
+std::string FormatJson(
+    const analysis::MissionResult& r,
+    const analysis::CouplingComparison* c,
+    const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
 
 /// Exact vs quasi-rigid coupling, a few lines.
 std::string FormatCouplingComparison(const analysis::CouplingComparison& c);

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -11,7 +12,6 @@
 #include "deploysim/io/atomic_file.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/math/number_format.h"
-#include "deploysim/math/quaternion.h"
 
 namespace deploysim::io {
 
@@ -19,94 +19,66 @@ namespace {
 
 using math::FormatNumber;
 
-std::vector<std::string> Header(std::size_t hinge_columns) {
-  std::vector<std::string> h = {"time [s]"};
-  auto add = [&h](const std::string& name, const std::vector<std::string>& components,
-                  const std::string& unit) {
-    for (const std::string& c : components) h.push_back(name + "_" + c + " [" + unit + "]");
-  };
-  const std::vector<std::string> xyz = {"x", "y", "z"};
-  add("H_B", xyz, "kg m^2/s");
-  add("w_NB_B", xyz, "rad/s");
-  add("q_NB", {"w", "x", "y", "z"}, "1");
-  add("J_B", {"xx", "yy", "zz", "xy", "xz", "yz"}, "kg m^2");
-  add("principal_moments", {"1", "2", "3"}, "kg m^2");
-  add("h_rel_B", xyz, "kg m^2/s");
-  add("h_N", xyz, "kg m^2/s");
-  h.push_back("energy [J]");
-  h.push_back("energy_rigid [J]");
-  add("euler_313", {"precession", "nutation", "spin"}, "rad");
-  h.push_back("spin_axis_angle [rad]");
-  for (std::size_t k = 0; k < hinge_columns; ++k) {
-    h.push_back("hinge_angle_" + std::to_string(k) + " [rad]");
-  }
-  // The free-hinge columns come after the older ones, which keep their positions.
-  h.push_back("energy_spring [J]");
-  h.push_back("energy_total [J]");
-  for (std::size_t k = 0; k < hinge_columns; ++k) {
-    h.push_back("hinge_rate_" + std::to_string(k) + " [rad/s]");
+/// "name [units]" for a scalar, "<prefix>_<component> [units]" for each component of
+/// the others (per panel: the panel index).
+std::vector<std::string> Header(const analysis::TrajectorySchema& schema, std::size_t panels) {
+  std::vector<std::string> h;
+  for (const analysis::TrajectoryColumn& c : schema.columns()) {
+    const std::string units = " [" + c.units + "]";
+    if (c.shape == analysis::ColumnShape::kScalar) {
+      h.push_back(c.name + units);
+    } else if (c.shape == analysis::ColumnShape::kPerPanel) {
+      for (std::size_t k = 0; k < panels; ++k) {
+        h.push_back(c.csv_prefix + "_" + std::to_string(k) + units);
+      }
+    } else {
+      for (const std::string& component : c.csv_components) {
+        h.push_back(c.csv_prefix + "_" + component + units);
+      }
+    }
   }
   return h;
 }
 
-void Check(const std::string& path, const analysis::Trajectory& t, std::size_t& hinge_columns) {
-  const std::size_t n = t.time.size();
-  const std::size_t sizes[] = {t.H_B.size(),
-                               t.w_NB_B.size(),
-                               t.q_NB.size(),
-                               t.J_B.size(),
-                               t.principal_moments.size(),
-                               t.h_rel_B.size(),
-                               t.h_N.size(),
-                               t.energy.size(),
-                               t.energy_rigid.size(),
-                               t.energy_spring.size(),
-                               t.euler_313.size(),
-                               t.spin_axis_angle.size()};
-  for (std::size_t s : sizes) {
-    if (s != n) {
-      throw std::invalid_argument(path + ": trajectory arrays have " + std::to_string(s) + " and " +
-                                  std::to_string(n) +
-                                  " samples (rule: one sample per output time)");
+/// Sample k of t as one CSV line (with its newline).
+std::string Line(const analysis::TrajectorySchema& schema,
+                 const analysis::Trajectory& t,
+                 std::size_t k,
+                 std::size_t panels) {
+  std::string line;
+  auto put = [&line](double x) {
+    if (!line.empty()) line += ',';
+    line += FormatNumber(x);
+  };
+  double row[16];
+  std::vector<double> wide;
+  for (const analysis::TrajectoryColumn& c : schema.columns()) {
+    const std::size_t width = analysis::Width(c, panels);
+    if (width == 0) continue;
+    double* values = row;
+    if (width > std::size(row)) {
+      wide.resize(width);
+      values = wide.data();
+    }
+    c.values(t, k, values);
+    if (c.csv_indices.empty()) {
+      for (std::size_t i = 0; i < width; ++i) put(values[i]);
+    } else {
+      for (int i : c.csv_indices) put(values[i]);
     }
   }
-  hinge_columns = 0;
-  if (!t.hinge_angles.empty()) {
-    if (t.hinge_angles.size() != n) {
-      throw std::invalid_argument(path + ": trajectory.hinge_angles has " +
-                                  std::to_string(t.hinge_angles.size()) + " samples, time has " +
-                                  std::to_string(n) + " (rule: one sample per output time)");
-    }
-    hinge_columns = static_cast<std::size_t>(t.hinge_angles.front().size());
-    for (const Eigen::VectorXd& h : t.hinge_angles) {
-      if (static_cast<std::size_t>(h.size()) != hinge_columns) {
-        throw std::invalid_argument(path + ": trajectory.hinge_angles rows differ in length");
-      }
-    }
-    if (t.hinge_rates.size() != n) {
-      throw std::invalid_argument(path + ": trajectory.hinge_rates has " +
-                                  std::to_string(t.hinge_rates.size()) + " samples, time has " +
-                                  std::to_string(n) +
-                                  " (rule: hinge rates wherever there are hinge angles)");
-    }
-    for (const Eigen::VectorXd& h : t.hinge_rates) {
-      if (static_cast<std::size_t>(h.size()) != hinge_columns) {
-        throw std::invalid_argument(path + ": trajectory.hinge_rates rows have " +
-                                    std::to_string(h.size()) + " rates, hinge_angles rows " +
-                                    std::to_string(hinge_columns) +
-                                    " angles (rule: one rate per hinge angle)");
-      }
-    }
-  }
+  line += '\n';
+  return line;
 }
 
 }  // namespace
 
 struct TrajectoryCsvWriter::Impl {
-  Impl(const std::string& p, std::size_t hinge) : path(p), hinge_columns(hinge), file(p) {
+  Impl(const std::string& p, std::size_t hinge, const analysis::TrajectorySchema& s)
+      : path(p), hinge_columns(hinge), schema(s), file(p) {
     out.open(file.temporary_path(), std::ios::trunc);
     if (!out) Fail();
-    const std::vector<std::string> header = Header(hinge_columns);
+    const std::vector<std::string> header = Header(schema, hinge_columns);
     std::string line;
     for (std::size_t i = 0; i < header.size(); ++i) line += (i ? "," : "") + header[i];
     line += '\n';
@@ -128,58 +100,31 @@ struct TrajectoryCsvWriter::Impl {
   }
   std::string path;
   std::size_t hinge_columns;
+  const analysis::TrajectorySchema& schema;
   AtomicFile file;
   std::ofstream out;
   std::uint64_t written = 0;
   bool finished = false;
 };
 
-TrajectoryCsvWriter::TrajectoryCsvWriter(const std::string& path, std::size_t hinge_columns)
-    : impl_(std::make_unique<Impl>(path, hinge_columns)) {}
+TrajectoryCsvWriter::TrajectoryCsvWriter(const std::string& path,
+                                         std::size_t hinge_columns,
+                                         const analysis::TrajectorySchema& schema)
+    : impl_(std::make_unique<Impl>(path, hinge_columns, schema)) {}
 
 TrajectoryCsvWriter::~TrajectoryCsvWriter() = default;
 
 void TrajectoryCsvWriter::Append(const analysis::Trajectory& t) {
   if (impl_->finished) throw std::logic_error(impl_->path + ": Append after Finish");
-  std::size_t hinge_columns = 0;
-  Check(impl_->path, t, hinge_columns);
+  const std::size_t hinge_columns = analysis::PanelCount(t);
+  impl_->schema.Check(impl_->path, t, hinge_columns);
   if (t.size() > 0 && hinge_columns != impl_->hinge_columns) {
     throw std::invalid_argument(impl_->path + ": trajectory.hinge_angles rows have " +
                                 std::to_string(hinge_columns) + " angles, the header " +
                                 std::to_string(impl_->hinge_columns));
   }
   std::string text;
-  for (std::size_t k = 0; k < t.size(); ++k) {
-    std::string line;
-    auto put = [&line](double x) {
-      if (!line.empty()) line += ',';
-      line += FormatNumber(x);
-    };
-    put(t.time[k]);
-    for (int i = 0; i < 3; ++i) put(t.H_B[k][i]);
-    for (int i = 0; i < 3; ++i) put(t.w_NB_B[k][i]);
-    const math::Vec4 q = math::ToWxyz(t.q_NB[k]);
-    for (int i = 0; i < 4; ++i) put(q[i]);
-    const math::Mat3& J = t.J_B[k];
-    for (double x : {J(0, 0), J(1, 1), J(2, 2), J(0, 1), J(0, 2), J(1, 2)}) put(x);
-    for (int i = 0; i < 3; ++i) put(t.principal_moments[k][i]);
-    for (int i = 0; i < 3; ++i) put(t.h_rel_B[k][i]);
-    for (int i = 0; i < 3; ++i) put(t.h_N[k][i]);
-    put(t.energy[k]);
-    put(t.energy_rigid[k]);
-    for (int i = 0; i < 3; ++i) put(t.euler_313[k][i]);
-    put(t.spin_axis_angle[k]);
-    for (std::size_t i = 0; i < hinge_columns; ++i) {
-      put(t.hinge_angles[k][static_cast<Eigen::Index>(i)]);
-    }
-    put(t.energy_spring[k]);
-    put(t.energy[k] + t.energy_spring[k]);
-    for (std::size_t i = 0; i < hinge_columns; ++i) {
-      put(t.hinge_rates[k][static_cast<Eigen::Index>(i)]);
-    }
-    text += line;
-    text += '\n';
-  }
+  for (std::size_t k = 0; k < t.size(); ++k) text += Line(impl_->schema, t, k, hinge_columns);
   impl_->Write(text);
 }
 
@@ -196,10 +141,12 @@ void TrajectoryCsvWriter::Commit() {
   impl_->file.Commit();
 }
 
-void WriteTrajectoryCsv(const std::string& path, const analysis::Trajectory& t) {
-  std::size_t hinge_columns = 0;
-  Check(path, t, hinge_columns);
-  TrajectoryCsvWriter w(path, hinge_columns);  // atomic: nothing at `path` unless Commit()
+void WriteTrajectoryCsv(const std::string& path,
+                        const analysis::Trajectory& t,
+                        const analysis::TrajectorySchema& schema) {
+  const std::size_t hinge_columns = analysis::PanelCount(t);
+  schema.Check(path, t, hinge_columns);
+  TrajectoryCsvWriter w(path, hinge_columns, schema);  // atomic: nothing at `path` unless Commit()
   w.Append(t);
   w.Finish();
   w.Commit();

@@ -31,84 +31,10 @@ using math::FormatNumber;
 using hdf5::QuietErrors;
 using hdf5::TextType;
 
-std::vector<double> Flatten(const std::vector<math::Vec3>& v) {
-  std::vector<double> flat;
-  flat.reserve(3 * v.size());
-  for (const math::Vec3& x : v) flat.insert(flat.end(), {x[0], x[1], x[2]});
-  return flat;
-}
-
-std::vector<double> FlattenWxyz(const std::vector<math::Quat>& q) {
-  std::vector<double> flat;
-  flat.reserve(4 * q.size());
-  for (const math::Quat& x : q) {
-    const math::Vec4 wxyz = math::ToWxyz(x);
-    flat.insert(flat.end(), {wxyz[0], wxyz[1], wxyz[2], wxyz[3]});
-  }
-  return flat;
-}
-
-std::vector<double> FlattenRowMajor(const std::vector<math::Mat3>& J) {
-  std::vector<double> flat;
-  flat.reserve(9 * J.size());
-  for (const math::Mat3& M : J) {
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) flat.push_back(M(i, j));
-    }
-  }
-  return flat;
-}
-
-std::vector<double> FlattenRows(const std::vector<Eigen::VectorXd>& rows) {
-  std::vector<double> flat;
-  for (const Eigen::VectorXd& r : rows) flat.insert(flat.end(), r.data(), r.data() + r.size());
-  return flat;
-}
-
 /// Number of hinge angles per sample written for r (0: no /hinge_angles dataset).
 std::size_t HingeColumns(const analysis::MissionResult& r) {
   if (r.profile.mode != schedule::Mode::kGeometry) return 0;
   return r.profile.model.hinged.panels.size();
-}
-
-/// Every per-sample array of t has one entry per output time; in geometry mode one row
-/// of `panels` hinge angles and one of `panels` hinge rates per time.
-void CheckSamples(const std::string& path, const Trajectory& t, bool geometry, std::size_t panels) {
-  const std::size_t n = t.time.size();
-  auto require = [&](const char* name, std::size_t size) {
-    if (size != n) {
-      throw std::invalid_argument(path + ": trajectory." + name + " has " + std::to_string(size) +
-                                  " samples, time has " + std::to_string(n) +
-                                  " (rule: one sample per output time)");
-    }
-  };
-  require("H_B", t.H_B.size());
-  require("w_NB_B", t.w_NB_B.size());
-  require("q_NB", t.q_NB.size());
-  require("J_B", t.J_B.size());
-  require("principal_moments", t.principal_moments.size());
-  require("h_rel_B", t.h_rel_B.size());
-  require("h_N", t.h_N.size());
-  require("energy", t.energy.size());
-  require("energy_rigid", t.energy_rigid.size());
-  require("energy_spring", t.energy_spring.size());
-  require("euler_313", t.euler_313.size());
-  require("spin_axis_angle", t.spin_axis_angle.size());
-  if (geometry) {
-    auto per_panel = [&](const char* name, const std::vector<Eigen::VectorXd>& rows) {
-      require(name, rows.size());
-      for (std::size_t k = 0; k < n; ++k) {
-        if (static_cast<std::size_t>(rows[k].size()) != panels) {
-          throw std::invalid_argument(path + ": trajectory." + name + "[" + std::to_string(k) +
-                                      "] has " + std::to_string(rows[k].size()) +
-                                      " entries, the model has " + std::to_string(panels) +
-                                      " panels (rule: one per panel)");
-        }
-      }
-    };
-    per_panel("hinge_angles", t.hinge_angles);
-    per_panel("hinge_rates", t.hinge_rates);
-  }
 }
 
 /// The analysis of r fits its profile: one report per stage (a hinge profile: one per
@@ -309,138 +235,15 @@ void WriteDangerWindows(Hdf5Writer& w, const analysis::MissionResult& r) {
             "last output time of the window at which it still is");
 }
 
-/// The per-sample datasets, in file order: rows grow as blocks of samples arrive.
-enum Column : std::size_t {
-  kTime,
-  kHB,
-  kW,
-  kQ,
-  kJ,
-  kMoments,
-  kHRel,
-  kHN,
-  kEnergy,
-  kEnergyRigid,
-  kEnergySpring,
-  kEnergyTotal,
-  kEuler,
-  kSpinAngle,
-  kHinge,
-  kHingeRates,
-  kColumns
-};
-
-struct ColumnSpec {
-  const char* path;
-  std::vector<std::size_t> trailing;
-  const char* units;
-  const char* description;
-  bool geometry_only = false;  ///< Written in geometry mode only.
-};
-
-std::vector<ColumnSpec> Columns(std::size_t panels) {
-  return {
-      {"/time", {}, "s", "output grid"},
-      {"/H_B",
-       {3},
-       "kg m^2/s",
-       "total angular momentum about the system centre of mass, body (B) components"},
-      {"/w_NB_B", {3}, "rad/s", "angular velocity of B in N, B components"},
-      {"/q_NB",
-       {4},
-       "1",
-       "attitude quaternion q_NB (v_N = q_NB v_B), Hamilton, scalar first (w, x, y, z)"},
-      {"/J_B",
-       {3, 3},
-       "kg m^2",
-       "inertia tensor about the system centre of mass, B components; J_B[n][i][j]"},
-      {"/principal_moments", {3}, "kg m^2", "eigenvalues of J_B, ascending"},
-      {"/h_rel_B", {3}, "kg m^2/s", "momentum of the panels' motion relative to B, B components"},
-      {"/h_N",
-       {3},
-       "kg m^2/s",
-       "total angular momentum, inertial (N) components (constant in exact arithmetic)"},
-      {"/energy",
-       {},
-       "J",
-       "total kinetic energy about the system centre of mass, 1/2 w.J_B w + w.h_rel_B + "
-       "T_rel (T_rel: kinetic energy of the panels' motion relative to B; h_rel_B and "
-       "T_rel are 0 under quasi-rigid coupling)"},
-      {"/energy_rigid",
-       {},
-       "J",
-       "rigid-body part 1/2 w.J_B w of /energy (equal to it when nothing moves "
-       "relative to B)"},
-      {"/energy_spring",
-       {},
-       "J",
-       "energy stored in the free hinges' torsion springs, sum of 1/2 k (theta - theta_rest)^2 "
-       "- preload (theta - theta_rest) over every hinge with a free plan, held and latched "
-       "ones included; 0 for stage profiles"},
-      {"/energy_total",
-       {},
-       "J",
-       "/energy + /energy_spring: constant without dampers, motors and friction except "
-       "for the steps down at latches, jams and stop impacts"},
-      {"/euler_313",
-       {3},
-       "rad",
-       "3-1-3 Euler angles (precession, nutation, spin) of B relative to a frame whose "
-       "third axis is h_N"},
-      {"/spin_axis_angle", {}, "rad", "angle between the initial spin axis (fixed in B) and h_N"},
-      {"/hinge_angles",
-       {panels},
-       "rad",
-       "hinge angle of each panel, in panel order (geometry mode)",
-       true},
-      {"/hinge_rates",
-       {panels},
-       "rad/s",
-       "hinge rate (time derivative of the hinge angle) of each panel, in panel order "
-       "(geometry mode)",
-       true},
-  };
-}
-
-/// Column c of the samples of t, flattened row-major.
-std::vector<double> Flat(const Trajectory& t, std::size_t c) {
-  switch (c) {
-    case kTime:
-      return t.time;
-    case kHB:
-      return Flatten(t.H_B);
-    case kW:
-      return Flatten(t.w_NB_B);
-    case kQ:
-      return FlattenWxyz(t.q_NB);
-    case kJ:
-      return FlattenRowMajor(t.J_B);
-    case kMoments:
-      return Flatten(t.principal_moments);
-    case kHRel:
-      return Flatten(t.h_rel_B);
-    case kHN:
-      return Flatten(t.h_N);
-    case kEnergy:
-      return t.energy;
-    case kEnergyRigid:
-      return t.energy_rigid;
-    case kEnergySpring:
-      return t.energy_spring;
-    case kEnergyTotal: {
-      std::vector<double> total(t.energy.size());
-      for (std::size_t k = 0; k < total.size(); ++k) total[k] = t.energy[k] + t.energy_spring[k];
-      return total;
-    }
-    case kEuler:
-      return Flatten(t.euler_313);
-    case kSpinAngle:
-      return t.spin_axis_angle;
-    case kHinge:
-      return FlattenRows(t.hinge_angles);
-    default:
-      return FlattenRows(t.hinge_rates);
-  }
+/// Column c of the samples of t, flattened row-major (Width values per sample).
+std::vector<double> Flat(const analysis::TrajectoryColumn& c,
+                         const Trajectory& t,
+                         std::size_t panels) {
+  const std::size_t width = analysis::Width(c, panels);
+  std::vector<double> flat(width * t.size());
+  if (width == 0) return flat;
+  for (std::size_t k = 0; k < t.size(); ++k) c.values(t, k, &flat[k * width]);
+  return flat;
 }
 
 /// Everything but the per-sample datasets: events, stages, danger windows, attributes.
@@ -568,19 +371,6 @@ std::vector<std::string> ReadStrings(const std::string& path,
   return values;
 }
 
-template <typename T, typename Make>
-std::vector<T> Rows(const std::vector<double>& flat, hsize_t rows, std::size_t width, Make make) {
-  std::vector<T> v;
-  v.reserve(rows);
-  for (std::size_t k = 0; k < rows; ++k) v.push_back(make(&flat[k * width]));
-  return v;
-}
-
-std::vector<math::Vec3> Vec3Rows(const std::vector<double>& flat, hsize_t rows) {
-  return Rows<math::Vec3>(flat, rows, 3,
-                          [](const double* x) { return math::Vec3(x[0], x[1], x[2]); });
-}
-
 H5::Group OpenGroup(const std::string& path, const H5::Group& parent, const std::string& name) {
   if (!parent.nameExists(name)) throw std::runtime_error(path + ": /" + name + ": missing group");
   return parent.openGroup(name);
@@ -691,82 +481,84 @@ std::vector<double> ReadSampleRows(const std::string& path,
   return flat;
 }
 
-/// The per-panel dataset /<name> of shape {n, panels}, appended to `into` row by row.
-/// /hinge_angles sets `panels`; any other must have as many columns (when n > 0).
-void ReadPanelRows(const std::string& path,
-                   const H5::H5File& file,
-                   const std::string& name,
-                   hsize_t n,
-                   std::size_t& panels,
-                   std::vector<Eigen::VectorXd>& into,
-                   TrajectoryFile& out) {
-  const std::vector<double> flat = ReadSampleRows(path, file, name, {0}, n, out);
-  const std::size_t width = n == 0 ? 0 : flat.size() / n;
-  if (name == "hinge_angles") {
-    panels = width;
-  } else if (n > 0 && width != panels) {
-    throw std::runtime_error(path + ": /" + name + ": has " + std::to_string(width) +
-                             " columns, /hinge_angles has " + std::to_string(panels));
+/// The first column of `schema` that `pick` selects (null if none).
+template <class Pick>
+const analysis::TrajectoryColumn* First(const analysis::TrajectorySchema& schema, Pick pick) {
+  for (const analysis::TrajectoryColumn& c : schema.columns()) {
+    if (pick(c)) return &c;
   }
-  for (std::size_t k = 0; k < n; ++k) {
-    into.push_back(
-        Eigen::Map<const Eigen::VectorXd>(&flat[k * width], static_cast<Eigen::Index>(width)));
-  }
+  return nullptr;
 }
 
-/// The per-sample datasets of the free-hinge outputs and the geometry mode, n rows each:
-/// the free-hinge outputs come all or none (none in files written before they were
-/// added); /hinge_angles, /hinge_rates and /panel_names only in geometry mode.
-void ReadHingeSamples(const std::string& path,
-                      const H5::H5File& file,
-                      hsize_t n,
-                      TrajectoryFile& out) {
-  Trajectory& t = out.trajectory;
-  out.has_hinge_outputs = file.nameExists("energy_spring");
-  const bool geometry = file.nameExists("hinge_angles");
+/// Which per-sample datasets the file has: the free-hinge outputs come all or none (none
+/// in files written before them), the per-panel ones in geometry mode only.
+struct SampleLayout {
+  bool hinge_outputs = false;
+  const analysis::TrajectoryColumn* first_per_panel = nullptr;  ///< null: not geometry mode
   std::size_t panels = 0;
-  if (geometry) ReadPanelRows(path, file, "hinge_angles", n, panels, t.hinge_angles, out);
-  if (!out.has_hinge_outputs) return;
-  t.energy_spring = ReadSampleRows(path, file, "energy_spring", {}, n, out);
-  out.energy_total = ReadSampleRows(path, file, "energy_total", {}, n, out);
-  if (!geometry) return;
-  ReadPanelRows(path, file, "hinge_rates", n, panels, t.hinge_rates, out);
-  out.panel_names = ReadStrings(path, file, "", "panel_names", out);
-  if (n > 0 && out.panel_names.size() != panels) {
-    throw std::runtime_error(path + ": /panel_names: has " +
-                             std::to_string(out.panel_names.size()) + " names, /hinge_angles has " +
-                             std::to_string(panels) + " columns");
-  }
+};
+
+SampleLayout LayoutOf(const H5::H5File& file, const analysis::TrajectorySchema& schema) {
+  SampleLayout layout;
+  const analysis::TrajectoryColumn* marker =
+      First(schema, [](const analysis::TrajectoryColumn& c) { return c.free_hinge_output; });
+  layout.hinge_outputs = marker != nullptr && file.nameExists(marker->name);
+  const analysis::TrajectoryColumn* per_panel = First(schema, [](const auto& c) {
+    return c.shape == analysis::ColumnShape::kPerPanel && !c.free_hinge_output;
+  });
+  if (per_panel != nullptr && file.nameExists(per_panel->name)) layout.first_per_panel = per_panel;
+  return layout;
 }
 
-/// The per-sample datasets: /time, then every other one with as many rows.
-void ReadSamples(const std::string& path, const H5::H5File& file, TrajectoryFile& out) {
-  Trajectory& t = out.trajectory;
+/// Column c's dataset, n rows, into the trajectory (a stored column) or out.derived.
+void ReadColumn(const std::string& path,
+                const H5::H5File& file,
+                const analysis::TrajectoryColumn& c,
+                hsize_t n,
+                SampleLayout& layout,
+                TrajectoryFile& out) {
+  const bool per_panel = c.shape == analysis::ColumnShape::kPerPanel;
+  std::vector<hsize_t> trailing;
+  for (std::size_t d : analysis::RowShape(c, 0)) trailing.push_back(per_panel ? 0 : d);
+  const std::vector<double> flat = ReadSampleRows(path, file, c.name, trailing, n, out);
+  const std::size_t width = n == 0 ? 0 : flat.size() / n;
+  if (per_panel && &c == layout.first_per_panel) {
+    layout.panels = width;
+  } else if (per_panel && n > 0 && width != layout.panels) {
+    throw std::runtime_error(path + ": /" + c.name + ": has " + std::to_string(width) +
+                             " columns, /" + layout.first_per_panel->name + " has " +
+                             std::to_string(layout.panels));
+  }
+  if (!c.storage) {
+    out.derived[c.name] = flat;
+    return;
+  }
+  for (std::size_t k = 0; k < n; ++k) c.storage->push(out.trajectory, &flat[k * width], width);
+}
+
+/// The per-sample datasets of `schema`: /time, then every other one the file's layout has
+/// (SampleLayout), with as many rows; the panel names in geometry mode.
+void ReadSamples(const std::string& path,
+                 const H5::H5File& file,
+                 const analysis::TrajectorySchema& schema,
+                 TrajectoryFile& out) {
   hsize_t n = 0;
-  t.time = ReadDoubles(path, file, "", "time", {}, n, out);
-  auto read_rows = [&](const std::string& name, const std::vector<hsize_t>& trailing) {
-    return ReadSampleRows(path, file, name, trailing, n, out);
-  };
-  t.H_B = Vec3Rows(read_rows("H_B", {3}), n);
-  t.w_NB_B = Vec3Rows(read_rows("w_NB_B", {3}), n);
-  t.q_NB = Rows<math::Quat>(read_rows("q_NB", {4}), n, 4, [](const double* x) {
-    return math::FromWxyz(math::Vec4(x[0], x[1], x[2], x[3]));
-  });
-  t.J_B = Rows<math::Mat3>(read_rows("J_B", {3, 3}), n, 9, [](const double* x) {
-    math::Mat3 M;
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) M(i, j) = x[3 * i + j];
-    }
-    return M;
-  });
-  t.principal_moments = Vec3Rows(read_rows("principal_moments", {3}), n);
-  t.h_rel_B = Vec3Rows(read_rows("h_rel_B", {3}), n);
-  t.h_N = Vec3Rows(read_rows("h_N", {3}), n);
-  t.energy = read_rows("energy", {});
-  t.energy_rigid = read_rows("energy_rigid", {});
-  t.euler_313 = Vec3Rows(read_rows("euler_313", {3}), n);
-  t.spin_axis_angle = read_rows("spin_axis_angle", {});
-  ReadHingeSamples(path, file, n, out);
+  out.trajectory.time = ReadDoubles(path, file, "", "time", {}, n, out);
+  SampleLayout layout = LayoutOf(file, schema);
+  out.has_hinge_outputs = layout.hinge_outputs;
+  const bool geometry = layout.first_per_panel != nullptr;
+  for (const analysis::TrajectoryColumn& c : schema.columns()) {
+    if (c.name == "time" || (c.free_hinge_output && !layout.hinge_outputs)) continue;
+    if (c.shape == analysis::ColumnShape::kPerPanel && !geometry) continue;
+    ReadColumn(path, file, c, n, layout, out);
+  }
+  if (!geometry || !layout.hinge_outputs) return;
+  out.panel_names = ReadStrings(path, file, "", "panel_names", out);
+  if (n > 0 && out.panel_names.size() != layout.panels) {
+    throw std::runtime_error(
+        path + ": /panel_names: has " + std::to_string(out.panel_names.size()) + " names, /" +
+        layout.first_per_panel->name + " has " + std::to_string(layout.panels) + " columns");
+  }
 }
 
 /// /events: located and predicted flips; with the free-hinge outputs also the 45-degree
@@ -896,12 +688,12 @@ void ReadDangerWindows(const std::string& path, const H5::H5File& file, Trajecto
   }
 }
 
-TrajectoryFile ReadContents(const std::string& path) {
+TrajectoryFile ReadContents(const std::string& path, const analysis::TrajectorySchema& schema) {
   TrajectoryFile out;
   CheckReadableHdf5(path);
   const H5::H5File file(path, H5F_ACC_RDONLY);
   ReadRootAttributes(path, file, out);
-  ReadSamples(path, file, out);
+  ReadSamples(path, file, schema, out);
   ReadEvents(path, file, out);
   ReadStages(path, file, out);
   ReadDangerWindows(path, file, out);
@@ -911,39 +703,43 @@ TrajectoryFile ReadContents(const std::string& path) {
 }  // namespace
 
 struct TrajectoryFileWriter::Impl {
-  Impl(const std::string& p, const schedule::Profile& profile)
+  Impl(const std::string& p,
+       const schedule::Profile& profile,
+       const analysis::TrajectorySchema& schema_in)
       : path(p),
         geometry(profile.mode == schedule::Mode::kGeometry),
         panels(geometry ? profile.model.hinged.panels.size() : 0),
+        schema(schema_in),
         writer(p) {
-    const std::vector<ColumnSpec> columns = Columns(panels);
-    for (std::size_t c = 0; c < kColumns; ++c) {
-      if (columns[c].geometry_only && !geometry) continue;
-      used.push_back(c);
-      handles.push_back(writer.GrowingDoubles(columns[c].path, columns[c].trailing,
-                                              columns[c].units, columns[c].description));
+    for (const analysis::TrajectoryColumn* c : schema.Written(geometry)) {
+      columns.push_back(c);
+      handles.push_back(writer.GrowingDoubles("/" + c->name, analysis::RowShape(*c, panels),
+                                              c->units, c->description));
     }
   }
   std::string path;
   bool geometry;
   std::size_t panels;
+  const analysis::TrajectorySchema& schema;
   Hdf5Writer writer;
-  std::vector<std::size_t> used;     // Column of each handle
-  std::vector<std::size_t> handles;  // GrowingDoubles handles
+  std::vector<const analysis::TrajectoryColumn*> columns;  // column of each handle
+  std::vector<std::size_t> handles;                        // GrowingDoubles handles
   bool finished = false;
 };
 
 TrajectoryFileWriter::TrajectoryFileWriter(const std::string& path,
-                                           const schedule::Profile& profile)
-    : impl_(std::make_unique<Impl>(path, profile)) {}
+                                           const schedule::Profile& profile,
+                                           const analysis::TrajectorySchema& schema)
+    : impl_(std::make_unique<Impl>(path, profile, schema)) {}
 
 TrajectoryFileWriter::~TrajectoryFileWriter() = default;
 
 void TrajectoryFileWriter::Append(const Trajectory& block) {
   if (impl_->finished) throw std::logic_error(impl_->path + ": Append after Finish");
-  CheckSamples(impl_->path, block, impl_->geometry, impl_->panels);
+  impl_->schema.Check(impl_->path, block, impl_->panels);
   for (std::size_t i = 0; i < impl_->handles.size(); ++i) {
-    impl_->writer.AppendRows(impl_->handles[i], Flat(block, impl_->used[i]), block.size());
+    impl_->writer.AppendRows(impl_->handles[i], Flat(*impl_->columns[i], block, impl_->panels),
+                             block.size());
   }
 }
 
@@ -959,10 +755,12 @@ void TrajectoryFileWriter::Commit() {
   impl_->writer.Commit();
 }
 
-void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult& r) {
-  CheckSamples(path, r.trajectory, r.profile.mode == schedule::Mode::kGeometry, HingeColumns(r));
+void WriteTrajectoryFile(const std::string& path,
+                         const analysis::MissionResult& r,
+                         const analysis::TrajectorySchema& schema) {
+  schema.Check(path, r.trajectory, HingeColumns(r));
   CheckAnalysis(path, r);
-  TrajectoryFileWriter w(path, r.profile);  // atomic: nothing is left at `path` unless Commit()
+  TrajectoryFileWriter w(path, r.profile, schema);  // atomic: nothing at `path` unless Commit()
   w.Append(r.trajectory);
   w.Finish(r);
   w.Commit();
@@ -995,11 +793,12 @@ void TrajectoryOutputs::Commit() {
   if (csv_) csv_->Commit();
 }
 
-TrajectoryFile ReadTrajectoryFile(const std::string& path) {
+TrajectoryFile ReadTrajectoryFile(const std::string& path,
+                                  const analysis::TrajectorySchema& schema) {
   const QuietErrors quiet;
   // As in WriteTrajectoryFile: translate HDF5's exceptions to std::runtime_error.
   try {
-    return ReadContents(path);
+    return ReadContents(path, schema);
   } catch (const H5::Exception& e) {
     hdf5::Throw(path, e);
   }

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "deploysim/analysis/mission.h"
+#include "deploysim/analysis/trajectory_schema.h"
 
 namespace deploysim::io {
 
@@ -87,8 +88,10 @@ struct TrajectoryFile {
   std::vector<double> predicted_flip_times;            ///< [s] /events/predicted_flip_time
   std::vector<StageRow> stages;                        ///< /stages/*
   std::vector<analysis::DangerWindow> danger_windows;  ///< /danger_windows/*
-  /// [J] /energy_total: trajectory.energy + trajectory.energy_spring, as written.
-  std::vector<double> energy_total;
+  /// The derived columns of the schema read (analysis::TrajectorySchema), flat row-major
+  /// by name: "energy_total" (trajectory.energy + trajectory.energy_spring, as written)
+  /// where the file has the free-hinge outputs.
+  std::map<std::string, std::vector<double>> derived;
   /// /panel_names: the model's panel names in panel order (geometry mode).
   std::vector<std::string> panel_names;
   std::vector<HingeEventRow> hinge_events;  ///< /events/hinge/*, in time order.
@@ -116,7 +119,11 @@ struct TrajectoryFile {
 /// neither empty nor one per panel, or a hinge event names no panel of the model; and
 /// std::runtime_error naming `path` for I/O failures. The same file as a
 /// TrajectoryFileWriter fed r.trajectory (it is one).
-void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult& r);
+/// The per-sample datasets are the columns of `schema` (which must outlive the call).
+void WriteTrajectoryFile(
+    const std::string& path,
+    const analysis::MissionResult& r,
+    const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
 
 /// A trajectory file written while the mission runs (memory bounded by the block size
 /// whatever the horizon): the per-sample datasets grow block by block, the rest is
@@ -128,8 +135,12 @@ void WriteTrajectoryFile(const std::string& path, const analysis::MissionResult&
 class TrajectoryFileWriter final : public analysis::SampleSink {
  public:
   /// Starts the temporary and the per-sample datasets for `profile` (hinge angles in
-  /// geometry mode). Throws std::runtime_error naming `path`.
-  TrajectoryFileWriter(const std::string& path, const schedule::Profile& profile);
+  /// geometry mode), one per column of `schema` (which must outlive the writer). Throws
+  /// std::runtime_error naming `path`.
+  TrajectoryFileWriter(
+      const std::string& path,
+      const schedule::Profile& profile,
+      const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
   ~TrajectoryFileWriter() override;
   TrajectoryFileWriter(const TrajectoryFileWriter&) = delete;
   TrajectoryFileWriter& operator=(const TrajectoryFileWriter&) = delete;
@@ -151,8 +162,12 @@ class TrajectoryFileWriter final : public analysis::SampleSink {
 /// TrajectoryFileWriter (Finish completes the temporary, Commit renames it).
 class TrajectoryCsvWriter final : public analysis::SampleSink {
  public:
-  /// `hinge_columns`: hinge angles (and as many hinge rates) per sample (0: none).
-  TrajectoryCsvWriter(const std::string& path, std::size_t hinge_columns);
+  /// `hinge_columns`: hinge angles (and as many hinge rates) per sample (0: none); one
+  /// CSV column per component of each column of `schema` (which must outlive the writer).
+  TrajectoryCsvWriter(
+      const std::string& path,
+      std::size_t hinge_columns,
+      const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
   ~TrajectoryCsvWriter() override;
   TrajectoryCsvWriter(const TrajectoryCsvWriter&) = delete;
   TrajectoryCsvWriter& operator=(const TrajectoryCsvWriter&) = delete;
@@ -190,18 +205,24 @@ class TrajectoryOutputs final : public analysis::SampleSink {
 /// Reads a file written by WriteTrajectoryFile (or by a deploysim from before the free-hinge
 /// outputs: see kTrajectorySchemaVersion). Throws std::runtime_error naming `path` and the dataset
 /// for unreadable files, missing datasets, wrong shapes, an unknown hinge event kind or
-/// another schema_version.
-TrajectoryFile ReadTrajectoryFile(const std::string& path);
+/// another schema_version. Reads the columns of `schema`.
+TrajectoryFile ReadTrajectoryFile(
+    const std::string& path,
+    const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
 
 /// Writes the trajectory as CSV: one header line of column names with units in brackets
 /// ("time [s],H_B_x [kg m^2/s],..."), then one line per output time, numbers in the
-/// shortest form that reads back exactly. Columns: time, H_B_{x,y,z}, w_NB_B_{x,y,z},
-/// q_NB_{w,x,y,z}, J_B_{xx,yy,zz,xy,xz,yz}, principal_moments_{1,2,3},
-/// h_rel_B_{x,y,z}, h_N_{x,y,z}, energy, energy_rigid, euler_313_{precession,nutation,spin},
-/// spin_axis_angle, then hinge_angle_{0..P-1} if present, energy_spring, energy_total
-/// (= energy + energy_spring), then hinge_rate_{0..P-1} if hinge angles are present (the
-/// new columns after the old ones, so that the old columns keep their positions). Same
-/// atomicity and errors as WriteTrajectoryFile.
-void WriteTrajectoryCsv(const std::string& path, const analysis::Trajectory& trajectory);
+/// shortest form that reads back exactly. The columns are those of `schema`
+/// (analysis::TrajectorySchema: the standard one lists time, H_B_{x,y,z},
+/// w_NB_B_{x,y,z}, q_NB_{w,x,y,z}, J_B_{xx,yy,zz,xy,xz,yz}, principal_moments_{1,2,3},
+/// h_rel_B_{x,y,z}, h_N_{x,y,z}, energy, energy_rigid,
+/// euler_313_{precession,nutation,spin}, spin_axis_angle, hinge_angle_{0..P-1},
+/// energy_spring, energy_total, hinge_rate_{0..P-1}: the free-hinge columns after the
+/// older ones, which keep their positions). Same atomicity and errors as
+/// WriteTrajectoryFile.
+void WriteTrajectoryCsv(
+    const std::string& path,
+    const analysis::Trajectory& trajectory,
+    const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
 
 }  // namespace deploysim::io

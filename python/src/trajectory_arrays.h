@@ -1,0 +1,38 @@
+#pragma once
+
+// The trajectory's numpy arrays, one per column of the trajectory schema
+// (analysis::TrajectorySchema): collected from the run's sample blocks without the GIL,
+// handed to numpy without copies.
+
+#include <pybind11/pybind11.h>
+
+#include <cstddef>
+#include <vector>
+
+#include "deploysim/analysis/mission.h"
+#include "deploysim/analysis/trajectory_schema.h"
+
+namespace deploysim::python {
+
+class TrajectoryArrays final : public analysis::SampleSink {
+ public:
+  /// `panels`: per-panel values per sample (geometry mode; else 0); `expected`: samples
+  /// to reserve room for. `schema` must outlive the arrays.
+  TrajectoryArrays(
+      std::size_t panels,
+      std::size_t expected,
+      const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
+  /// Without the GIL: the block's values, checked as a file writer checks them.
+  void Append(const analysis::Trajectory& block) override;
+  /// With the GIL: {name: array (N, *RowShape)} in the schema's order, e.g. (N,), (N, 3),
+  /// (N, 4) quaternions w x y z, (N, 3, 3) with [n][i][j] = J(i, j), (N, P).
+  pybind11::dict ToDict() &&;
+
+ private:
+  const analysis::TrajectorySchema& schema_;
+  std::size_t panels_;
+  std::size_t rows_ = 0;
+  std::vector<std::vector<double>> flat_;  // per column, row-major
+};
+
+}  // namespace deploysim::python
