@@ -9,20 +9,19 @@
 #include "deploysim/integrators/carry_store.h"
 #include "deploysim/integrators/dense_output.h"
 #include "deploysim/integrators/lie_anchor.h"
+#include "deploysim/integrators/rk_engine.h"
 #include "deploysim/math/quaternion.h"
 #include "deploysim/math/so3.h"
 
 namespace deploysim::integrators {
 namespace {
 
-constexpr int kMaxStages = 16;
-
 using lie::Anchor;
 using lie::Compose;
 using lie::ComposeForOutput;
 using lie::MomentumOf;
 
-using Stages3 = std::array<math::Vec3, kMaxStages>;
+using Stages3 = std::array<math::Vec3, kMaxRkStages>;
 
 class RkmkWorkspace final : public StepperWorkspace {
  public:
@@ -94,7 +93,6 @@ StepAttempt RkmkStepper::Step(const Problem& problem,
     a0.q_ref = y.q_NB;
     a0.H_ref = y.H_B;
   }
-  const int s = tableau_.stages();
   const double t_end = y.t + h;
   const math::Vec3 H0 = MomentumOf(a0);
   // The spin about h_N is integrated exactly: R(t + tau) = Exp(sigma tau h_N) R0 Exp(u),
@@ -108,20 +106,15 @@ StepAttempt RkmkStepper::Step(const Problem& problem,
   const double sigma = H0_2 > 0.0 ? w0.dot(H0) / H0_2 : 0.0;
   Stages3& k = ws.last_stages;
   k[0] = w0 - sigma * H0;
-  for (int i = 1; i < s; ++i) {
-    math::Vec3 u = math::Vec3::Zero();
-    for (int j = 0; j < i; ++j) {
-      const double aij = tableau_.a[i][j];
-      if (aij != 0.0) u += (h * aij) * k[j];
-    }
-    const double ci = tableau_.c[i];
-    const double ti = ci == 1.0 ? t_end : y.t + ci * h;
-    k[i] = AlgebraRate(problem, ti, u, H0, sigma);
-  }
-  math::Vec3 u1 = math::Vec3::Zero();
-  for (int i = 0; i < s; ++i) {
-    if (tableau_.b[i] != 0.0) u1 += (h * tableau_.b[i]) * k[i];
-  }
+  math::Vec3 u;
+  RkStages<math::Vec3>(
+      tableau_,
+      [&](double ti, const math::Vec3& ui, math::Vec3& ki) {
+        ki = AlgebraRate(problem, ti, ui, H0, sigma);
+      },
+      y.t, h, math::Vec3::Zero(), u, k);
+  math::Vec3 u1;
+  RkWeightedSum<math::Vec3>(tableau_.b, nullptr, h, k, u1);
   // dq1 = Exp(sigma h H_ref) dq0 Exp(carry) Exp(u1) ~ Exp(sigma h H_ref) dq0 Exp(carry + u1)
   // (the BCH term carry x u1 / 2 is ~1e-18 rad), in extended precision; its rounding to
   // double becomes the next carry, so rounding does not accumulate over the steps: near
@@ -130,11 +123,8 @@ StepAttempt RkmkStepper::Step(const Problem& problem,
   StepAttempt out;
   out.result = PublicState(t_end, a1);
   if (info_.adaptive) {
-    math::Vec3 err = math::Vec3::Zero();
-    for (int i = 0; i < s; ++i) {
-      const double d = tableau_.b[i] - tableau_.b_hat[i];
-      if (d != 0.0) err += (h * d) * k[i];
-    }
+    math::Vec3 err;
+    RkWeightedSum<math::Vec3>(tableau_.b, &tableau_.b_hat, h, k, err);
     // An attitude error du moves H_B = Exp(-du) R^T h_N by about H_B x du: weigh it per
     // component exactly like the momentum components of the vector-space steppers.
     const math::Vec3 H1 = a1.dq.conjugate() * a1.H_ref;

@@ -13,6 +13,7 @@
 #include "deploysim/integrators/driver_support.h"
 #include "deploysim/integrators/factory.h"
 #include "deploysim/integrators/lie_anchor.h"
+#include "deploysim/integrators/rk_engine.h"
 #include "deploysim/math/quaternion.h"
 #include "deploysim/math/so3.h"
 
@@ -73,25 +74,14 @@ class ShapeStepper {
     for (int i = 0; i < s; ++i) k[static_cast<std::size_t>(i)].resize(dim);
     k[0].head<3>() = w0 - sigma * H0;
     k[0].tail(nx) = xdot_;
-    Vec& Y = scratch_;
-    Y.resize(dim);
-    for (int i = 1; i < s; ++i) {
-      Y.setZero();
-      for (int j = 0; j < i; ++j) {
-        const double aij = tab_.a[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
-        if (aij != 0.0) Y += (h * aij) * k[static_cast<std::size_t>(j)];
-      }
-      const double ci = tab_.c[static_cast<std::size_t>(i)];
-      const double ti = ci == 1.0 ? t_end : y.t + ci * h;
-      AlgebraRate(ti, Y, H0, sigma, y.x, k[static_cast<std::size_t>(i)]);
-    }
+    zero_.setZero(dim);
+    RkStages<Vec>(
+        tab_,
+        [&](double ti, const Vec& Yi, Vec& ki) { AlgebraRate(ti, Yi, H0, sigma, y.x, ki); },
+        y.t, h, zero_, scratch_, k);
     Vec& Y1 = last_.Y1;
-    Y1.setZero(dim);
-    for (int i = 0; i < s; ++i) {
-      if (tab_.b[static_cast<std::size_t>(i)] != 0.0) {
-        Y1 += (h * tab_.b[static_cast<std::size_t>(i)]) * k[static_cast<std::size_t>(i)];
-      }
-    }
+    Y1.resize(dim);
+    RkWeightedSum<Vec>(tab_.b, nullptr, h, k, Y1);
     const Anchor a1 = lie::Compose(a0, (sigma * h) * a0.H_ref, Y1.head<3>());
     ShapeState out;
     out.t = t_end;
@@ -102,12 +92,8 @@ class ShapeStepper {
       *error_norm = 0.0;
       if (adaptive()) {
         Vec& err = scratch_;
-        err.setZero(dim);
-        for (int i = 0; i < s; ++i) {
-          const double d =
-              tab_.b[static_cast<std::size_t>(i)] - tab_.b_hat[static_cast<std::size_t>(i)];
-          if (d != 0.0) err += (h * d) * k[static_cast<std::size_t>(i)];
-        }
+        err.resize(dim);
+        RkWeightedSum<Vec>(tab_.b, &tab_.b_hat, h, k, err);
         const math::Vec3 H1 = a1.dq.conjugate() * a1.H_ref;
         const math::Vec3 dH = H1.cross(err.head<3>());
         const double scale = std::sqrt(H0_2);
@@ -248,7 +234,7 @@ class ShapeStepper {
   ShapeState proposal_key_, committed_key_;
   Anchor proposal_anchor_, committed_anchor_;
   bool have_f1_ = false, have_nodes_ = false;
-  Vec f1_, scratch_, xdot_, xs_;
+  Vec f1_, scratch_, zero_, xdot_, xs_;
   std::array<double, kMaxHermiteNodes> nodes_x_{};
   std::array<Vec, kMaxHermiteNodes> nodes_y_, nodes_f_;
 };
