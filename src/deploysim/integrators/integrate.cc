@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "deploysim/integrators/driver_support.h"
+#include "deploysim/integrators/driver.h"
 #include "deploysim/math/quaternion.h"
 
 namespace deploysim::integrators {
@@ -139,221 +139,75 @@ void ValidateOutputTimes(const OutputTimes& output_times, double t0, double t_en
           "output times must lie within [t0, t_end]");
 }
 
-/// One adaptive (or fixed-step) run of the rigid-body equations: the segments between
-/// the source's breakpoints, the step-size control, the events located on each accepted
-/// step and the output samples on the dense output.
-class RigidDriver {
+/// A Stepper on the rigid state (t, H_B, q_NB) for the driver (driver.h): the problem
+/// (inertia source, segment, evaluation count), the stepper's workspace for the run and
+/// the accepted step, whose continuous extension is clamped to its ends.
+class RigidAdapter {
  public:
-  RigidDriver(const Stepper& stepper,
-              const IntegratorSettings& settings,
-              const dynamics::InertiaSource& source,
-              const State& initial,
-              const OutputTimes& output_times,
-              const std::vector<EventFunction>& events,
-              const StepObserver& observer,
-              const SampleObserver& samples)
+  using StateType = State;
+
+  RigidAdapter(const Stepper& stepper,
+               const Tolerances& tolerances,
+               const dynamics::InertiaSource& source,
+               const State& initial)
       : stepper_(stepper),
         info_(stepper.info()),
-        settings_(settings),
+        tol_(tolerances),
         source_(source),
-        y_(initial),
         problem_(source, math::Vec3(initial.q_NB * initial.H_B)),
         workspace_(stepper.NewWorkspace()),
-        ws_(*workspace_),
-        output_times_(output_times),
-        events_(events),
-        observer_(observer),
-        samples_(samples),
-        q_(info_.error_order > 0 ? std::min(info_.order, info_.error_order) : info_.order),
-        h_adapt_(settings.step) {}
+        ws_(*workspace_) {}
 
-  IntegrationResult Run(double t_end);
+  bool adaptive() const { return info_.adaptive; }
+  int order() const {
+    return info_.error_order > 0 ? std::min(info_.order, info_.error_order) : info_.order;
+  }
+  void SetSegment(double a, double b) { problem_.SetSegment(a, b); }
+  std::vector<double> Breakpoints(double t0, double t1) const {
+    return source_.Breakpoints(t0, t1);
+  }
+  double RotationRate(const State& y) {
+    return (problem_.Sample(y.t).J_inv_B * (y.H_B - problem_.Sample(y.t).h_rel_B)).norm();
+  }
+  double MaxStep(const State& y) { return stepper_.MaxStep(problem_, y, ws_); }
+  State Step(const State& y, double h, double* error_norm) {
+    StepAttempt attempt = stepper_.Step(problem_, y, h, tol_, ws_);
+    *error_norm = attempt.error_norm;
+    return attempt.result;
+  }
+  State Partial(const State& y0, double h) {
+    ++partial_steps_;
+    return stepper_.Step(problem_, y0, h, tol_, ws_).result;
+  }
+  void Accept(const State& y0, const State& y1) {
+    stepper_.Accept(problem_, y0, y1, ws_);
+    y0_ = y0;
+    y1_ = y1;
+  }
+  State Dense(double t) {
+    if (t <= y0_.t) return y0_;
+    if (t >= y1_.t) return y1_;
+    return stepper_.Dense(problem_, t, tol_, ws_);
+  }
+  State DenseSample(double t, std::size_t samples_in_step) {
+    return stepper_.DenseSample(problem_, t, samples_in_step, tol_, ws_);
+  }
+  bool DenseIsExact() { return stepper_.DenseIsExact(ws_); }
+  static bool Finite(const State& s) { return integrators::Finite(s); }
+  long evaluations() const { return problem_.evaluations(); }
+  long dense_steps() const { return ws_.dense_steps + partial_steps_; }
 
  private:
-  bool Segment(double a, double b);
-  double FirstStep(double a, double b);
-  IntegrationResult& Stop(Termination t, const std::string& message);
-  void Emit(const State& s);
-  void LocateEvents(const State& y1);
-  void EmitSamples(const State& y1);
-  // The exact solution at t in the last accepted step [y0, y1]: a partial step.
-  State ExactAt(const State& y0, const State& y1, double t) {
-    if (t <= y0.t) return y0;
-    if (t >= y1.t) return y1;
-    ++event_partial_steps_;
-    return stepper_.Step(problem_, y0, t - y0.t, settings_.tolerances, ws_).result;
-  }
-  State DenseAt(const State& y0, const State& y1, double t) {
-    if (t <= y0.t) return y0;
-    if (t >= y1.t) return y1;
-    return stepper_.Dense(problem_, t, settings_.tolerances, ws_);
-  }
-
   const Stepper& stepper_;
   const StepperInfo& info_;
-  const IntegratorSettings& settings_;
+  const Tolerances& tol_;
   const dynamics::InertiaSource& source_;
-  State y_;
   Problem problem_;
   const std::unique_ptr<StepperWorkspace> workspace_;
   StepperWorkspace& ws_;
-  const OutputTimes& output_times_;
-  const std::vector<EventFunction>& events_;
-  const StepObserver& observer_;
-  const SampleObserver& samples_;
-  const int q_;
-  double h_adapt_;
-  long attempts_ = 0;
-  long event_partial_steps_ = 0;
-  std::size_t next_out_ = 0;
-  std::vector<double> g_prev_;
-  IntegrationResult result_;
+  State y0_, y1_;  // the accepted step
+  long partial_steps_ = 0;
 };
-
-IntegrationResult& RigidDriver::Stop(Termination t, const std::string& message) {
-  result_.termination = t;
-  result_.message = message;
-  result_.final_state = y_;
-  result_.stats.evaluations = problem_.evaluations();
-  result_.stats.dense_steps = ws_.dense_steps + event_partial_steps_;
-  return result_;
-}
-
-void RigidDriver::Emit(const State& s) {
-  if (samples_) {
-    samples_(s);
-  } else {
-    result_.samples.push_back(s);
-  }
-}
-
-// Automatic first step: a small fraction of the rotation time scale.
-double RigidDriver::FirstStep(double a, double b) {
-  const math::Vec3 w = problem_.Sample(a).J_inv_B * (y_.H_B - problem_.Sample(a).h_rel_B);
-  const double rate = std::max(w.norm(), 1.0 / (b - a));
-  return 0.01 * std::pow(settings_.tolerances.rtol, 1.0 / (q_ + 1)) / rate;
-}
-
-// Events: sign changes of g over the step [y_, y1], located on the dense output.
-void RigidDriver::LocateEvents(const State& y1) {
-  if (events_.empty()) return;
-  std::vector<Event> found;
-  const bool exact_dense = stepper_.DenseIsExact(ws_);
-  for (std::size_t e = 0; e < events_.size(); ++e) {
-    const double g1 = events_[e].g(y1);
-    const double g0 = g_prev_[e];
-    if ((g0 < 0.0 && g1 >= 0.0) || (g0 > 0.0 && g1 <= 0.0)) {
-      const EventFunction& fn = events_[e];
-      const State& y0 = y_;
-      double t_ev = y1.t;
-      if (g1 != 0.0) {
-        t_ev = driver::LocateEvent(
-            y0.t, y1.t, g0, g1, [&](double t) { return fn.g(DenseAt(y0, y1, t)); },
-            [&](double t) { return fn.g(ExactAt(y0, y1, t)); }, exact_dense);
-      }
-      Event ev;
-      ev.t = t_ev;
-      ev.index = static_cast<int>(e);
-      ev.direction = g1 > g0 ? 1 : -1;
-      ev.state = exact_dense ? DenseAt(y0, y1, t_ev) : ExactAt(y0, y1, t_ev);
-      found.push_back(ev);
-    }
-    g_prev_[e] = g1;
-  }
-  std::sort(found.begin(), found.end(), [](const Event& l, const Event& r) { return l.t < r.t; });
-  result_.events.insert(result_.events.end(), found.begin(), found.end());
-}
-
-// The output times in (y_.t, y1.t], on the dense output of the step.
-void RigidDriver::EmitSamples(const State& y1) {
-  std::size_t step_out = next_out_;
-  while (step_out < output_times_.size() && output_times_.at(step_out) <= y1.t) ++step_out;
-  const std::size_t samples_in_step = step_out - next_out_;
-  while (next_out_ < step_out) {
-    const double t_out = output_times_.at(next_out_);
-    State s = t_out <= y_.t   ? y_
-              : t_out >= y1.t ? y1
-                              : stepper_.DenseSample(problem_, t_out, samples_in_step,
-                                                     settings_.tolerances, ws_);
-    s.t = t_out;
-    Emit(s);
-    ++next_out_;
-  }
-}
-
-// The steps of one segment [a, b] between breakpoints; false when the run stopped.
-bool RigidDriver::Segment(double a, double b) {
-  problem_.SetSegment(a, b);
-  driver::SegmentSteps steps(a, b, info_.adaptive, settings_.step);
-  const double eps = steps.eps();
-  if (info_.adaptive && h_adapt_ <= 0.0) h_adapt_ = FirstStep(a, b);
-  while (y_.t < b - eps) {
-    if (++attempts_ > settings_.max_steps) {
-      Stop(Termination::kMaxSteps, "max_steps reached at t = " + std::to_string(y_.t));
-      return false;
-    }
-    bool last = false;
-    const double h = steps.Next(y_.t,
-                                info_.adaptive ? std::min({h_adapt_, settings_.max_step,
-                                                           stepper_.MaxStep(problem_, y_, ws_)})
-                                               : 0.0,
-                                &last);
-    StepAttempt att = stepper_.Step(problem_, y_, h, settings_.tolerances, ws_);
-    if (info_.adaptive) {
-      const double err = att.error_norm;
-      if (!std::isfinite(err) || err > 1.0) {
-        ++result_.stats.rejected;
-        h_adapt_ = h * driver::RejectedStepFactor(err, q_);
-        if (h_adapt_ < 1e-14 * std::max(1.0, std::abs(y_.t))) {
-          Stop(Termination::kStepSizeUnderflow,
-               "step size underflow at t = " + std::to_string(y_.t));
-          return false;
-        }
-        continue;
-      }
-      const double grow = driver::AcceptedStepFactor(err, q_);
-      // Do not let the short last step of a segment shrink the next segment's steps.
-      if (!last || grow * h > h_adapt_) h_adapt_ = h * grow;
-    }
-    State y1 = att.result;
-    if (last) y1.t = b;
-    if (!Finite(y1)) {
-      Stop(Termination::kNonFinite, "state became non-finite at t = " + std::to_string(y_.t));
-      return false;
-    }
-    ++result_.stats.steps;
-    stepper_.Accept(problem_, y_, y1, ws_);
-    LocateEvents(y1);
-    EmitSamples(y1);
-    y_ = y1;
-    if (observer_) observer_(y_);
-  }
-  return true;
-}
-
-IntegrationResult RigidDriver::Run(double t_end) {
-  if (!samples_) result_.samples.reserve(output_times_.size());
-  while (next_out_ < output_times_.size() && output_times_.at(next_out_) <= y_.t) {
-    Emit(y_);
-    ++next_out_;
-  }
-  for (const EventFunction& e : events_) g_prev_.push_back(e.g(y_));
-  std::vector<double> bounds{y_.t};
-  for (double b : source_.Breakpoints(y_.t, t_end)) bounds.push_back(b);
-  bounds.push_back(t_end);
-  for (std::size_t seg = 0; seg + 1 < bounds.size(); ++seg) {
-    if (!Segment(bounds[seg], bounds[seg + 1])) return std::move(result_);
-  }
-  // Output times that equal t_end up to rounding.
-  while (next_out_ < output_times_.size()) {
-    State s = y_;
-    s.t = output_times_.at(next_out_);
-    Emit(s);
-    ++next_out_;
-  }
-  Stop(Termination::kReachedEnd, ToString(Termination::kReachedEnd));
-  return std::move(result_);
-}
 
 }  // namespace
 
@@ -375,8 +229,25 @@ IntegrationResult Integrate(const Stepper& stepper,
   // the error weights.
   State y = initial;
   y.q_NB = q_NB0;
-  RigidDriver driver(stepper, settings, source, y, output_times, events, observer, samples);
-  return driver.Run(t_end);
+  std::vector<driver::EventSpec<State>> specs;
+  for (const EventFunction& e : events) specs.push_back({e.name, e.g, 0, false, true});
+  IntegrationResult result;
+  if (!samples) result.samples.reserve(output_times.size());
+  const std::function<void(const State&)> emit =
+      samples ? samples : [&result](const State& s) { result.samples.push_back(s); };
+  RigidAdapter adapter(stepper, settings.tolerances, source, y);
+  std::size_t next_output = 0;
+  driver::Driver<RigidAdapter> run(adapter, settings, y, output_times, next_output, specs, emit,
+                                   observer, true);
+  driver::Outcome<State> out = run.Run(t_end);
+  for (driver::FoundEvent<State>& e : out.events) {
+    result.events.push_back({e.t, e.index, e.direction, std::move(e.state)});
+  }
+  result.final_state = out.final_state;
+  result.stats = out.stats;
+  result.termination = out.termination;
+  result.message = std::move(out.message);
+  return result;
 }
 
 }  // namespace deploysim::integrators

@@ -10,7 +10,7 @@
 
 #include "deploysim/integrators/butcher_tableau.h"
 #include "deploysim/integrators/dense_output.h"
-#include "deploysim/integrators/driver_support.h"
+#include "deploysim/integrators/driver.h"
 #include "deploysim/integrators/factory.h"
 #include "deploysim/integrators/lie_anchor.h"
 #include "deploysim/integrators/rk_engine.h"
@@ -273,295 +273,43 @@ bool IsShapeMethod(const std::string& name) {
 
 namespace {
 
-/// One run of the shape equations up to t_end or the first terminal event: the segments
-/// between the system's breakpoints, the step-size control, terminal zeros the run
-/// starts on (it must leave them before they count again), the events of each accepted
-/// step and the output samples on the dense output.
-class ShapeDriver {
+/// The Lie-group method on the shape state for the driver (driver.h).
+class ShapeAdapter {
  public:
-  ShapeDriver(const std::string& method,
-              const IntegratorSettings& settings,
-              const dynamics::ShapeSystem& system,
-              const ShapeState& initial,
-              const OutputTimes& output_times,
-              std::size_t* next_output,
-              const std::vector<ShapeEventFunction>& events,
-              const std::function<void(const ShapeState&)>& samples,
-              const std::function<void(const ShapeState&)>& observer)
-      : settings_(settings),
-        tol_(settings.tolerances),
-        system_(system),
-        stepper_(TableauOf(method), system),
-        adaptive_(stepper_.adaptive()),
-        q_(stepper_.order()),
-        y_(initial),
-        output_times_(output_times),
-        next_out_(*next_output),
-        events_(events),
-        samples_(samples),
-        observer_(observer),
-        h_adapt_(settings.step) {
-    if (!adaptive_ && !(settings.step > 0.0)) {
-      throw std::invalid_argument("integrator " + method +
-                                  ": step = 0 (rule: a fixed-step method needs a finite step > 0)");
-    }
-  }
+  using StateType = ShapeState;
 
-  ShapeIntegrationResult Run(double t_end);
+  ShapeAdapter(const ButcherTableau& tableau,
+               const dynamics::ShapeSystem& system,
+               const Tolerances& tolerances)
+      : stepper_(tableau, system), system_(system), tol_(tolerances) {}
+
+  bool adaptive() const { return stepper_.adaptive(); }
+  int order() const { return stepper_.order(); }
+  void SetSegment(double /*a*/, double b) { stepper_.SetSegmentEnd(b); }
+  std::vector<double> Breakpoints(double t0, double t1) const {
+    return system_.Breakpoints(t0, t1);
+  }
+  double RotationRate(const ShapeState& /*y*/) { return 1.0; }
+  double MaxStep(const ShapeState& /*y*/) { return std::numeric_limits<double>::infinity(); }
+  ShapeState Step(const ShapeState& y, double h, double* error_norm) {
+    return stepper_.Step(y, h, tol_, error_norm);
+  }
+  ShapeState Partial(const ShapeState& y0, double h) {
+    return stepper_.Step(y0, h, tol_, nullptr);
+  }
+  void Accept(const ShapeState& y0, const ShapeState& y1) { stepper_.Accept(y0, y1); }
+  ShapeState Dense(double t) { return stepper_.Dense(t, tol_); }
+  ShapeState DenseSample(double t, std::size_t /*samples_in_step*/) { return Dense(t); }
+  bool DenseIsExact() { return false; }
+  static bool Finite(const ShapeState& s) { return integrators::Finite(s); }
+  long evaluations() const { return stepper_.evaluations(); }
+  long dense_steps() const { return stepper_.dense_steps(); }
 
  private:
-  enum class Leave { kLeft, kRetry, kStuck };
-  bool AlreadyPast();
-  bool Segment(double a, double b);
-  Leave CheckLeaving(const ShapeState& y1, double h);
-  bool StepEvents(const ShapeState& y1);
-  ShapeEvent Locate(std::size_t e, const ShapeState& y1, bool rising);
-  bool StopAtTerminal(std::vector<ShapeEvent>& found, double t_stop, const ShapeState& y1);
-  void EmitUntil(
-      double t_stop, bool inclusive, const ShapeState& y0, const ShapeState& y1, bool dense);
-  void Finish(Termination why, const std::string& message) {
-    result_.termination = why;
-    result_.message = message;
-    result_.final_state = y_;
-    result_.stats.evaluations = stepper_.evaluations();
-    result_.stats.dense_steps = stepper_.dense_steps();
-    result_.next_step = h_adapt_;
-  }
-
-  const IntegratorSettings& settings_;
-  const Tolerances& tol_;
-  const dynamics::ShapeSystem& system_;
   ShapeStepper stepper_;
-  const bool adaptive_;
-  const int q_;
-  ShapeState y_;
-  const OutputTimes& output_times_;
-  std::size_t& next_out_;
-  const std::vector<ShapeEventFunction>& events_;
-  const std::function<void(const ShapeState&)>& samples_;
-  const std::function<void(const ShapeState&)>& observer_;
-  double h_adapt_;
-  long attempts_ = 0;
-  std::vector<double> g_prev_;
-  std::vector<char> leaving_;  // terminal functions at exactly 0, not yet left
-  ShapeIntegrationResult result_;
+  const dynamics::ShapeSystem& system_;
+  const Tolerances& tol_;
 };
-
-void ShapeDriver::EmitUntil(
-    double t_stop, bool inclusive, const ShapeState& y0, const ShapeState& y1, bool dense) {
-  while (next_out_ < output_times_.size()) {
-    const double t_out = output_times_.at(next_out_);
-    if (t_out > t_stop || (!inclusive && t_out == t_stop)) break;
-    ShapeState s = !dense || t_out <= y0.t ? y0 : t_out >= y1.t ? y1 : stepper_.Dense(t_out, tol_);
-    s.t = t_out;
-    if (samples_) samples_(s);
-    ++next_out_;
-  }
-}
-
-// A terminal function already past its zero at the start (crossed within the location
-// tolerance of the event the previous run stopped at, e.g. two symmetric panels
-// latching together): the event happens now.
-bool ShapeDriver::AlreadyPast() {
-  for (std::size_t e = 0; e < events_.size(); ++e) {
-    if (events_[e].terminal && events_[e].direction * g_prev_[e] > 0.0) {
-      ShapeEvent ev;
-      ev.t = y_.t;
-      ev.index = static_cast<int>(e);
-      ev.direction = events_[e].direction;
-      ev.state = y_;
-      result_.events.push_back(ev);
-      result_.stopped_at_event = true;
-      result_.final_state = y_;
-      result_.next_step = settings_.step;
-      result_.message = "stopped at event '" + events_[e].name + "' (already past at the start)";
-      return true;
-    }
-  }
-  return false;
-}
-
-// A step that crosses a terminal zero it started on, without leaving it first: retried
-// shorter, down to a minimum step; a run that cannot leave it is stuck there.
-ShapeDriver::Leave ShapeDriver::CheckLeaving(const ShapeState& y1, double h) {
-  int stuck_event = -1;
-  for (std::size_t e = 0; e < events_.size(); ++e) {
-    if (!leaving_[e]) continue;
-    // Not strictly on the side it left to (g1 == 0: the excursion is below the
-    // angle's rounding) counts as not having left.
-    if (events_[e].direction * events_[e].g(y1) >= 0.0) stuck_event = static_cast<int>(e);
-  }
-  if (stuck_event < 0) return Leave::kLeft;
-  const double h_min = kMinLeaveStep * std::max(1.0, std::abs(y_.t));
-  if (adaptive_ && h > h_min) {
-    ++result_.stats.rejected;
-    h_adapt_ = std::max(h_min, h * 0.1);
-    return Leave::kRetry;
-  }
-  const ShapeEventFunction& fn = events_[static_cast<std::size_t>(stuck_event)];
-  ShapeEvent ev;
-  ev.t = y_.t;
-  ev.index = stuck_event;
-  ev.direction = fn.direction;
-  ev.state = y_;
-  result_.events.push_back(ev);
-  result_.stopped_at_event = true;
-  result_.stuck = true;
-  Finish(Termination::kReachedEnd, "stuck at event '" + fn.name + "'");
-  return Leave::kStuck;
-}
-
-// The event of function e inside the step [y_, y1], located on the dense output (and
-// finished on partial steps when the function asks for it).
-ShapeEvent ShapeDriver::Locate(std::size_t e, const ShapeState& y1, bool rising) {
-  const ShapeEventFunction& fn = events_[e];
-  const ShapeState y0 = y_;
-  auto exact_at = [&](double t) {
-    if (t <= y0.t) return y0;
-    if (t >= y1.t) return y1;
-    return stepper_.Step(y0, t - y0.t, tol_, nullptr);
-  };
-  const double g0 = g_prev_[e];
-  const double g1 = fn.g(y1);
-  double t_ev = y1.t;
-  if (g1 != 0.0) {
-    t_ev = driver::LocateEvent(
-        y0.t, y1.t, g0, g1, [&](double t) { return fn.g(stepper_.Dense(t, tol_)); },
-        [&](double t) { return fn.g(exact_at(t)); }, !fn.refine);
-  }
-  ShapeEvent ev;
-  ev.t = t_ev;
-  ev.index = static_cast<int>(e);
-  ev.direction = rising ? 1 : -1;
-  ev.state = fn.refine ? exact_at(t_ev) : stepper_.Dense(t_ev, tol_);
-  ev.state.t = t_ev;
-  return ev;
-}
-
-// Keeps the events up to the earliest terminal one (ties: the first) and stops there.
-bool ShapeDriver::StopAtTerminal(std::vector<ShapeEvent>& found,
-                                 double t_stop,
-                                 const ShapeState& y1) {
-  ShapeEvent term;
-  std::vector<ShapeEvent> kept;
-  bool have_term = false;
-  for (const ShapeEvent& ev : found) {
-    if (!have_term && events_[static_cast<std::size_t>(ev.index)].terminal && ev.t == t_stop) {
-      term = ev;
-      have_term = true;
-      continue;
-    }
-    if (ev.t < t_stop) kept.push_back(ev);
-  }
-  result_.events.insert(result_.events.end(), kept.begin(), kept.end());
-  result_.events.push_back(term);
-  EmitUntil(t_stop, false, y_, y1, true);
-  y_ = term.state;
-  result_.stopped_at_event = true;
-  if (observer_) observer_(y_);
-  Finish(Termination::kReachedEnd,
-         "stopped at event '" + events_[static_cast<std::size_t>(term.index)].name + "'");
-  return true;
-}
-
-// The events over the accepted step [y_, y1]; true when a terminal one stopped the run.
-bool ShapeDriver::StepEvents(const ShapeState& y1) {
-  double t_stop = std::numeric_limits<double>::infinity();
-  bool terminal = false;
-  std::vector<ShapeEvent> found;
-  std::vector<double> g_new(events_.size());
-  for (std::size_t e = 0; e < events_.size(); ++e) {
-    const double g1 = events_[e].g(y1);
-    g_new[e] = g1;
-    const double g0 = g_prev_[e];
-    const bool rising = g0 < 0.0 && g1 >= 0.0;
-    const bool falling = g0 > 0.0 && g1 <= 0.0;
-    const int dir = events_[e].direction;
-    if (!((rising && dir >= 0) || (falling && dir <= 0))) continue;
-    found.push_back(Locate(e, y1, rising));
-    if (events_[e].terminal && found.back().t < t_stop) {
-      t_stop = found.back().t;
-      terminal = true;
-    }
-  }
-  std::sort(found.begin(), found.end(),
-            [](const ShapeEvent& l, const ShapeEvent& r) { return l.t < r.t; });
-  if (terminal) return StopAtTerminal(found, t_stop, y1);
-  result_.events.insert(result_.events.end(), found.begin(), found.end());
-  std::fill(leaving_.begin(), leaving_.end(), 0);  // the accepted step left the zeros
-  g_prev_ = g_new;
-  return false;
-}
-
-// The steps of one segment [a, b] between breakpoints; false when the run stopped.
-bool ShapeDriver::Segment(double a, double b) {
-  stepper_.SetSegmentEnd(b);
-  driver::SegmentSteps steps(a, b, adaptive_, settings_.step);
-  const double eps = steps.eps();
-  if (adaptive_ && h_adapt_ <= 0.0) {
-    // Automatic first step: a small fraction of the rotation time scale.
-    const double rate = std::max(1.0, 1.0 / (b - a));
-    h_adapt_ = 0.01 * std::pow(tol_.rtol, 1.0 / (q_ + 1)) / rate;
-  }
-  while (y_.t < b - eps) {
-    if (++attempts_ > settings_.max_steps) {
-      Finish(Termination::kMaxSteps, "max_steps reached at t = " + std::to_string(y_.t));
-      return false;
-    }
-    bool last = false;
-    const double h =
-        steps.Next(y_.t, adaptive_ ? std::min(h_adapt_, settings_.max_step) : 0.0, &last);
-    double err = 0.0;
-    ShapeState y1 = stepper_.Step(y_, h, tol_, &err);
-    if (adaptive_) {
-      if (!std::isfinite(err) || err > 1.0) {
-        ++result_.stats.rejected;
-        h_adapt_ = h * driver::RejectedStepFactor(err, q_);
-        if (h_adapt_ < 1e-14 * std::max(1.0, std::abs(y_.t))) {
-          Finish(Termination::kStepSizeUnderflow,
-                 "step size underflow at t = " + std::to_string(y_.t));
-          return false;
-        }
-        continue;
-      }
-      const double grow = driver::AcceptedStepFactor(err, q_);
-      if (!last || grow * h > h_adapt_) h_adapt_ = h * grow;
-    }
-    const Leave leave = CheckLeaving(y1, h);
-    if (leave == Leave::kStuck) return false;
-    if (leave == Leave::kRetry) continue;
-    if (last) y1.t = b;
-    if (!Finite(y1)) {
-      Finish(Termination::kNonFinite, "state became non-finite at t = " + std::to_string(y_.t));
-      return false;
-    }
-    ++result_.stats.steps;
-    stepper_.Accept(y_, y1);
-    if (StepEvents(y1)) return false;
-    EmitUntil(y1.t, true, y_, y1, true);
-    y_ = y1;
-    if (observer_) observer_(y_);
-  }
-  return true;
-}
-
-ShapeIntegrationResult ShapeDriver::Run(double t_end) {
-  // Samples at or before the start: the initial state.
-  EmitUntil(y_.t, true, y_, y_, false);
-  for (const ShapeEventFunction& e : events_) g_prev_.push_back(e.g(y_));
-  if (AlreadyPast()) return std::move(result_);
-  for (std::size_t e = 0; e < events_.size(); ++e) {
-    leaving_.push_back(events_[e].terminal && events_[e].direction != 0 && g_prev_[e] == 0.0);
-  }
-  std::vector<double> bounds{y_.t};
-  for (double b : system_.Breakpoints(y_.t, t_end)) bounds.push_back(b);
-  bounds.push_back(t_end);
-  for (std::size_t seg = 0; seg + 1 < bounds.size(); ++seg) {
-    if (!Segment(bounds[seg], bounds[seg + 1])) return std::move(result_);
-  }
-  Finish(Termination::kReachedEnd, ToString(Termination::kReachedEnd));
-  return std::move(result_);
-}
 
 }  // namespace
 
@@ -575,7 +323,7 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
                                       const std::vector<ShapeEventFunction>& events,
                                       const std::function<void(const ShapeState&)>& samples,
                                       const std::function<void(const ShapeState&)>& observer) {
-  TableauOf(method);  // an unknown method fails first
+  const ButcherTableau& tableau = TableauOf(method);  // an unknown method fails first
   if (!(t_end > initial.t) || !std::isfinite(t_end)) {
     throw std::invalid_argument("IntegrateShape: end time must be finite and > start time");
   }
@@ -584,9 +332,33 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
                                 std::to_string(initial.x.size()) + " entries for " +
                                 std::to_string(system.free_count()) + " free hinges");
   }
-  ShapeDriver driver(method, settings, system, initial, output_times, next_output, events, samples,
-                     observer);
-  return driver.Run(t_end);
+  if (tableau.b_hat.empty() && !(settings.step > 0.0)) {
+    throw std::invalid_argument("integrator " + method +
+                                ": step = 0 (rule: a fixed-step method needs a finite step > 0)");
+  }
+  std::vector<driver::EventSpec<ShapeState>> specs;
+  for (const ShapeEventFunction& e : events) {
+    specs.push_back({e.name, e.g, e.direction, e.terminal, e.refine});
+  }
+  ShapeAdapter adapter(tableau, system, settings.tolerances);
+  const std::function<void(const ShapeState&)> emit = [&samples](const ShapeState& s) {
+    if (samples) samples(s);
+  };
+  driver::Driver<ShapeAdapter> run(adapter, settings, initial, output_times, *next_output, specs,
+                                   emit, observer, false);
+  driver::Outcome<ShapeState> out = run.Run(t_end);
+  ShapeIntegrationResult result;
+  for (driver::FoundEvent<ShapeState>& e : out.events) {
+    result.events.push_back({e.t, e.index, e.direction, std::move(e.state)});
+  }
+  result.stopped_at_event = out.stopped_at_event;
+  result.stuck = out.stuck;
+  result.final_state = std::move(out.final_state);
+  result.stats = out.stats;
+  result.termination = out.termination;
+  result.message = std::move(out.message);
+  result.next_step = out.next_step;
+  return result;
 }
 
 }  // namespace deploysim::integrators
