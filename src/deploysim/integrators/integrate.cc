@@ -167,7 +167,8 @@ class RigidAdapter {
     return source_.Breakpoints(t0, t1);
   }
   double RotationRate(const State& y) {
-    return (problem_.Sample(y.t).J_inv_B * (y.H_B - problem_.Sample(y.t).h_rel_B)).norm();
+    const dynamics::InertiaSample s = problem_.Sample(y.t);
+    return (s.J_inv_B * (y.H_B - s.h_rel_B)).norm();
   }
   double MaxStep(const State& y) { return stepper_.MaxStep(problem_, y, ws_); }
   State Step(const State& y, double h, double* error_norm) {

@@ -50,6 +50,13 @@ class ShapeStepper {
   long dense_steps() const { return dense_steps_; }
   void SetSegmentEnd(double t) { segment_end_ = t; }
 
+  /// |w| [rad/s] at y: the hub's rotation rate.
+  double RotationRate(const ShapeState& y) {
+    math::Vec3 w;
+    Rate(y.t, y.H_B, y.x, &w, xdot_);
+    return w.norm();
+  }
+
   /// One step of size h from y; error_norm (adaptive methods) by the weighted max norm.
   ShapeState Step(const ShapeState& y, double h, const Tolerances& tol, double* error_norm) {
     Anchor a0;
@@ -289,12 +296,13 @@ class ShapeAdapter {
   std::vector<double> Breakpoints(double t0, double t1) const {
     return system_.Breakpoints(t0, t1);
   }
-  double RotationRate(const ShapeState& /*y*/) { return 1.0; }
+  double RotationRate(const ShapeState& y) { return stepper_.RotationRate(y); }
   double MaxStep(const ShapeState& /*y*/) { return std::numeric_limits<double>::infinity(); }
   ShapeState Step(const ShapeState& y, double h, double* error_norm) {
     return stepper_.Step(y, h, tol_, error_norm);
   }
   ShapeState Partial(const ShapeState& y0, double h) {
+    ++partial_steps_;
     return stepper_.Step(y0, h, tol_, nullptr);
   }
   void Accept(const ShapeState& y0, const ShapeState& y1) { stepper_.Accept(y0, y1); }
@@ -303,10 +311,11 @@ class ShapeAdapter {
   bool DenseIsExact() { return false; }
   static bool Finite(const ShapeState& s) { return integrators::Finite(s); }
   long evaluations() const { return stepper_.evaluations(); }
-  long dense_steps() const { return stepper_.dense_steps(); }
+  long dense_steps() const { return stepper_.dense_steps() + partial_steps_; }
 
  private:
   ShapeStepper stepper_;
+  long partial_steps_ = 0;
   const dynamics::ShapeSystem& system_;
   const Tolerances& tol_;
 };
