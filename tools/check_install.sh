@@ -30,7 +30,8 @@ for f in bin/deploysim include/deploysim/analysis/free_body_solution.h include/d
 done
 "$prefix/bin/deploysim" --version
 # Internals stay private, and every installed header's project includes are installed.
-for f in integrators/carry_store.h integrators/lie_anchor.h integrators/driver_support.h \
+for f in integrators/carry_store.h integrators/lie_anchor.h integrators/driver.h \
+         integrators/driver_support.h \
          integrators/rk_engine.h io/number_format.h; do
   [ ! -e "$prefix/include/deploysim/$f" ] || { echo "check_install: internal $f was installed" >&2; exit 1; }
 done

@@ -45,7 +45,7 @@ template <class S>
 struct EventSpec {
   std::string name;
   std::function<double(const S&)> g;
-  int direction = 0;     ///< +1: rising sign changes only, -1: falling only, 0: both
+  int direction = 0;      ///< +1: rising sign changes only, -1: falling only, 0: both
   bool terminal = false;  ///< stop at the first located terminal event
   bool refine = true;     ///< finish the location on partial steps
 };
@@ -77,7 +77,8 @@ class Driver {
 
   /// Output samples: output_times.at(i) from `next_output` on (advanced past them),
   /// passed to `samples` in order. `emit_rest_at_end`: output times left at the end
-  /// (equal to t_end up to rounding) are samples of the end state.
+  /// (equal to t_end up to rounding) are samples of the end state. `events` and
+  /// `output_times` must outlive the driver.
   Driver(A& adapter,
          const IntegratorSettings& settings,
          const S& initial,
@@ -324,8 +325,8 @@ class Driver {
   const OutputTimes& output_times_;
   std::size_t& next_out_;
   const std::vector<EventSpec<S>>& events_;
-  const std::function<void(const S&)>& samples_;
-  const std::function<void(const S&)>& observer_;
+  const std::function<void(const S&)> samples_;
+  const std::function<void(const S&)> observer_;
   const bool emit_rest_at_end_;
   const int q_;
   double h_adapt_;

@@ -83,8 +83,7 @@ class ShapeStepper {
     k[0].tail(nx) = xdot_;
     zero_.setZero(dim);
     RkStages<Vec>(
-        tab_,
-        [&](double ti, const Vec& Yi, Vec& ki) { AlgebraRate(ti, Yi, H0, sigma, y.x, ki); },
+        tab_, [&](double ti, const Vec& Yi, Vec& ki) { AlgebraRate(ti, Yi, H0, sigma, y.x, ki); },
         y.t, h, zero_, scratch_, k);
     Vec& Y1 = last_.Y1;
     Y1.resize(dim);
