@@ -86,6 +86,64 @@ V DopriDenseV(double th, double h, const V& y0, const V& y1, const std::array<V,
   return y0 + th * (ydiff + th1 * (bspl + th * (r4 + th1 * r5)));
 }
 
+/// Nodes of the Hermite interpolant of high-order methods: the step's ends and three
+/// interior points (partial steps), degree 9.
+constexpr int kStepHermiteNodes = 5;
+
+/// The continuous extension of one accepted Runge-Kutta step, the same for every
+/// Runge-Kutta stepper (vector-space and Lie-group, rigid or with shape coordinates):
+/// y(theta) from y0, y1 and the step's stages k by the tableau's DenseKind. What the
+/// Hermite forms need beyond the step is computed on first use and kept until Reset:
+/// the rate at the step's end, end_rate(), and the interior nodes, node(x, y, f), which
+/// sets y and f (the solution and its rate at x h, by a partial step).
+template <class V>
+class StepInterpolant {
+ public:
+  /// A new accepted step: nothing computed yet.
+  void Reset() { have_f1_ = have_nodes_ = false; }
+
+  template <class EndRate, class Node>
+  V At(DenseKind kind,
+       double th,
+       double h,
+       const V& y0,
+       const V& y1,
+       const std::array<V, kMaxRkStages>& k,
+       EndRate&& end_rate,
+       Node&& node) {
+    if (kind == DenseKind::kDopri) return DopriDenseV<V>(th, h, y0, y1, k);
+    if (!have_f1_) {
+      f1_ = end_rate();
+      have_f1_ = true;
+    }
+    if (kind == DenseKind::kHermiteCubic) return HermiteCubicV<V>(th, h, y0, k[0], y1, f1_);
+    constexpr int n = kStepHermiteNodes;
+    if (!have_nodes_) {
+      for (int j = 0; j < n; ++j) {
+        const auto i = static_cast<std::size_t>(j);
+        x_[i] = static_cast<double>(j) / (n - 1);
+        if (j == 0) {
+          y_[i] = y0;
+          f_[i] = k[0];
+        } else if (j == n - 1) {
+          y_[i] = y1;
+          f_[i] = f1_;
+        } else {
+          node(x_[i], y_[i], f_[i]);
+        }
+      }
+      have_nodes_ = true;
+    }
+    return HermiteNodesV<V>(th, h, n, x_.data(), y_.data(), f_.data());
+  }
+
+ private:
+  bool have_f1_ = false, have_nodes_ = false;
+  V f1_;
+  std::array<double, kMaxHermiteNodes> x_{};
+  std::array<V, kMaxHermiteNodes> y_{}, f_{};
+};
+
 template <int N>
 VecN<N> HermiteCubic(double th,
                      double h,

@@ -26,10 +26,7 @@ class ExplicitRkWorkspace final : public StepperWorkspace {
   Stages stages{};
   double h = 0.0;
   Vec7 y0 = Vec7::Zero(), y1 = Vec7::Zero();
-  bool have_f1 = false, have_nodes = false;
-  Vec7 f1 = Vec7::Zero();
-  std::array<double, kMaxHermiteNodes> x{};
-  std::array<Vec7, kMaxHermiteNodes> y{}, f{};
+  StepInterpolant<Vec7> dense;
 };
 
 }  // namespace
@@ -104,8 +101,7 @@ void ExplicitRkStepper::Accept(const Problem& /*problem*/,
   ws.y0 = ToVec(y0);
   ws.y1 = ToVec(y1);
   // The quaternion's sign is continuous over a step (it is renormalized, not flipped).
-  ws.have_f1 = false;
-  ws.have_nodes = false;
+  ws.dense.Reset();
 }
 
 State ExplicitRkStepper::Dense(const Problem& problem,
@@ -116,37 +112,17 @@ State ExplicitRkStepper::Dense(const Problem& problem,
   if (t <= ws.step_begin.t) return ws.step_begin;
   if (t >= ws.step_end.t) return ws.step_end;
   const double th = (t - ws.step_begin.t) / ws.h;
-  if (dense_ == DenseKind::kDopri)
-    return FromVec(t, DopriDense<7>(th, ws.h, ws.y0, ws.y1, ws.stages));
-  if (!ws.have_f1) {
-    ws.f1 = RigidBodyDerivative(problem, ws.step_end.t, ws.y1);
-    ws.have_f1 = true;
-  }
-  if (dense_ == DenseKind::kHermiteCubic) {
-    return FromVec(t, HermiteCubic<7>(th, ws.h, ws.y0, ws.stages[0], ws.y1, ws.f1));
-  }
-  const int n = kHighOrderHermiteNodes;
-  if (!ws.have_nodes) {
-    // Interior nodes by partial steps from the step's start (its carry is still known).
-    const State begin = ws.step_begin;
-    for (int j = 0; j < n; ++j) {
-      ws.x[j] = static_cast<double>(j) / (n - 1);
-      if (j == 0) {
-        ws.y[j] = ws.y0;
-        ws.f[j] = ws.stages[0];
-      } else if (j == n - 1) {
-        ws.y[j] = ws.y1;
-        ws.f[j] = ws.f1;
-      } else {
-        const State node = Step(problem, begin, ws.x[j] * ws.h, tol, ws).result;
-        ++ws.dense_steps;
-        ws.y[j] = ToVec(node);
-        ws.f[j] = RigidBodyDerivative(problem, node.t, ws.y[j]);
-      }
-    }
-    ws.have_nodes = true;
-  }
-  return FromVec(t, HermiteNodes<7>(th, ws.h, n, ws.x.data(), ws.y.data(), ws.f.data()));
+  const State begin = ws.step_begin;
+  return FromVec(t, ws.dense.At(
+                        dense_, th, ws.h, ws.y0, ws.y1, ws.stages,
+                        [&] { return RigidBodyDerivative(problem, ws.step_end.t, ws.y1); },
+                        [&](double x, Vec7& y, Vec7& f) {
+                          // A partial step from the step's start (its carry is still known).
+                          const State node = Step(problem, begin, x * ws.h, tol, ws).result;
+                          ++ws.dense_steps;
+                          y = ToVec(node);
+                          f = RigidBodyDerivative(problem, node.t, y);
+                        }));
 }
 
 }  // namespace deploysim::integrators

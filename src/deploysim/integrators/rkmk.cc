@@ -33,10 +33,7 @@ class RkmkWorkspace final : public StepperWorkspace {
   math::Vec3 H0 = math::Vec3::Zero();
   math::Vec3 u1 = math::Vec3::Zero();
   Stages3 stages{};
-  bool have_f1 = false, have_nodes = false;
-  math::Vec3 f1 = math::Vec3::Zero();
-  std::array<double, kMaxHermiteNodes> x{};
-  std::array<math::Vec3, kMaxHermiteNodes> u{}, f{};
+  StepInterpolant<math::Vec3> dense;
   // Of the last Step call.
   Anchor last_a0;
   double last_sigma = 0.0;
@@ -158,8 +155,7 @@ void RkmkStepper::Accept(const Problem& /*problem*/,
   ws.H0 = ws.last_H0;
   ws.u1 = ws.last_u1;
   ws.stages = ws.last_stages;
-  ws.have_f1 = false;
-  ws.have_nodes = false;
+  ws.dense.Reset();
 }
 
 State RkmkStepper::Dense(const Problem& problem,
@@ -174,43 +170,18 @@ State RkmkStepper::Dense(const Problem& problem,
   const double h = ws.step_end.t - ws.step_begin.t;
   const double tau = t - ws.step_begin.t;
   const double th = tau / h;
-  const math::Vec3 zero = math::Vec3::Zero();
-  math::Vec3 u;
-  if (dense_ == DenseKind::kDopri) {
-    u = DopriDense<3>(th, h, zero, ws.u1, ws.stages);
-  } else {
-    if (!ws.have_f1) {
-      ws.f1 = AlgebraRate(problem, ws.step_end.t, ws.u1, ws.H0, ws.sigma);
-      ws.have_f1 = true;
-    }
-    if (dense_ == DenseKind::kHermiteCubic) {
-      u = HermiteCubic<3>(th, h, zero, ws.stages[0], ws.u1, ws.f1);
-    } else {
-      const int n = kHighOrderHermiteNodes;
-      if (!ws.have_nodes) {
-        // Interior nodes by partial steps from the step's start (same anchor, same
-        // sigma; Step writes only the workspace's "last step" fields).
-        const State begin = ws.step_begin;
-        for (int j = 0; j < n; ++j) {
-          ws.x[j] = static_cast<double>(j) / (n - 1);
-          if (j == 0) {
-            ws.u[j] = zero;
-            ws.f[j] = ws.stages[0];
-          } else if (j == n - 1) {
-            ws.u[j] = ws.u1;
-            ws.f[j] = ws.f1;
-          } else {
-            Step(problem, begin, ws.x[j] * h, tol, ws);
-            ++ws.dense_steps;
-            ws.u[j] = ws.last_u1;
-            ws.f[j] = AlgebraRate(problem, begin.t + ws.x[j] * h, ws.u[j], ws.H0, ws.sigma);
-          }
-        }
-        ws.have_nodes = true;
-      }
-      u = HermiteNodes<3>(th, h, n, ws.x.data(), ws.u.data(), ws.f.data());
-    }
-  }
+  const State begin = ws.step_begin;
+  const math::Vec3 u = ws.dense.At(
+      dense_, th, h, math::Vec3::Zero(), ws.u1, ws.stages,
+      [&] { return AlgebraRate(problem, ws.step_end.t, ws.u1, ws.H0, ws.sigma); },
+      [&](double x, math::Vec3& u_x, math::Vec3& f_x) {
+        // A partial step from the step's start (same anchor, same sigma; Step writes
+        // only the workspace's "last step" fields).
+        Step(problem, begin, x * h, tol, ws);
+        ++ws.dense_steps;
+        u_x = ws.last_u1;
+        f_x = AlgebraRate(problem, begin.t + x * h, u_x, ws.H0, ws.sigma);
+      });
   return PublicState(t, ComposeForOutput(ws.a0, (ws.sigma * tau) * ws.a0.H_ref, u));
 }
 

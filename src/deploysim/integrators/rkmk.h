@@ -47,7 +47,7 @@ class RkmkStepper final : public Stepper {
               StepperWorkspace& ws) const override;
 
   /// Nodes (ends included, equispaced) of the Hermite interpolant of the high-order methods.
-  static constexpr int kHighOrderHermiteNodes = 5;
+  static constexpr int kHighOrderHermiteNodes = kStepHermiteNodes;
 
  private:
   const ButcherTableau& tableau_;

@@ -24,8 +24,6 @@ namespace {
 using Vec = Eigen::VectorXd;
 using lie::Anchor;
 
-constexpr int kHermiteNodes = 5;
-
 bool SameBits(const ShapeState& a, const ShapeState& b) {
   auto same = [](const double* p, const double* q, std::size_t n) {
     return std::memcmp(p, q, n * sizeof(double)) == 0;
@@ -137,8 +135,7 @@ class ShapeStepper {
     acc_.t1 = y1.t;
     acc_.y0 = y0;
     acc_.y1 = y1;
-    have_f1_ = false;
-    have_nodes_ = false;
+    dense_out_.Reset();
   }
 
   /// The continuous extension of the accepted step at t.
@@ -149,45 +146,20 @@ class ShapeStepper {
     const double tau = t - acc_.t0;
     const double th = tau / h;
     const int dim = static_cast<int>(acc_.Y1.size());
-    const Vec zero = Vec::Zero(dim);
-    Vec Y;
-    if (dense_ == DenseKind::kDopri) {
-      Y = DopriDenseV<Vec>(th, h, zero, acc_.Y1, acc_.stages);
-    } else {
-      if (!have_f1_) {
-        const double t_save = segment_end_;
-        AlgebraRate(acc_.t1, acc_.Y1, acc_.H0, acc_.sigma, acc_.x0, f1_);
-        segment_end_ = t_save;
-        have_f1_ = true;
-      }
-      if (dense_ == DenseKind::kHermiteCubic) {
-        Y = HermiteCubicV<Vec>(th, h, zero, acc_.stages[0], acc_.Y1, f1_);
-      } else {
-        if (!have_nodes_) {
-          const ShapeState begin = acc_.y0;
-          for (int j = 0; j < kHermiteNodes; ++j) {
-            nodes_x_[static_cast<std::size_t>(j)] = static_cast<double>(j) / (kHermiteNodes - 1);
-            if (j == 0) {
-              nodes_y_[0] = zero;
-              nodes_f_[0] = acc_.stages[0];
-            } else if (j == kHermiteNodes - 1) {
-              nodes_y_[static_cast<std::size_t>(j)] = acc_.Y1;
-              nodes_f_[static_cast<std::size_t>(j)] = f1_;
-            } else {
-              const double xj = nodes_x_[static_cast<std::size_t>(j)];
-              Step(begin, xj * h, tol, nullptr);
-              ++dense_steps_;
-              nodes_y_[static_cast<std::size_t>(j)] = last_.Y1;
-              AlgebraRate(begin.t + xj * h, last_.Y1, acc_.H0, acc_.sigma, acc_.x0,
-                          nodes_f_[static_cast<std::size_t>(j)]);
-            }
-          }
-          have_nodes_ = true;
-        }
-        Y = HermiteNodesV<Vec>(th, h, kHermiteNodes, nodes_x_.data(), nodes_y_.data(),
-                               nodes_f_.data());
-      }
-    }
+    const ShapeState begin = acc_.y0;
+    const Vec Y = dense_out_.At(
+        dense_, th, h, Vec::Zero(dim), acc_.Y1, acc_.stages,
+        [&] {
+          Vec f1;
+          AlgebraRate(acc_.t1, acc_.Y1, acc_.H0, acc_.sigma, acc_.x0, f1);
+          return f1;
+        },
+        [&](double x, Vec& Y_x, Vec& f_x) {
+          Step(begin, x * h, tol, nullptr);
+          ++dense_steps_;
+          Y_x = last_.Y1;
+          AlgebraRate(begin.t + x * h, last_.Y1, acc_.H0, acc_.sigma, acc_.x0, f_x);
+        });
     const Anchor a =
         lie::ComposeForOutput(acc_.a0, (acc_.sigma * tau) * acc_.a0.H_ref, Y.head<3>());
     ShapeState out;
@@ -239,10 +211,8 @@ class ShapeStepper {
   bool have_proposal_ = false, have_committed_ = false;
   ShapeState proposal_key_, committed_key_;
   Anchor proposal_anchor_, committed_anchor_;
-  bool have_f1_ = false, have_nodes_ = false;
-  Vec f1_, scratch_, zero_, xdot_, xs_;
-  std::array<double, kMaxHermiteNodes> nodes_x_{};
-  std::array<Vec, kMaxHermiteNodes> nodes_y_, nodes_f_;
+  StepInterpolant<Vec> dense_out_;
+  Vec scratch_, zero_, xdot_, xs_;
 };
 
 const ButcherTableau& TableauOf(const std::string& method) {
