@@ -21,6 +21,7 @@
 #include <utility>
 
 #include "deploysim/analysis/flip_rule.h"
+#include "deploysim/crosscheck/simbody_body.h"
 #include "deploysim/crosscheck/simtk_support.h"
 #include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
@@ -198,154 +199,27 @@ class HingeDrive final : public SimTK::Force::Custom::Implementation {
   const SegmentClock& clock_;
 };
 
-/// The multibody system. Non-copyable: Simbody handles refer into `system`.
-struct FreeSystem {
-  SimTK::MultibodySystem system;
-  SimTK::SimbodyMatterSubsystem matter{system};
-  SimTK::GeneralForceSubsystem forces{system};
-  SimTK::MobilizedBody::Free hub;
-  std::vector<SimTK::MobilizedBody::Pin> pins;  // panel order
+/// The multibody system with the compliant latches and the clock its prescribed hinges
+/// read.
+struct FreeSystem : simtk::HingedSystem {
   // Compliant latch (CompliantLatch), per panel; empty handles without one.
   std::vector<SimTK::Force::MobilityLinearStop> latch_stops;
   std::vector<SimTK::Force::MobilityLinearDamper> latch_dampers;
   SegmentClock clock;
-
-  FreeSystem() = default;
-  FreeSystem(const FreeSystem&) = delete;
-  FreeSystem& operator=(const FreeSystem&) = delete;
 };
 
-/// Checks that the panels' parents form a tree and returns an order in which every
-/// parent comes before its children.
-std::vector<std::size_t> TreeOrder(const model::HingedBody& body, const std::string& where) {
-  const std::size_t n = body.panels.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    const int p = body.panels[k].parent;
-    if (p < -1 || p >= static_cast<int>(n) || p == static_cast<int>(k)) {
-      throw std::invalid_argument(where + ": panels[" + std::to_string(k) + "] (" +
-                                  body.panels[k].name + ").parent = " + std::to_string(p) +
-                                  ": must be -1 (the hub) or another panel's index");
-    }
-  }
-  std::vector<std::size_t> order;
-  std::vector<bool> placed(n, false);
-  for (bool progress = true; progress && order.size() < n;) {
-    progress = false;
-    for (std::size_t k = 0; k < n; ++k) {
-      const int p = body.panels[k].parent;
-      if (!placed[k] && (p < 0 || placed[static_cast<std::size_t>(p)])) {
-        placed[k] = true;
-        order.push_back(k);
-        progress = true;
-      }
-    }
-  }
-  if (order.size() < n) {
-    for (std::size_t k = 0; k < n; ++k) {
-      if (!placed[k]) {
-        throw std::invalid_argument(where + ": panels[" + std::to_string(k) + "] (" +
-                                    body.panels[k].name +
-                                    ").parent: the parents form a cycle (must be a tree)");
-      }
-    }
-  }
-  return order;
-}
+using simtk::AddHingedBodies;
+using simtk::HubAngularVelocity_B;
+using simtk::HubRotation;
+using simtk::KineticEnergyAboutCom;
+using simtk::SystemInertia_B;
 
-/// Free hub on Ground and one Pin per panel on its parent (see the header).
-void AddBodies(FreeSystem& sys, const model::HingedBody& body, const std::string& where) {
-  const std::vector<std::size_t> order = TreeOrder(body, where);
-  const model::Hub& h = body.hub;
-  sys.hub = SimTK::MobilizedBody::Free(
-      sys.matter.Ground(), SimTK::Transform(),
-      SimTK::Body::Rigid(AboutOrigin(h.body.mass, h.com_B, h.body.inertia_cm)), SimTK::Transform());
-  sys.pins.resize(body.panels.size());
-  for (std::size_t k : order) {
-    const model::Panel& p = body.panels[k];
-    SimTK::MobilizedBody& parent =
-        p.parent < 0
-            ? static_cast<SimTK::MobilizedBody&>(sys.hub)
-            : static_cast<SimTK::MobilizedBody&>(sys.pins[static_cast<std::size_t>(p.parent)]);
-    // F (on the parent, at the hinge point) and M (on the panel, at its origin): Z = a_k.
-    const SimTK::Rotation R_PF(SimTK::UnitVec3(ToSimTK(p.hinge_axis_B)), SimTK::ZAxis);
-    const SimTK::Body::Rigid panel(AboutOrigin(p.body.mass, p.com_offset_B, p.body.inertia_cm));
-    sys.pins[k] =
-        SimTK::MobilizedBody::Pin(parent, SimTK::Transform(R_PF, ToSimTK(p.hinge_point_B)), panel,
-                                  SimTK::Transform(R_PF, SimTK::Vec3(0)));
-  }
-}
-
-/// The system's central momentum (angular, linear) in Ground.
 Vec6 CentralMomentum(const FreeSystem& sys, const SimTK::State& s) {
   return simtk::CentralMomentum(sys.system, sys.matter, s);
 }
 
-/// Kinetic energy about the system CoM: Simbody's less that of the CoM's translation.
-double KineticEnergyAboutCom(const FreeSystem& sys, const SimTK::State& s) {
-  sys.system.realize(s, SimTK::Stage::Velocity);
-  const SimTK::Vec3 v_cm = sys.matter.calcSystemMassCenterVelocityInGround(s);
-  return sys.matter.calcKineticEnergy(s) - 0.5 * sys.matter.calcSystemMass(s) * v_cm.normSqr();
-}
-
-math::Mat3 HubRotation(const FreeSystem& sys, const SimTK::State& s) {
-  sys.system.realize(s, SimTK::Stage::Position);
-  return ToEigen(sys.hub.getBodyRotation(s).asMat33());
-}
-
-math::Vec3 HubAngularVelocity_B(const FreeSystem& sys, const SimTK::State& s) {
-  sys.system.realize(s, SimTK::Stage::Velocity);
-  return HubRotation(sys, s).transpose() * ToEigen(sys.hub.getBodyAngularVelocity(s));
-}
-
-/// The system's inertia about its CoM in B axes.
-math::Mat3 SystemInertia_B(const FreeSystem& sys, const SimTK::State& s) {
-  sys.system.realize(s, SimTK::Stage::Position);
-  const math::Mat3 R_NB = HubRotation(sys, s);
-  const math::Mat3 I_N = ToEigen(sys.matter.calcSystemCentralInertiaInGround(s).toMat33());
-  const math::Mat3 J = R_NB.transpose() * I_N * R_NB;
-  return 0.5 * (J + J.transpose());
-}
-
 math::Vec3 Momentum_B(const FreeSystem& sys, const SimTK::State& s) {
-  return HubRotation(sys, s).transpose() * CentralMomentum(sys, s).head<3>();
-}
-
-/// Fits the hub's speeds: the system's linear momentum zero and either the hub's angular
-/// velocity w_N (given) or the central angular momentum h_N. The momentum is affine in the
-/// hub speeds: columns by unit speeds, one refinement step.
-void FitHubVelocity(const FreeSystem& sys,
-                    SimTK::State& s,
-                    const math::Vec3* w_N,
-                    const math::Vec3& h_N) {
-  if (sys.hub.getNumU(s) != kHubU) std::abort();  // Free mobilizer: broken invariant
-  Vec6 u = Vec6::Zero();
-  if (w_N != nullptr) u.head<3>() = *w_N;
-  const int first = w_N != nullptr ? 3 : 0;  // unknown speeds and targeted momenta
-  const int m = kHubU - first;
-  auto set = [&](const Vec6& x) {
-    for (int j = 0; j < kHubU; ++j) sys.hub.setOneU(s, j, x[j]);
-  };
-  Vec6 target;
-  target << h_N, math::Vec3::Zero();
-  for (int pass = 0; pass < 2; ++pass) {
-    set(u);
-    const Vec6 b = CentralMomentum(sys, s);
-    Eigen::MatrixXd A(m, m);
-    for (int j = 0; j < m; ++j) {
-      Vec6 e = u;
-      e[first + j] += 1.0;
-      set(e);
-      const Vec6 column = CentralMomentum(sys, s) - b;
-      for (int i = 0; i < m; ++i) A(i, j) = column[first + i];
-    }
-    const Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
-    if (lu.rank() < m) std::abort();  // positive-definite system inertia: full rank
-    Eigen::VectorXd rhs(m);
-    for (int i = 0; i < m; ++i) rhs[i] = target[first + i] - b[first + i];
-    const Eigen::VectorXd du = lu.solve(rhs);
-    for (int i = 0; i < m; ++i) u[first + i] += du[i];
-  }
-  set(u);
+  return HubRotation(sys, s).transpose() * simtk::Momentum_N(sys, s);
 }
 
 /// Samples of the continuous functions located between steps.
@@ -359,27 +233,10 @@ void AppendSample(const FreeSystem& sys,
                   const SimTK::State& s,
                   double t_label,
                   SimbodyFreeHingeRun& run) {
+  simtk::AppendSample(sys, s, t_label, run.trajectory);
   sys.system.realize(s, SimTK::Stage::Dynamics);
-  SimbodyTrajectory& tr = run.trajectory;
-  const math::Mat3 R_NB = HubRotation(sys, s);
-  const math::Vec3 h_N = CentralMomentum(sys, s).head<3>();
-  tr.time.push_back(t_label);
-  tr.h_N.push_back(h_N);
-  tr.H_B.push_back(R_NB.transpose() * h_N);
-  tr.w_NB_B.push_back(HubAngularVelocity_B(sys, s));
-  tr.q_NB.push_back(math::Quat(R_NB).normalized());
-  const auto n = static_cast<Eigen::Index>(sys.pins.size());
-  Eigen::VectorXd angle(n), rate(n);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    angle[k] = sys.pins[static_cast<std::size_t>(k)].getOneQ(s, 0);
-    rate[k] = sys.pins[static_cast<std::size_t>(k)].getOneU(s, 0);
-  }
-  tr.hinge_angles.push_back(angle);
-  tr.hinge_rates.push_back(rate);
-  const double T = KineticEnergyAboutCom(sys, s);
-  sys.system.realize(s, SimTK::Stage::Dynamics);
+  const double T = run.trajectory.kinetic_energy.back();
   const double V = sys.system.calcPotentialEnergy(s);
-  tr.kinetic_energy.push_back(T);
   run.stored_energy.push_back(V);
   run.total_energy.push_back(T + V);
   run.J_B.push_back(SystemInertia_B(sys, s));
@@ -489,7 +346,7 @@ class Runner {
                                   profile_.initial.configuration +
                                   "' has the wrong number of hinge angles");
     }
-    AddBodies(sys_, body_, profile_.model.source);
+    AddHingedBodies(sys_, body_, profile_.model.source);
     sys_.latch_stops.resize(n_);
     sys_.latch_dampers.resize(n_);
     released_.assign(n_, false);
@@ -618,9 +475,9 @@ class Runner {
     sys_.system.prescribe(s);
     if (profile_.initial.w_NB_B) {
       const math::Vec3 w_N = R_NB0 * *profile_.initial.w_NB_B;
-      FitHubVelocity(sys_, s, &w_N, math::Vec3::Zero());
+      simtk::FitHubVelocity(sys_, s, &w_N, math::Vec3::Zero(), math::Vec3::Zero());
     } else if (profile_.initial.H_B) {
-      FitHubVelocity(sys_, s, nullptr, R_NB0 * *profile_.initial.H_B);
+      simtk::FitHubVelocity(sys_, s, nullptr, R_NB0 * *profile_.initial.H_B, math::Vec3::Zero());
     } else {
       throw std::invalid_argument(profile_.source +
                                   ": initial: neither angular velocity nor momentum");
@@ -1189,7 +1046,7 @@ Eigen::MatrixXd SimbodyMassMatrix(const model::HingedBody& body,
                                 " hinge angles for " + std::to_string(n) + " panels");
   }
   FreeSystem sys;
-  AddBodies(sys, valid, "SimbodyMassMatrix");
+  AddHingedBodies(sys, valid, "SimbodyMassMatrix");
   SimTK::State s = sys.system.realizeTopology();
   sys.system.realizeModel(s);
   for (std::size_t k = 0; k < n; ++k) {

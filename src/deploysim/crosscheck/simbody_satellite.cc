@@ -17,6 +17,7 @@
 #include <string>
 
 #include "deploysim/analysis/mission.h"
+#include "deploysim/crosscheck/simbody_body.h"
 #include "deploysim/crosscheck/simtk_support.h"
 #include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
@@ -35,7 +36,6 @@ using simtk::ToSimTK;
 using simtk::Vec6;
 
 using SimTK::Real;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 // Two report times closer than this (relative to max(1, |t|)) are the same instant: a
 // grid time that rounds next to a stage boundary is integrated to the boundary.
@@ -96,130 +96,13 @@ class ScheduledHinge final : public SimTK::Motion::Custom::Implementation {
   const SegmentClock& clock_;
 };
 
-/// The multibody system. Non-copyable: Simbody handles refer into `system`.
-struct Satellite {
-  SimTK::MultibodySystem system;
-  SimTK::SimbodyMatterSubsystem matter{system};
-  SimTK::GeneralForceSubsystem forces{system};
-  SimTK::MobilizedBody::Free hub;
-  std::vector<SimTK::MobilizedBody::Pin> pins;
+/// The multibody system with the clock its prescribed hinges read.
+struct Satellite : simtk::HingedSystem {
   SegmentClock clock;
-
-  Satellite() = default;
-  Satellite(const Satellite&) = delete;
-  Satellite& operator=(const Satellite&) = delete;
 };
 
 /// How the hinges move.
 enum class Drive { kPrescribed, kSpring };
-
-/// Builds the bodies of a hinged model: Free hub, one Pin per panel on its parent's body
-/// (see the header). Simbody needs a parent before its children; sat.pins stays in panel
-/// order.
-void AddHingedBodies(Satellite& sat, const model::HingedBody& body) {
-  const model::Hub& h = body.hub;
-  sat.hub = SimTK::MobilizedBody::Free(
-      sat.matter.Ground(), SimTK::Transform(),
-      SimTK::Body::Rigid(AboutOrigin(h.body.mass, h.com_B, h.body.inertia_cm)), SimTK::Transform());
-  const std::size_t n = body.panels.size();
-  sat.pins.assign(n, SimTK::MobilizedBody::Pin());
-  std::vector<bool> built(n, false);
-  for (std::size_t added = 0; added < n;) {
-    const std::size_t before = added;
-    for (std::size_t k = 0; k < n; ++k) {
-      const model::Panel& p = body.panels[k];
-      if (built[k] || (p.parent >= 0 && !built[static_cast<std::size_t>(p.parent)])) continue;
-      SimTK::MobilizedBody& parent = p.parent < 0 ? static_cast<SimTK::MobilizedBody&>(sat.hub)
-                                                  : sat.pins[static_cast<std::size_t>(p.parent)];
-      // F (on the parent, at the hinge point, which is given in the parent's frame: from its
-      // origin, in its axes) and M (on the panel, at its origin) have Z = a_k.
-      const SimTK::Rotation R_PF(SimTK::UnitVec3(ToSimTK(p.hinge_axis_B)), SimTK::ZAxis);
-      const SimTK::Body::Rigid panel(AboutOrigin(p.body.mass, p.com_offset_B, p.body.inertia_cm));
-      sat.pins[k] =
-          SimTK::MobilizedBody::Pin(parent, SimTK::Transform(R_PF, ToSimTK(p.hinge_point_B)), panel,
-                                    SimTK::Transform(R_PF, SimTK::Vec3(0)));
-      built[k] = true;
-      ++added;
-    }
-    if (added == before) std::abort();  // a validated body is a tree: broken invariant
-  }
-}
-
-/// The system's central momentum (angular, linear) in Ground.
-Vec6 CentralMomentum(const Satellite& sat, const SimTK::State& s) {
-  return simtk::CentralMomentum(sat.system, sat.matter, s);
-}
-
-/// Sets the hub's generalized speeds so that the system's central angular momentum in
-/// Ground is h_N and its linear momentum p_N. The momentum is affine in the hub speeds
-/// (the hinge speeds are fixed): columns by unit speeds, one refinement step.
-void FitHubVelocity(const Satellite& sat,
-                    SimTK::State& s,
-                    const math::Vec3& h_N,
-                    const math::Vec3& p_N) {
-  const int nu = sat.hub.getNumU(s);
-  if (nu != 6) std::abort();  // Free mobilizer: 3 angular + 3 linear speeds
-  auto set = [&](const Vec6& u) {
-    for (int j = 0; j < 6; ++j) sat.hub.setOneU(s, j, u[j]);
-  };
-  set(Vec6::Zero());
-  const Vec6 b = CentralMomentum(sat, s);
-  Mat6 A;
-  for (int j = 0; j < 6; ++j) {
-    set(Vec6::Unit(j));
-    A.col(j) = CentralMomentum(sat, s) - b;
-  }
-  Vec6 target;
-  target << h_N, p_N;
-  const Eigen::FullPivLU<Mat6> lu(A);
-  if (lu.rank() < 6) std::abort();  // positive-definite system inertia: full rank
-  Vec6 u = lu.solve(target - b);
-  set(u);
-  u += lu.solve(target - CentralMomentum(sat, s));
-  set(u);
-}
-
-/// One sample of the hub's state and the system momentum.
-struct Snapshot {
-  math::Mat3 R_NB;
-  math::Vec3 w_NB_B;
-  math::Vec3 h_N;
-  math::Vec3 H_B;
-  double kinetic_energy;  // [J] about the system CoM
-};
-
-Snapshot Snap(const Satellite& sat, const SimTK::State& s) {
-  sat.system.realize(s, SimTK::Stage::Velocity);
-  Snapshot r;
-  r.R_NB = ToEigen(sat.hub.getBodyRotation(s));
-  r.w_NB_B = r.R_NB.transpose() * ToEigen(sat.hub.getBodyAngularVelocity(s));
-  r.h_N = ToEigen(sat.matter.calcSystemCentralMomentum(s)[0]);
-  r.H_B = r.R_NB.transpose() * r.h_N;
-  // Simbody's kinetic energy less that of the system CoM's translation (zero in exact
-  // arithmetic: the initial linear momentum is zero and nothing pushes the system).
-  const SimTK::Vec3 v_cm = sat.matter.calcSystemMassCenterVelocityInGround(s);
-  r.kinetic_energy =
-      sat.matter.calcKineticEnergy(s) - 0.5 * sat.matter.calcSystemMass(s) * v_cm.normSqr();
-  return r;
-}
-
-void Record(const Satellite& sat, const SimTK::State& s, double t_label, SimbodyTrajectory& tr) {
-  const Snapshot snap = Snap(sat, s);
-  tr.time.push_back(t_label);
-  tr.H_B.push_back(snap.H_B);
-  tr.h_N.push_back(snap.h_N);
-  tr.w_NB_B.push_back(snap.w_NB_B);
-  tr.kinetic_energy.push_back(snap.kinetic_energy);
-  tr.q_NB.push_back(math::Quat(snap.R_NB).normalized());
-  Eigen::VectorXd angle(static_cast<Eigen::Index>(sat.pins.size()));
-  Eigen::VectorXd rate(angle.size());
-  for (std::size_t k = 0; k < sat.pins.size(); ++k) {
-    angle[static_cast<Eigen::Index>(k)] = sat.pins[k].getOneQ(s, 0);
-    rate[static_cast<Eigen::Index>(k)] = sat.pins[k].getOneU(s, 0);
-  }
-  tr.hinge_angles.push_back(angle);
-  tr.hinge_rates.push_back(rate);
-}
 
 void RecordKnot(const Satellite& sat, const SimTK::State& s, HingeHistory& h) {
   if (!h.time.empty() && s.getTime() <= h.time.back()) return;
@@ -246,13 +129,11 @@ struct FlipValue {
   bool is_flip = false;  ///< A sign change located here counts (analysis::IsFlip).
 };
 FlipValue Flip(const Satellite& sat, const SimTK::State& s, const math::Vec3& spin_axis_B) {
-  const Snapshot snap = Snap(sat, s);
-  const math::Mat3 I_N = ToEigen(sat.matter.calcSystemCentralInertiaInGround(s).toMat33());
-  const math::Mat3 J_B0 = snap.R_NB.transpose() * I_N * snap.R_NB;
-  const math::Mat3 J_B = 0.5 * (J_B0 + J_B0.transpose());
+  const math::Vec3 H_B = simtk::HubRotation(sat, s).transpose() * simtk::Momentum_N(sat, s);
+  const math::Mat3 J_B = simtk::SystemInertia_B(sat, s);
   const analysis::SpinAxisRole r = analysis::LocateSpinAxis(J_B, spin_axis_B);
-  return {snap.H_B.dot(r.axis_B), r.role == analysis::AxisRole::kIntermediate,
-          analysis::IsFlip(J_B, spin_axis_B, snap.H_B)};
+  return {H_B.dot(r.axis_B), r.role == analysis::AxisRole::kIntermediate,
+          analysis::IsFlip(J_B, spin_axis_B, H_B)};
 }
 
 /// Advances `integ` exactly to t (interpolated reports are off).
@@ -364,7 +245,7 @@ SimbodyRun RunIntegration(Satellite& sat,
   integ.setAllowInterpolation(false);
   if (drive == Drive::kSpring) integ.setReturnEveryInternalStep(true);
   integ.initialize(s0);
-  const math::Vec3 h_N0 = CentralMomentum(sat, integ.getState()).head<3>();
+  const math::Vec3 h_N0 = simtk::Momentum_N(sat, integ.getState());
   const double M = h_N0.norm();
 
   auto next_boundary = [&](double t) {
@@ -399,16 +280,16 @@ SimbodyRun RunIntegration(Satellite& sat,
     const bool restart = r.boundary && drive == Drive::kPrescribed && r.t < boundaries.back();
     if (restart) {
       SimTK::State s1 = s;
-      const Vec6 m = CentralMomentum(sat, s1);
+      const Vec6 m = simtk::CentralMomentum(sat.system, sat.matter, s1);
       sat.clock.segment_end = next_boundary(r.t);
       sat.system.prescribe(s1);
-      FitHubVelocity(sat, s1, m.head<3>(), m.tail<3>());
+      simtk::FitHubVelocity(sat, s1, nullptr, m.head<3>(), m.tail<3>());
       integ.initialize(s1);  // keeps the integrator's statistics (cumulative)
       ++out.stats.restarts;
     }
     const SimTK::State& now = integ.getState();
     if (r.grid_index >= 0) {
-      Record(sat, now, r.t, out.trajectory);
+      simtk::AppendSample(sat, now, r.t, out.trajectory);
       const math::Vec3 h_N = out.trajectory.h_N.back();
       out.max_momentum_drift = std::max(out.max_momentum_drift, (h_N - h_N0).norm() / M);
     }
@@ -484,7 +365,7 @@ SimbodyRun RunSimbodyPrescribed(const schedule::Profile& profile,
   Satellite sat;
   sat.clock.segment_end = boundaries.front();
   if (profile.mode == schedule::Mode::kGeometry) {
-    AddHingedBodies(sat, HingedBodyOf(profile));
+    simtk::AddHingedBodies(sat, HingedBodyOf(profile), profile.source);
     for (std::size_t k = 0; k < sat.pins.size(); ++k) {
       SimTK::Motion::Custom(sat.pins[k], new ScheduledHinge(sched, static_cast<int>(k), sat.clock));
     }
@@ -508,7 +389,7 @@ SimbodyRun RunSimbodyPrescribed(const schedule::Profile& profile,
   }
   SimTK::State s = InitialState(sat, profile);
   sat.system.prescribe(s);
-  FitHubVelocity(sat, s, R_NB0 * H_B0, math::Vec3::Zero());
+  simtk::FitHubVelocity(sat, s, nullptr, R_NB0 * H_B0, math::Vec3::Zero());
   return RunIntegration(sat, s, Reports(grid, boundaries), boundaries, Drive::kPrescribed,
                         spin_axis_B, options);
 }
@@ -545,7 +426,7 @@ SimbodyRun RunSimbodySpring(const schedule::Profile& profile,
   const math::Mat3 R_NB0 = profile.initial.q_NB.normalized().toRotationMatrix();
 
   Satellite sat;
-  AddHingedBodies(sat, body);
+  simtk::AddHingedBodies(sat, body, profile.source);
   for (std::size_t k = 0; k < sat.pins.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     const double direction = open[i] >= closed[i] ? 1.0 : -1.0;  // sense of opening
@@ -563,7 +444,7 @@ SimbodyRun RunSimbodySpring(const schedule::Profile& profile,
     sat.pins[k].setOneQ(s, 0, closed[static_cast<Eigen::Index>(k)]);
     sat.pins[k].setOneU(s, 0, 0.0);
   }
-  FitHubVelocity(sat, s, R_NB0 * H_B0, math::Vec3::Zero());
+  simtk::FitHubVelocity(sat, s, nullptr, R_NB0 * H_B0, math::Vec3::Zero());
   const std::vector<double> end{profile.t_end()};
   return RunIntegration(sat, s, Reports(grid, end), end, Drive::kSpring, spin_axis_B, options);
 }
