@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The pages deploysim writes, measured on the main job (issue 12 acceptance 2, issue 13).
+"""The pages deploysim writes, measured on the main job.
 
 For the 3D viewer (`deploysim view`) and the mission report (`deploysim report`) of
 deployment_profiles/smallsat_spring_deploy.yaml: the file size, the time to write the page
@@ -88,7 +88,7 @@ def main(argv):
         ("3D viewer (`deploysim view`)", v_size, write_view, v_load, v_ready,
          f"< 5 MB: {ok_size}; open < 2 s: {ok_open}"),
         ("mission report (`deploysim report`)", r_size, write_report, r_load, r_load,
-         "simulation, analysis and plots included in the write time"),
+         "the simulation and the plots included in the write time"),
     ]
     lines = [
         "### 7. Pages of the main job (smallsat_spring_deploy): viewer and report",
@@ -104,7 +104,7 @@ def main(argv):
         f"Median of {reps} cold repetitions for the viewer's write and every opening "
         f"({max(1, reps // 2)} for the report's write: a new `deploysim` process each). Write: "
         "the whole command as a user runs it (the viewer reads an HDF5 written once, untimed; "
-        "the report runs the simulation, the analysis and the plots). Open: Debian's headless "
+        "the report runs the simulation and the plots). Open: Debian's headless "
         "Chromium (software rendering, no GPU) on a local file, a new browser each time; "
         "both times count from the navigation command; "
         "'ready' adds the wait until the viewer's scene is built and first drawn (its "

@@ -89,7 +89,8 @@ done
 "$tmp/link_check/build/load_sweep" "$src/sweeps/smallsat_duration_spin.yaml"
 # The installed CLI's Python subcommands run the installed tools (share/deploysim/tools),
 # which the installed binary looks for before the source tree's.
-for f in report.py view.py view_template.html deploysim_scene.py plot_trajectory.py plot_geometry.py; do
+for f in report.py view.py view_template.html deploysim_scene.py deploysim_results.py \
+         plot_trajectory.py plot_geometry.py; do
   [ -f "$prefix/share/deploysim/tools/$f" ] || { echo "check_install: tools/$f was not installed" >&2; exit 1; }
 done
 "$prefix/bin/deploysim" simulate "$src/deployment_profiles/wing_nut.yaml" -q -o "$tmp/wing_nut.h5"

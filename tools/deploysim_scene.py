@@ -14,12 +14,16 @@ One place for each rule (docs/viewer.md):
   J_B(t0) nearest H_B(t0), signed along it), fixed in B;
 - frames as docs/design.md 1: q_NB (w, x, y, z) maps B components to N components.
 
+Trajectory files are read through tools/deploysim_results.py; cross-check files (another
+format) here.
 Needs Debian's python3-h5py, python3-numpy, python3-yaml (run with /usr/bin/python3).
 """
 import math
 import os
 
 import numpy as np
+
+import deploysim_results as results
 
 # Decimation: a sample is kept when, since the last kept one, the body turned by more than
 # this angle, a hinge by more than HINGE_STEP, or J_B changed by more than J_STEP (relative),
@@ -280,80 +284,75 @@ def _tensor_config(model, prof):
     return np.asarray(c["tensor"], dtype=float)
 
 
+def _schema(path):
+    """The file's `schema` attribute (a cross-check file's), "" if none or unreadable (the
+    trajectory reader then says what is wrong)."""
+    import h5py
+    try:
+        with h5py.File(path, "r") as f:
+            return _text(f.attrs.get("schema", ""))
+    except OSError:
+        return ""
+
+
+def _read_crosscheck(path, model_path):
+    """(run, time, sides, model text, profile) of a cross-check file (docs/file_formats.md,
+    schema deploysim-crosscheck; not a trajectory file)."""
+    import h5py
+    what = "deploysim cross-check file"
+    with h5py.File(path, "r") as f:
+        run = dict(path=path, kind="crosscheck",
+                   profile_name=_attr(f, "profile_name") or os.path.basename(path))
+        t = _need(f, "time", path, what)
+        sides = []
+        for side, label in (("reduced", "reduced model"), ("simbody", "Simbody")):
+            sides.append(dict(label=label, q=_need(f, side + "/q_NB", path, what),
+                              H=_need(f, side + "/H_B", path, what),
+                              h_N=_need(f, side + "/h_N", path, what),
+                              flips=f[side + "/flip_time"][()] if side + "/flip_time" in f
+                              else np.zeros(0)))
+        run["hinge"] = f["simbody/hinge_angles"][()] if "simbody/hinge_angles" in f else None
+        prof, model_text = _model_from_profile(_attr(f, "profile_text"),
+                                               _attr(f, "profile_source"), path) \
+            if model_path is None else (None, open(model_path).read())
+        run["J"] = None
+        run["stages"], run["danger"], run["events"] = [], [], []
+        run["attrs"] = {k: _text(f.attrs[k]) for k in (
+            "max_H_B_relative_difference", "max_attitude_difference",
+            "max_flip_time_difference") if k in f.attrs}
+    return run, t, sides, model_text, prof
+
+
+def _read_trajectory(path, model_path):
+    """(run, time, sides, model text, None) of a trajectory file, read through
+    tools/deploysim_results.py."""
+    try:
+        tr = results.read_trajectory(path)
+        t = tr["time"]
+        sides = [dict(label=tr.profile_name, q=tr["q_NB"], H=tr["H_B"], h_N=tr["h_N"],
+                      flips=tr.flip_time, angle=tr["spin_axis_angle"])]
+        run = dict(path=path, kind="trajectory", profile_name=tr.profile_name,
+                   J=tr["J_B"], hinge=tr.get("hinge_angles"), attrs={})
+        model_text = open(model_path).read() if model_path is not None \
+            else tr.attr("model_text")
+        run["stages"] = [dict(name=s["name"], t0=float(s["t_begin"]), t1=float(s["t_end"]),
+                              role=s["spin_axis_role"]) for s in tr.stages]
+        run["danger"] = [[a, b] for a, b in tr.danger_windows]
+        # Stop impacts come in bursts: not marked.
+        run["events"] = [dict(t=float(e["time"]), kind=e["kind"], panel=e["panel_name"])
+                         for e in tr.hinge_events if e["kind"] != "stop"]
+    except results.TrajectoryError as e:
+        raise SceneError(str(e)) from None
+    return run, t, sides, model_text, None
+
+
 def read_run(path, model_path=None):
     """Reads a trajectory or cross-check file into a dict of numpy arrays (SceneError on
     anything that is not one)."""
-    import h5py
-    if not os.path.isfile(path):
-        raise SceneError(f"{path}: no such file")
-    try:
-        f = h5py.File(path, "r")
-    except OSError:
-        raise SceneError(f"{path}: not an HDF5 file")
-    with f:
-        schema = _attr(f, "schema") or ""
-        run = dict(path=path, profile_name=_attr(f, "profile_name") or os.path.basename(path))
-        if schema.startswith("deploysim-crosscheck"):
-            what = "deploysim cross-check file"
-            run["kind"] = "crosscheck"
-            t = _need(f, "time", path, what)
-            sides = []
-            for side, label in (("reduced", "reduced model"), ("simbody", "Simbody")):
-                sides.append(dict(label=label, q=_need(f, side + "/q_NB", path, what),
-                                  H=_need(f, side + "/H_B", path, what),
-                                  h_N=_need(f, side + "/h_N", path, what),
-                                  flips=f[side + "/flip_time"][()] if side + "/flip_time" in f
-                                  else np.zeros(0)))
-            run["hinge"] = f["simbody/hinge_angles"][()] if "simbody/hinge_angles" in f else None
-            prof, model_text = _model_from_profile(_attr(f, "profile_text"),
-                                                   _attr(f, "profile_source"), path) \
-                if model_path is None else (None, open(model_path).read())
-            run["J"] = None
-            run["stages"], run["danger"], run["events"] = [], [], []
-            run["attrs"] = {k: _text(f.attrs[k]) for k in (
-                "max_H_B_relative_difference", "max_attitude_difference",
-                "max_flip_time_difference") if k in f.attrs}
-        else:
-            what = "deploysim trajectory"
-            if _attr(f, "schema_version") is None and "q_NB" not in f:
-                raise SceneError(f"{path}: not a deploysim trajectory (no schema_version "
-                                 "attribute, no dataset /q_NB)")
-            run["kind"] = "trajectory"
-            t = _need(f, "time", path)
-            sides = [dict(label=run["profile_name"], q=_need(f, "q_NB", path),
-                          H=_need(f, "H_B", path), h_N=_need(f, "h_N", path),
-                          flips=f["events/flip_time"][()] if "events/flip_time" in f
-                          else np.zeros(0))]
-            run["J"] = _need(f, "J_B", path)
-            sides[0]["angle"] = _need(f, "spin_axis_angle", path)
-            run["hinge"] = f["hinge_angles"][()] if "hinge_angles" in f else None
-            if model_path is not None:
-                model_text = open(model_path).read()
-            else:
-                model_text = _attr(f, "model_text")
-                if model_text is None:
-                    raise SceneError(f"{path}: not a deploysim trajectory (no model_text "
-                                     "attribute)")
-            prof = None
-            run["stages"] = []
-            if "stages/t_begin" in f:
-                names = [_text(x) for x in f["stages/name"][()]]
-                roles = [_text(x) for x in f["stages/spin_axis_role"][()]] \
-                    if "stages/spin_axis_role" in f else [""] * len(names)
-                for n, a, b, r in zip(names, f["stages/t_begin"][()], f["stages/t_end"][()],
-                                      roles):
-                    run["stages"].append(dict(name=n, t0=float(a), t1=float(b), role=r))
-            run["danger"] = []
-            if "danger_windows/t_begin" in f:
-                run["danger"] = [[float(a), float(b)] for a, b in zip(
-                    f["danger_windows/t_begin"][()], f["danger_windows/t_end"][()])]
-            run["events"] = []
-            if "events/hinge/time" in f and len(f["events/hinge/time"]) > 0:
-                for tt, k, n in zip(f["events/hinge/time"][()], f["events/hinge/kind"][()],
-                                    f["events/hinge/panel_name"][()]):
-                    if _text(k) != "stop":  # stop impacts come in bursts; not marked
-                        run["events"].append(dict(t=float(tt), kind=_text(k), panel=_text(n)))
-            run["attrs"] = {}
+    if _schema(path).startswith("deploysim-crosscheck"):
+        run, t, sides, model_text, prof = _read_crosscheck(path, model_path)
+    else:
+        run, t, sides, model_text, prof = _read_trajectory(path, model_path)
     t = np.asarray(t, dtype=float)
     n = len(t)
     if n < 2:

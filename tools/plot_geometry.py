@@ -19,9 +19,10 @@ The principal moments come from one of:
   TRAJECTORY.h5          a file written by `deploysim simulate`: the moments at the end of
                          stage --stage (default: the last stage); the run's own polhode of
                          that stage is overlaid on both figures
-  PROFILE.yaml           a deployment profile: `deploysim analyze --json` is run (binary:
-                         --deploysim, else $DEPLOYSIM_BIN, else `deploysim` on PATH) and
-                         stages[--stage].principal_moments_end is used
+  PROFILE.yaml           a deployment profile: `deploysim simulate` runs it into a
+                         temporary trajectory (binary: --deploysim, else $DEPLOYSIM_BIN,
+                         else `deploysim` on PATH), whose /stages/moments_end of stage
+                         --stage (default: the last) is used
 
 Two principal moments equal (to the 1e-9 relative rule of plot_trajectory's separatrix)
 are rejected: there is no intermediate axis, no separatrix, and dbar = D/J2 does not
@@ -36,20 +37,21 @@ Examples:
   /usr/bin/python3 tools/plot_geometry.py spring.h5 --stage 4 -o geo_spring
   /usr/bin/python3 tools/plot_geometry.py deployment_profiles/smallsat_three_stage.yaml \\
       --deploysim build/release/bin/deploysim --stage 0 -o geo_stowed
+Trajectories are read through tools/deploysim_results.py.
 Needs Debian's python3-matplotlib, python3-h5py, python3-numpy (run with /usr/bin/python3).
 """
 import argparse
-import json
 import os
 import shutil
 import subprocess
 import sys
+import tempfile
 
-import h5py
 import numpy as np
 
+import deploysim_results
 import plot_trajectory  # sets the Agg backend
-from plot_trajectory import separatrix_circles, text
+from plot_trajectory import separatrix_circles
 
 import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
 from matplotlib import colors as mcolors  # noqa: E402
@@ -181,6 +183,26 @@ def ellipsoid_residual(J, H):
     return H[:, 0] ** 2 / j1 + H[:, 1] ** 2 + H[:, 2] ** 2 / j3 - 1.0
 
 
+def stage_table(path):
+    """The trajectory file's run and its stage table (tools/deploysim_results.py), with
+    GeometryError for a file that is none."""
+    try:
+        run = deploysim_results.read_trajectory(path)
+        return run, run.stages
+    except deploysim_results.TrajectoryError as e:
+        raise GeometryError(str(e)) from None
+
+
+def pick_stage(path, stages, stage, what="file"):
+    """The index of stage `stage` (default: the last) of a table of len(stages) rows."""
+    n = len(stages)
+    k = n - 1 if stage is None else stage
+    if not 0 <= k < n:
+        raise GeometryError(f"{path}: --stage {stage} out of range (the {what} has "
+                            f"{n} stage{'s' if n != 1 else ''}: 0..{n - 1})")
+    return k
+
+
 def read_trajectory(path, stage=None):
     """The principal moments at the end of a stage of a deploysim trajectory, and the run's
     polhode over that stage (dict: J, H (n, 3) Hbar in thesis order, dbar, stage, name,
@@ -191,30 +213,15 @@ def read_trajectory(path, stage=None):
     sample to sample, the first sample's largest component positive) and divided by
     sqrt(2T J2) with the stage end's 2T = H.J^-1.H and J2.
     """
-    if not os.path.isfile(path):
-        raise GeometryError(f"{path}: no such file")
-    need = ("time", "H_B", "J_B", "stages/t_begin", "stages/t_end", "stages/moments_end")
+    run, stages = stage_table(path)
+    k = pick_stage(path, stages, stage)
+    s = stages[k]
+    J = _moments(path, k, s["moments_end"])
     try:
-        with h5py.File(path, "r") as f:
-            missing = [k for k in need if k not in f]
-            if missing:
-                raise GeometryError(f"{path}: not a deploysim trajectory (no /{missing[0]})")
-            t, HB, JB = f["time"][()], f["H_B"][()], f["J_B"][()]
-            tb, te = f["stages/t_begin"][()], f["stages/t_end"][()]
-            moments = f["stages/moments_end"][()]
-            names = ([text(s) for s in f["stages/name"][()]] if "stages/name" in f
-                     else [""] * len(tb))
-            rigid = f["stages/rigid"][()] if "stages/rigid" in f else np.zeros(len(tb))
-            profile = text(f.attrs.get("profile_name", os.path.basename(path)))
-    except OSError as e:
-        raise GeometryError(f"{path}: not an HDF5 file ({e})") from None
-    nstage = len(tb)
-    k = nstage - 1 if stage is None else stage
-    if not 0 <= k < nstage:
-        raise GeometryError(f"{path}: --stage {stage} out of range (the file has "
-                            f"{nstage} stage{'s' if nstage != 1 else ''}: 0..{nstage - 1})")
-    J = _moments(path, k, moments[k])
-    sel = (t >= tb[k]) & (t <= te[k])
+        t, HB, JB = run["time"], run["H_B"], run["J_B"]
+    except deploysim_results.TrajectoryError as e:
+        raise GeometryError(str(e)) from None
+    sel = (t >= s["t_begin"]) & (t <= s["t_end"])
     if np.count_nonzero(sel) < 2:
         raise GeometryError(f"{path}: stage {k} has fewer than 2 samples")
     H, Jt = HB[sel], JB[sel]
@@ -227,34 +234,32 @@ def read_trajectory(path, stage=None):
     P = np.einsum("nij,ni->nj", vecs, H)              # principal components
     two_t = float(np.sum(P[-1] ** 2 / vals[-1]))
     D = float(P[-1] @ P[-1]) / two_t
-    return dict(J=J, H=P / np.sqrt(two_t * J[1]), dbar=D / J[1], stage=k, name=names[k],
-                rigid=bool(rigid[k]), profile=profile)
+    return dict(J=J, H=P / np.sqrt(two_t * J[1]), dbar=D / J[1], stage=k, name=s["name"],
+                rigid=bool(s["rigid"]), profile=run.profile_name)
 
 
 def profile_moments(path, deploysim, stage=None):
-    """stages[stage].principal_moments_end of `deploysim analyze --json PROFILE`."""
+    """The principal moments at the end of a stage of a deployment profile: the profile is
+    run (`deploysim simulate PROFILE`, into a temporary file) and the stage table of its
+    trajectory read, as for a trajectory file."""
     if not os.path.isfile(path):
         raise GeometryError(f"{path}: no such file")
     exe = deploysim or os.environ.get("DEPLOYSIM_BIN") or shutil.which("deploysim")
     if not exe:
         raise GeometryError(f"{path}: a profile needs the deploysim binary (--deploysim)")
-    try:
-        r = subprocess.run([exe, "analyze", path, "--json"], capture_output=True, text=True)
-    except OSError as e:
-        raise GeometryError(f"{path}: cannot run {exe}: {e.strerror}") from None
-    if r.returncode != 0:
-        err = (r.stderr.strip().splitlines() or ["failed"])[-1]
-        raise GeometryError(f"{path}: deploysim analyze: {err}")
-    try:
-        stages = json.loads(r.stdout)["stages"]
-    except (ValueError, KeyError, TypeError):
-        raise GeometryError(f"{path}: deploysim analyze --json gave no stages") from None
-    k = len(stages) - 1 if stage is None else stage
-    if not 0 <= k < len(stages):
-        raise GeometryError(f"{path}: --stage {stage} out of range (the profile has "
-                            f"{len(stages)} stage{'s' if len(stages) != 1 else ''}: "
-                            f"0..{len(stages) - 1})")
-    return _moments(path, k, stages[k]["principal_moments_end"]), k, stages[k]["name"]
+    with tempfile.TemporaryDirectory(prefix="plot_geometry-") as tmp:
+        h5 = os.path.join(tmp, "run.h5")
+        try:
+            r = subprocess.run([exe, "simulate", path, "-q", "-o", h5], capture_output=True,
+                               text=True)
+        except OSError as e:
+            raise GeometryError(f"{path}: cannot run {exe}: {e.strerror}") from None
+        if r.returncode != 0:
+            err = (r.stderr.strip().splitlines() or ["failed"])[-1]
+            raise GeometryError(f"{path}: deploysim simulate: {err}")
+        _, stages = stage_table(h5)
+    k = pick_stage(path, stages, stage, "profile")
+    return _moments(path, k, stages[k]["moments_end"]), k, stages[k]["name"]
 
 
 def _moments(path, k, moments):
@@ -444,7 +449,7 @@ def load(args):
         raise GeometryError("nothing to draw: give --inertia A B C, a trajectory or a profile")
     if not os.path.isfile(args.source):
         raise GeometryError(f"{args.source}: no such file")
-    if h5py.is_hdf5(args.source):
+    if deploysim_results.is_hdf5(args.source):
         run = read_trajectory(args.source, args.stage)
         return run["J"], run, f"{run['profile']}, stage {run['stage']} '{run['name']}'"
     if os.path.splitext(args.source)[1].lower() not in (".yaml", ".yml"):

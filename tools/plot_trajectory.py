@@ -19,19 +19,21 @@ Writes into OUTDIR (default: next to the file, <stem>_plots/):
 On the time plots, hinge events (free-hinge profiles) are marked: releases, latches, jams
 and rests as labelled vertical lines, stop impacts as ticks at the bottom, a burst of
 bounces with one label.
+The file is read through tools/deploysim_results.py (older version 2 files included).
 Needs Debian's python3-matplotlib, python3-h5py, python3-numpy (run with /usr/bin/python3).
 """
 import argparse
 import os
 import sys
 
-import h5py
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
+
+from deploysim_results import TrajectoryError, read_trajectory  # noqa: E402
 
 STAGE_COLORS = {"hold": "#f2f2f2", "move": "#dde8f5", "free": "#e4f2e0"}
 
@@ -46,47 +48,29 @@ STOP_COLOR = "0.3"
 EVENT_MARKERS = {"release": "^", "latch": "s", "jam": "X", "rest": "D", "stop": "|"}
 
 
-def text(v):
-    return v.decode() if isinstance(v, bytes) else str(v)
+# The per-sample datasets the plots draw (hinge angles and rates where the file has them).
+PLOTTED = ("time", "H_B", "w_NB_B", "J_B", "principal_moments", "spin_axis_angle", "energy",
+           "energy_rigid", "energy_spring", "energy_total")
 
 
 def read(path):
-    with h5py.File(path, "r") as f:
-        d = {k: f[k][()] for k in ("time", "H_B", "w_NB_B", "J_B", "principal_moments",
-                                   "spin_axis_angle", "h_N", "energy")}
-        n = len(d["time"])
-        d["energy_rigid"] = f["energy_rigid"][()] if "energy_rigid" in f else None
-        d["flips"] = f["events/flip_time"][()] if "events/flip_time" in f else np.array([])
-        # Free-hinge outputs; files written before have none of them.
-        d["energy_spring"] = f["energy_spring"][()] if "energy_spring" in f else np.zeros(n)
-        d["energy_total"] = (f["energy_total"][()] if "energy_total" in f
-                             else d["energy"] + d["energy_spring"])
-        d["hinge_angles"] = f["hinge_angles"][()] if "hinge_angles" in f else None
-        d["hinge_rates"] = f["hinge_rates"][()] if "hinge_rates" in f else None
-        p = d["hinge_angles"].shape[1] if d["hinge_angles"] is not None else 0
-        d["panel_names"] = ([text(s) for s in f["panel_names"][()]] if "panel_names" in f
-                            else [f"panel {k}" for k in range(p)])
-        d["latch_time"] = f["hinge_latch_time"][()] if "hinge_latch_time" in f else np.array([])
-        d["cross45"] = (f["events/spin_axis_45_time"][()] if "events/spin_axis_45_time" in f
-                        else np.array([]))
-        events = []
-        if "events/hinge/time" in f:
-            g = f["events/hinge"]
-            for i, t in enumerate(g["time"][()]):
-                events.append(dict(t=float(t), panel=int(g["panel"][i]),
-                                   name=text(g["panel_name"][i]), kind=text(g["kind"][i]),
-                                   angle=float(g["angle"][i]),
-                                   dissipated=float(g["energy_dissipated"][i]),
-                                   rate_before=(float(g["rate_before"][i]) if "rate_before"
-                                                in g else None),
-                                   rate_after=(float(g["rate_after"][i]) if "rate_after" in g
-                                               else None)))
-        d["events"] = sorted(events, key=lambda e: e["t"])
-        st = f["stages"]
-        begin, end = st["t_begin"][()], st["t_end"][()]
-        names = [text(s) for s in st["name"][()]]
-        laws = [text(s) for s in st["law"][()]]
-        d["name"] = text(f.attrs.get("profile_name", os.path.basename(path)))
+    """The trajectory file as the plots use it: a dict of its per-sample arrays, events and
+    stage stretches (tools/deploysim_results.py reads it; TrajectoryError if it cannot)."""
+    run = read_trajectory(path)
+    d = {k: run[k] for k in PLOTTED}
+    d["hinge_angles"], d["hinge_rates"] = run.get("hinge_angles"), run.get("hinge_rates")
+    d["flips"] = run.flip_time
+    d["panel_names"] = run.panel_names
+    d["latch_time"] = run["hinge_latch_time"]
+    d["cross45"] = run.spin_axis_45_time
+    d["events"] = sorted((dict(t=e["time"], panel=e["panel"], name=e["panel_name"],
+                               kind=e["kind"], angle=e["angle"],
+                               dissipated=e["energy_dissipated"],
+                               rate_before=e["rate_before"], rate_after=e["rate_after"])
+                          for e in run.hinge_events), key=lambda e: e["t"])
+    st = run.stage_columns
+    begin, end, names, laws = st["t_begin"], st["t_end"], st["name"], st["law"]
+    d["name"] = run.profile_name
     # Consecutive stages with the same name and law are one stretch on the plots (a hinge
     # profile's phases: every stop bounce starts a new phase of the same hinges).
     d["stage_begin"], d["stage_end"], d["stage_name"], d["stage_law"] = [], [], [], []
@@ -354,7 +338,7 @@ def plot_energy(d, out):
         fig, ax = plt.subplots(figsize=(10, 4.8))
         shade_stages(ax, d)
         ax.plot(t, T, color="tab:blue", lw=1.2, label="kinetic $T$")
-        if d["energy_rigid"] is not None and np.any(d["energy_rigid"] != T):
+        if np.any(d["energy_rigid"] != T):
             ax.plot(t, d["energy_rigid"], color="tab:blue", lw=0.9, ls="--",
                     label=r"its rigid part $\frac{1}{2}\,\omega \cdot J_B\,\omega$")
         handles, labels = ax.get_legend_handles_labels()
@@ -611,17 +595,13 @@ def main(argv):
     ap.add_argument("trajectory", help="HDF5 file written by deploysim simulate")
     ap.add_argument("-o", "--outdir", help="output folder (default: <stem>_plots next to the file)")
     a = ap.parse_args(argv)
-    if not os.path.isfile(a.trajectory):
-        print(f"plot_trajectory: {a.trajectory}: no such file", file=sys.stderr)
+    try:
+        d = read(a.trajectory)
+    except TrajectoryError as e:
+        print(f"plot_trajectory: {e}", file=sys.stderr)
         return 1
     out = a.outdir or os.path.splitext(a.trajectory)[0] + "_plots"
     os.makedirs(out, exist_ok=True)
-    try:
-        d = read(a.trajectory)
-    except (OSError, KeyError) as e:
-        print(f"plot_trajectory: {a.trajectory}: not a deploysim trajectory file ({e})",
-              file=sys.stderr)
-        return 1
     plots = [plot_momentum, plot_angular_velocity, plot_spin_axis, plot_inertia, plot_energy,
              plot_polhode]
     if d["hinge_angles"] is not None:

@@ -6,15 +6,15 @@ Usage:
                                    [--method M] [--rtol R] [--atol A] [--step S] [--dt D]
 
 What it runs (all with the same settings, the overrides passed to each):
-  BIN analyze PROFILE --json        the numbers of the report (the JSON is the contract)
-  BIN simulate PROFILE -o T.h5      the trajectory: model, inputs' text, plots, energy
-  BIN analyze PROFILE --json --coupling OTHER   stage profiles in geometry mode: the
-                                    flips under the other coupling (exact / quasi-rigid)
+  BIN simulate PROFILE -o T.h5      the run: every number of the report is read from its
+                                    trajectory file (tools/deploysim_results.py), the
+                                    plots are drawn from it
+  BIN analyze PROFILE --json --coupling OTHER   stage profiles in geometry mode only: the
+                                    comparison with the other coupling (exact /
+                                    quasi-rigid; deploysim runs both and compares them)
+                                    and the other coupling's flips
   tools/plot_trajectory.py T.h5     the time plots; tools/plot_geometry.py T.h5 (the
                                     inertia ellipsoid and the spacecraft), if present
-and checks that simulate and analyze agree (flip times, stages, hinge events, latch
-times, 45-degree crossings, danger windows, h_N drift, step counts identical); a
-disagreement is an error (exit 4).
 
 The report (no network, no scripts, images as data: URIs, A4 print style): a summary with
 the verdict in one sentence, the configuration (model, principal moments and the spin
@@ -24,18 +24,24 @@ the deployment timeline (releases, latches, impulses, shocks, energy dissipated)
 coupling comparison, the plots, the integrator and its accuracy evidence, and the full
 text of the inputs with the deploysim version.
 
-Every number taken from `analyze --json` carries data-json="/json/pointer" and
-data-value="<full precision>"; numbers computed from it carry data-derived="<expr>"
-(`/a - /b`, `/a / /b`, `sum /x/*/y`, `len /x`, `norm /x`), numbers from the HDF5 file or
-the model text carry data-src="<where>". data-value is in SI units (rad, rad/s) even
-where the cell shows degrees; data-doc="other-coupling" marks pointers into the JSON of
-the other-coupling run.
+Provenance: every number read from the trajectory file carries data-h5="<pointer>" and
+data-value="<full precision>". A pointer is a dataset and a row, `/stages/t_end#2`
+(row 2), `/stages/moments_end#2,0` (row 2, column 0), `/w_NB_B#0` (a whole row), or a
+root attribute, `@max_h_N_drift` (a number where the attribute holds one), `@statistics#steps`
+(the field steps= of a "k=v, k=v" attribute). Numbers computed from the file carry
+data-derived="<expr>" (`/a#i - /b#j`, `len /a`, `sum /a`, `norm /a#i`); the comparison with
+the other coupling carries data-json="/json/pointer" into that run's `analyze --json` with
+data-doc="other-coupling" (data-derived too, with `/a / /b` on JSON pointers); numbers from
+the model text, the report's own clock and the wall time it measures around `deploysim
+simulate` (the file holds no wall time) carry data-src="<where>". data-value is in SI
+units (rad, rad/s) even where the cell shows degrees.
 
 Exit codes: 0 written; 1 bad input (deploysim's one-line message passed through, or -o
 naming an input, a missing deploysim); 2 bad command line; 3 the integration did not
-reach its end time; 4 simulate and analyze disagree; 5 a plot tool or the output failed.
-On any error nothing is written (the report goes to a temporary file in the target
-folder, renamed at the end) and one line goes to stderr.
+reach its end time; 5 a plot tool, the trajectory file or the output failed (4 is not
+used: it was two runs of one mission disagreeing, when the report ran it twice). On any
+error nothing is written (the report goes to a temporary file in the target folder,
+renamed at the end) and one line goes to stderr.
 
 Examples:
   /usr/bin/python3 tools/report.py deployment_profiles/smallsat_spring_deploy.yaml \\
@@ -53,12 +59,13 @@ import html
 import json
 import math
 import os
-import re
 import shutil
 import subprocess
 import sys
 import tempfile
 import time
+
+from deploysim_results import TrajectoryError, read_trajectory
 
 TOOLS = os.path.dirname(os.path.abspath(__file__))
 PROG = "report"
@@ -66,8 +73,10 @@ PROG = "report"
 EXIT_BAD_INPUT = 1
 EXIT_USAGE = 2
 EXIT_INTEGRATION = 3
-EXIT_DISAGREE = 4
 EXIT_TOOL = 5
+
+# data-doc of the cells that point into the other coupling's analyze --json.
+OTHER = "other-coupling"
 
 DEG = 180.0 / math.pi
 RIGID_CAVEAT_MARK = "\u26a0"  # warning sign: the verdict holds only for a rigid body
@@ -181,102 +190,7 @@ def model_path_of(profile):
     return None
 
 
-# --- reading --------------------------------------------------------------------------
-
-def text(v):
-    return v.decode() if isinstance(v, bytes) else str(v)
-
-
-def read_h5(path):
-    import h5py
-    import numpy as np
-    d = {}
-    with h5py.File(path, "r") as f:
-        d["attrs"] = {k: text(v) for k, v in f.attrs.items()}
-        for k in ("time", "H_B", "w_NB_B", "J_B", "principal_moments", "energy", "h_N"):
-            d[k] = f[k][()]
-        d["energy_total"] = f["energy_total"][()] if "energy_total" in f else None
-
-        def get(name, default=None):
-            return f[name][()] if name in f else default
-        d["flip_time"] = get("events/flip_time", np.array([]))
-        d["predicted_flip_time"] = get("events/predicted_flip_time", np.array([]))
-        d["cross45"] = get("events/spin_axis_45_time", np.array([]))
-        d["danger_begin"] = get("danger_windows/t_begin", np.array([]))
-        d["danger_end"] = get("danger_windows/t_end", np.array([]))
-        d["latch_time"] = get("hinge_latch_time", np.array([]))
-        d["panel_names"] = [text(s) for s in get("panel_names", [])]
-        st = {}
-        for k in ("t_begin", "t_end", "spin_axis_role", "moments_end", "name", "rigid"):
-            st[k] = get("stages/" + k, [])
-        d["stages"] = st
-        ev = {}
-        for k in ("time", "kind", "panel"):
-            ev[k] = get("events/hinge/" + k, [])
-        d["hinge"] = ev
-    return d
-
-
-def parse_kv(s):
-    """'steps=278, rejected=28' -> {'steps': '278', ...}"""
-    out = {}
-    for part in s.split(","):
-        if "=" in part:
-            k, v = part.split("=", 1)
-            out[k.strip()] = v.strip()
-    return out
-
-
-def check_agreement(j, h):
-    """simulate (HDF5) and analyze (JSON) must be the same run: raise on the first
-    difference."""
-    def same_list(name, a, b):
-        a, b = [float(x) for x in a], [float(x) for x in b]
-        if len(a) != len(b):
-            raise ReportError(f"simulate and analyze disagree: {name}: {len(b)} in the HDF5 "
-                              f"file, {len(a)} in analyze --json", EXIT_DISAGREE)
-        for i, (x, y) in enumerate(zip(a, b)):
-            if not (x == y or (math.isnan(x) and math.isnan(y))):
-                raise ReportError(f"simulate and analyze disagree: {name}[{i}]: {y!r} (HDF5) "
-                                  f"vs {x!r} (analyze --json)", EXIT_DISAGREE)
-
-    same_list("flip times", j["flip_times"], h["flip_time"])
-    same_list("predicted flip times",
-              [t for s in j["stages"] for t in s["predicted_flips"]], h["predicted_flip_time"])
-    same_list("stage starts", [s["t_begin"] for s in j["stages"]], h["stages"]["t_begin"])
-    same_list("stage ends", [s["t_end"] for s in j["stages"]], h["stages"]["t_end"])
-    same_list("stage end moments", [m for s in j["stages"] for m in s["principal_moments_end"]],
-              [m for row in h["stages"]["moments_end"] for m in row])
-    roles_h = [text(r) for r in h["stages"]["spin_axis_role"]]
-    roles_j = [s["spin_axis_end"] for s in j["stages"]]
-    if roles_h != roles_j:
-        raise ReportError(f"simulate and analyze disagree: spin-axis roles {roles_h} (HDF5) vs "
-                          f"{roles_j} (analyze --json)", EXIT_DISAGREE)
-    same_list("45-degree crossings", j["spin_axis_45_crossings"], h["cross45"])
-    same_list("danger window starts", [w[0] for w in j["danger_windows"]], h["danger_begin"])
-    same_list("danger window ends", [w[1] for w in j["danger_windows"]], h["danger_end"])
-    same_list("hinge event times", [e["t"] for e in j["hinge_events"]], h["hinge"]["time"])
-    kinds_h = [text(k) for k in h["hinge"]["kind"]]
-    if kinds_h != [e["kind"] for e in j["hinge_events"]]:
-        raise ReportError("simulate and analyze disagree: hinge event kinds", EXIT_DISAGREE)
-    latch_j = [j["latch_times"].get(n) for n in h["panel_names"]] if j["latch_times"] else []
-    same_list("latch times", [float("nan") if v is None else v for v in latch_j],
-              h["latch_time"] if j["latch_times"] else [])
-    drift_h = float(h["attrs"].get("max_h_N_drift", "nan"))
-    if drift_h != j["max_h_N_drift"]:
-        raise ReportError(f"simulate and analyze disagree: max_h_N_drift {drift_h!r} (HDF5) vs "
-                          f"{j['max_h_N_drift']!r} (analyze --json)", EXIT_DISAGREE)
-    stats = parse_kv(h["attrs"].get("statistics", ""))
-    for key, jkey in (("steps", "steps"), ("evaluations", "rhs_evaluations")):
-        if key in stats and int(stats[key]) != j[jkey]:
-            raise ReportError(f"simulate and analyze disagree: {jkey} {stats[key]} (HDF5) vs "
-                              f"{j[jkey]} (analyze --json)", EXIT_DISAGREE)
-    if h["attrs"].get("integrator") != j["integrator"]:
-        raise ReportError("simulate and analyze disagree: integrator "
-                          f"{h['attrs'].get('integrator')} vs {j['integrator']}", EXIT_DISAGREE)
-
-
-# --- analysis of the HDF5 file ---------------------------------------------------------
+# --- analysis of the trajectory ----------------------------------------------------------
 
 AXIS_NAMES = ("x", "y", "z")
 
@@ -301,16 +215,16 @@ def initial_spin_axis(h):
         role = "degenerate"
     else:
         role = ("minor", "intermediate", "major")[k]
-    return name, role, vals
+    return name, role
 
 
-def rigid_energy_drift(j, h):
+def rigid_energy_drift(h, stages):
     """Per rigid stage: max |E(t) - E(t1)| / E(t1) over the output samples strictly inside
     the stage (t1 the first of them); None with fewer than two samples."""
     import numpy as np
     t, E = h["time"], h["energy"]
     out = []
-    for s in j["stages"]:
+    for s in stages:
         if not s["rigid"]:
             out.append(None)
             continue
@@ -327,6 +241,31 @@ def rigid_energy_drift(j, h):
 
 def esc(s):
     return html.escape(str(s), quote=True)
+
+
+def hp(path, *index):
+    """A pointer into the trajectory file: /path#i or /path#i,k (module docstring)."""
+    return "/" + path + ("#" + ",".join(str(i) for i in index) if index else "")
+
+
+def h5_value(h, pointer):
+    """The value at a data-h5 pointer: a Python number, str or list of numbers."""
+    if pointer.startswith("@"):
+        name, _, key = pointer[1:].partition("#")
+        v = h.attr_fields(name)[key] if key else h.attr(name)
+        for kind in (int, float):
+            try:
+                return kind(v)
+            except ValueError:
+                pass
+        return v
+    path, _, index = pointer.partition("#")
+    v = h[path]
+    for i in index.split(",") if index else []:
+        v = v[int(i)]
+    if hasattr(v, "tolist"):
+        return v.tolist()
+    return v
 
 
 def ptr(*parts):
@@ -379,53 +318,64 @@ def fmt_fixed(v, dec):
     return f"{v:.{dec}f}".replace("-", "\u2212")
 
 
-class Cells:
-    """Makes the machine-readable number cells; keeps the JSON documents to read from."""
+def shown_value(v, scale=1.0, digits=4, dec=None):
+    """How a cell shows the value v (times scale)."""
+    if isinstance(v, str):
+        return esc(v)
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if v is None:
+        return "\u2014"
+    if dec is not None:
+        return fmt_fixed(v * scale, dec)
+    return fmt_num(v * scale if isinstance(v, float) or scale != 1.0 else v, digits)
 
-    def __init__(self, j, other=None):
-        self.j = j
+
+class Cells:
+    """Makes the machine-readable number cells: from the trajectory file (h5), from the
+    other coupling's analyze --json (js), computed (derived) or from elsewhere (src)."""
+
+    def __init__(self, h, other=None):
+        self.h = h
         self.other = other
 
-    def _attrs(self, pointer, doc, unit):
-        d = self.j if doc is None else self.other
-        v = get_ptr(d, pointer)
-        a = f' data-json="{esc(pointer)}" data-value="{esc(value_attr(v))}"'
+    @staticmethod
+    def _element(tag, cls, attrs, shown, suffix=""):
+        c = f' class="{cls}"' if cls and tag == "td" else ""
+        return f"<{tag}{c}{attrs}>{shown}{suffix}</{tag}>"
+
+    @staticmethod
+    def _attrs(source, where, value, unit=None, doc=None):
+        a = f' {source}="{esc(where)}" data-value="{esc(value_attr(value))}"'
         if doc:
             a += f' data-doc="{esc(doc)}"'
         if unit:
             a += f' data-unit="{esc(unit)}"'
-        return a, v
+        return a
+
+    def h5(self, pointer, shown=None, unit=None, tag="td", scale=1.0, digits=4, dec=None,
+           suffix="", cls="n"):
+        """An element showing the trajectory file's value at pointer (times scale), unit
+        for data-unit."""
+        v = h5_value(self.h, pointer)
+        shown = shown_value(v, scale, digits, dec) if shown is None else shown
+        return self._element(tag, cls, self._attrs("data-h5", pointer, v, unit), shown, suffix)
 
     def js(self, pointer, shown=None, unit=None, tag="td", scale=1.0, digits=4, dec=None,
-           doc=None, suffix="", cls="n"):
-        """An element showing the JSON value at pointer (times scale), unit for data-unit."""
-        a, v = self._attrs(pointer, doc, unit)
-        if shown is None:
-            if isinstance(v, str):
-                shown = esc(v)
-            elif isinstance(v, bool):
-                shown = "yes" if v else "no"
-            elif v is None:
-                shown = "\u2014"
-            elif dec is not None:
-                shown = fmt_fixed(v * scale, dec)
-            else:
-                shown = fmt_num(v * scale if isinstance(v, float) or scale != 1.0 else v, digits)
-        c = f' class="{cls}"' if cls and tag == "td" else ""
-        return f"<{tag}{c}{a}>{shown}{suffix}</{tag}>"
+           suffix="", cls="n"):
+        """An element showing the other coupling's analyze --json value at pointer."""
+        v = get_ptr(self.other, pointer)
+        shown = shown_value(v, scale, digits, dec) if shown is None else shown
+        return self._element(tag, cls, self._attrs("data-json", pointer, v, unit, OTHER),
+                             shown, suffix)
 
-    def derived(self, expr, value, shown, tag="td", unit=None, cls="n"):
-        u = f' data-unit="{esc(unit)}"' if unit else ""
-        c = f' class="{cls}"' if cls and tag == "td" else ""
-        return (f'<{tag}{c} data-derived="{esc(expr)}" data-value="{esc(value_attr(value))}"'
-                f"{u}>{shown}</{tag}>")
+    def derived(self, expr, value, shown, tag="td", unit=None, cls="n", doc=None):
+        return self._element(tag, cls, self._attrs("data-derived", expr, value, unit, doc),
+                             shown)
 
     @staticmethod
     def src(where, value, shown, tag="td", unit=None, cls="n"):
-        u = f' data-unit="{esc(unit)}"' if unit else ""
-        c = f' class="{cls}"' if cls and tag == "td" else ""
-        return (f'<{tag}{c} data-src="{esc(where)}" data-value="{esc(value_attr(value))}"'
-                f"{u}>{shown}</{tag}>")
+        return Cells._element(tag, cls, Cells._attrs("data-src", where, value, unit), shown)
 
 
 def png_uri(path):
@@ -476,7 +426,6 @@ pre { font-family: "DejaVu Sans Mono", "Liberation Mono", monospace; font-size: 
       word-break: break-word; }
 code { font-family: "DejaVu Sans Mono", "Liberation Mono", monospace; font-size: 8.6pt; }
 .toc { font-size: 9pt; columns: 2; margin: 4pt 0; padding-left: 16pt; }
-.ok { color: #1b5e20; }
 @media print {
   body { max-width: none; padding: 0; }
   .summary { background: none; }
@@ -495,16 +444,19 @@ def role_text(role):
             "major": "major", "degenerate": "degenerate (two moments equal)"}.get(role, role)
 
 
-def section_summary(c, j, h, ctx):
-    stages = j["stages"]
+def verdict(c, h, ctx):
+    """The summary's one sentence: when the spin axis becomes intermediate, the flips."""
+    stages = ctx["stages"]
     last = len(stages) - 1
     parts = []
     axis = ctx["axis_name"]
-    span_end = c.js(ptr("stages", last, "t_end"), tag="span", cls=None, digits=4, unit="s",
+    t_end = float(stages[last]["t_end"])
+    span_end = c.h5(hp("stages/t_end", last), tag="span", cls=None, digits=4, unit="s",
+                    shown=fmt_num(int(t_end)) if t_end.is_integer() else None,
                     suffix="\u00a0s")
-    dws = j["danger_windows"]
+    dws = h.danger_windows
     if dws:
-        first = c.js(ptr("danger_windows", 0, 0), tag="span", cls=None, dec=1, unit="s",
+        first = c.h5(hp("danger_windows/t_begin", 0), tag="span", cls=None, dec=1, unit="s",
                      suffix="\u00a0s")
         if dws[0][0] <= stages[0]["t_begin"]:
             s = f"spin about {axis}, the intermediate axis from the start"
@@ -512,98 +464,103 @@ def section_summary(c, j, h, ctx):
             s = f"spin about {axis} becomes the intermediate axis at {first}"
         # the final configuration: the last stage if rigid, intermediate, starting later
         ls = stages[last]
-        if ls["rigid"] and ls["spin_axis_end"] == "intermediate" and ls["t_begin"] > dws[0][0]:
+        if ls["rigid"] and ls["spin_axis_role"] == "intermediate" and ls["t_begin"] > dws[0][0]:
             s += (" (final configuration from "
-                  + c.js(ptr("stages", last, "t_begin"), tag="span", cls=None, dec=1, unit="s",
+                  + c.h5(hp("stages/t_begin", last), tag="span", cls=None, dec=1, unit="s",
                          suffix="\u00a0s") + ")")
         if len(dws) > 1:
-            n = c.derived("len /danger_windows", len(dws), str(len(dws)), tag="span", cls=None)
+            n = c.derived("len /danger_windows/t_begin", len(dws), str(len(dws)), tag="span",
+                          cls=None)
             s += f" ({n} danger windows)"
         parts.append(s)
     else:
-        role = stages[last]["spin_axis_end"]
+        role = stages[last]["spin_axis_role"]
         shown = {"degenerate": "an axis of two equal moments"}.get(role, f"the {role} axis")
         parts.append(f"spin about {axis} never becomes the intermediate axis (it ends as "
-                     + c.js(ptr("stages", last, "spin_axis_end"), tag="span", cls=None,
+                     + c.h5(hp("stages/spin_axis_role", last), tag="span", cls=None,
                             shown=esc(shown)) + ")")
-    nf = len(j["flip_times"])
+    nf = len(h.flip_time)
     if nf:
-        parts.append("first flip at " + c.js("/flip_times/0", tag="span", cls=None, dec=1,
-                                              unit="s", suffix="\u00a0s"))
-        parts.append(c.derived("len /flip_times", nf, str(nf), tag="span", cls=None)
+        parts.append("first flip at " + c.h5(hp("events/flip_time", 0), tag="span", cls=None,
+                                              dec=1, unit="s", suffix="\u00a0s"))
+        parts.append(c.derived("len /events/flip_time", nf, str(nf), tag="span", cls=None)
                      + (" flip" if nf == 1 else " flips") + " in " + span_end)
     else:
         s = "no flips in " + span_end
-        if j["spin_axis_45_crossings"]:
+        if len(h.spin_axis_45_time):
             # no flip, but the spin is not kept either (an energy sink, a flat spin)
             s += (", but the spin axis is 45\u00b0 away from the angular momentum at "
-                  + c.js("/spin_axis_45_crossings/0", tag="span", cls=None, dec=1, unit="s",
-                         suffix="\u00a0s"))
+                  + c.h5(hp("events/spin_axis_45_time", 0), tag="span", cls=None, dec=1,
+                         unit="s", suffix="\u00a0s"))
         parts.append(s)
-    verdict = "; ".join(parts) + "."
-    verdict = verdict[0].upper() + verdict[1:]
-    items = []
-    # agreement with the closed form
-    pred = sum(len(s["predicted_flips"]) for s in stages)
-    worst_i = max(range(len(stages)), key=lambda i: stages[i]["max_flip_time_difference"])
-    if pred:
-        items.append(
-            "Located flips on the constant-inertia stages agree with the closed-form "
-            "prediction to "
-            + c.js(ptr("stages", worst_i, "max_flip_time_difference"), tag="span", cls=None,
-                   unit="s", digits=2, suffix="\u00a0s") + " (section 3).")
-    fs = stages[last]
-    items.append(f"Final stage \u201c{esc(fs['name'])}\u201d: spin axis "
-                 + c.js(ptr("stages", last, "spin_axis_end"), tag="span", cls=None)
-                 + "; " + esc(fs["caveat"] or "no caveat") + "."
-                 + (f' <span class="warn">{RIGID_CAVEAT_MARK} Only a perfectly rigid body would '
-                    'keep this spin.</span>' if fs["rigid_body_only"] else ""))
-    if j["hinge_events"]:
-        ne = len(j["hinge_events"])
-        total = sum(e["energy_dissipated"] for e in j["hinge_events"])
-        latched = {k: v for k, v in j["latch_times"].items() if v is not None}
-        if not latched:
-            locked = "no panel locks"
-        else:
-            last = max(latched, key=lambda k: latched[k])
-            locked = (("all panels" if len(latched) == len(j["latch_times"]) else
-                       f"{len(latched)} of {len(j['latch_times'])} panels")
-                      + " locked, the last at "
-                      + c.js(ptr("latch_times", last), tag="span", cls=None, dec=2, unit="s",
-                             suffix="\u00a0s"))
-        items.append(
-            "Deployment: "
-            + c.derived("len /hinge_events", ne, str(ne), tag="span", cls=None)
+    v = "; ".join(parts) + "."
+    return v[0].upper() + v[1:]
+
+
+def deployment_item(c, h, ctx):
+    """The summary's line on the hinge events: their count, the energy, the locks."""
+    ev = ctx["events"]
+    ne = len(ev)
+    total = sum(e["energy_dissipated"] for e in ev)
+    latch = h.latch_times
+    latched = {k: v for k, v in latch.items() if math.isfinite(v)}
+    if not latched:
+        locked = "no panel locks"
+    else:
+        last = max(latched, key=lambda k: latched[k])
+        locked = (("all panels" if len(latched) == len(latch) else
+                   f"{len(latched)} of {len(latch)} panels")
+                  + " locked, the last at "
+                  + c.h5(hp("hinge_latch_time", h.panel_names.index(last)), tag="span",
+                         cls=None, dec=2, unit="s", suffix="\u00a0s"))
+    return ("Deployment: "
+            + c.derived("len /events/hinge/time", ne, str(ne), tag="span", cls=None)
             + (" hinge event, " if ne == 1 else " hinge events, ")
-            + c.derived("sum /hinge_events/*/energy_dissipated", total,
+            + c.derived("sum /events/hinge/energy_dissipated", total,
                         fmt_num(total, 3) + "\u00a0J", tag="span", cls=None, unit="J")
             + (" dissipated in it; " if ne == 1 else " dissipated in them; ")
             + locked + " (section 4).")
-    if "coupling_comparison" in j:
+
+
+def section_summary(c, h, ctx):
+    stages = ctx["stages"]
+    last = len(stages) - 1
+    items = []
+    # agreement with the closed form
+    worst_i = max(range(len(stages)), key=lambda i: stages[i]["max_flip_time_difference"])
+    if len(h.predicted_flip_time):
+        items.append(
+            "Located flips on the constant-inertia stages agree with the closed-form "
+            "prediction to "
+            + c.h5(hp("stages/max_flip_time_difference", worst_i), tag="span", cls=None,
+                   unit="s", digits=2, suffix="\u00a0s") + " (section 3).")
+    fs = stages[last]
+    items.append(f"Final stage \u201c{esc(fs['name'])}\u201d: spin axis "
+                 + c.h5(hp("stages/spin_axis_role", last), tag="span", cls=None)
+                 + "; " + esc(fs["caveat"] or "no caveat") + "."
+                 + (f' <span class="warn">{RIGID_CAVEAT_MARK} Only a perfectly rigid body would '
+                    'keep this spin.</span>' if fs["rigid_body_only"] else ""))
+    if ctx["events"]:
+        items.append(deployment_item(c, h, ctx))
+    if ctx["comparison"]:
         items.append(
             "Quasi-rigid vs exact coupling: attitude offset at the end of deployment "
             + c.js("/coupling_comparison/attitude_offset_at_deployment_end", tag="span",
                    cls=None, scale=DEG, digits=3, unit="rad", suffix="\u00a0deg")
             + " (section 5).")
     items.append(
-        f"Integrator <code>{esc(j['integrator'])}</code>: inertial momentum kept to "
-        + c.js("/max_h_N_drift", tag="span", cls=None, digits=2)
-        + " (relative); simulate and analyze agree (section 7).")
+        f"Integrator <code>{esc(h.attr('integrator'))}</code>: inertial momentum kept to "
+        + c.h5("@max_h_N_drift", tag="span", cls=None, digits=2)
+        + " (relative; section 7).")
     lis = "".join(f"<li>{i}</li>" for i in items)
-    return (f'<div class="summary"><div class="verdict">{verdict}</div><ul>{lis}</ul></div>')
+    return (f'<div class="summary"><div class="verdict">{verdict(c, h, ctx)}</div>'
+            f"<ul>{lis}</ul></div>")
 
 
-def section_configuration(c, j, h, ctx):
-    out = ['<section id="configuration"><h2>1. Configuration</h2>']
-    a = h["attrs"]
-    model = ctx["model"] or {}
+def model_tables(model):
+    """The model's bodies (hinged) or named configurations (tensors), from its text."""
+    out = []
     kind = model.get("kind", "?")
-    desc = model.get("description") or ""
-    out.append(f"<p>Model <b>{esc(a.get('model_name', '?'))}</b> "
-               f"(<code>{esc(a.get('model_source', '?'))}</code>, kind <code>{esc(kind)}</code>)"
-               f"{': ' + esc(' '.join(str(desc).split()).rstrip('.')) if desc else ''}. Mode "
-               + c.js("/mode", tag="code", cls=None) + ", coupling "
-               + c.js("/coupling", tag="code", cls=None) + ".</p>")
     if kind == "hinged":
         hub = model.get("hub", {})
         panels = model.get("panels", [])
@@ -666,44 +623,35 @@ def section_configuration(c, j, h, ctx):
                                     unit="kg m^2", cls="t") + "</tr>")
         out.append("<table class='kv'><caption>Named configurations (inertia, kg m\u00b2, "
                    "body x, y, z)</caption><tbody>" + "".join(crow) + "</tbody></table>")
-    # initial state
-    import numpy as np
-    w0 = h["w_NB_B"][0]
-    rate = float(np.linalg.norm(w0))
-    H0 = float(np.linalg.norm(h["H_B"][0]))
-    out.append("<table class='kv'><caption>Initial state (t = "
-               + fmt_num(float(h["time"][0])) + " s, from the trajectory file)</caption><tbody>"
-               f"<tr><th>spin axis (principal axis nearest H_B)</th><td class='t'>"
-               f"{esc(ctx['axis_name'])}, the {esc(role_text(ctx['axis_role0']))} axis</td></tr>"
-               "<tr><th>spin rate |w|</th>"
-               + Cells.src("h5: |/w_NB_B[0]|", rate,
-                           f"{fmt_num(rate, 4)} rad/s = "
-                           f"{fmt_num(rate * 60 / (2 * math.pi), 4)} rpm",
-                           unit="rad/s")
-               + "</tr><tr><th>w_NB_B(0) [rad/s]</th>"
-               + Cells.src("h5: /w_NB_B[0]", [float(x) for x in w0],
-                           ", ".join(fmt_num(float(x), 5) for x in w0), unit="rad/s")
-               + "</tr><tr><th>|H_B(0)| [kg m\u00b2/s]</th>"
-               + Cells.src("h5: |/H_B[0]|", H0, fmt_num(H0, 5), unit="kg m^2/s")
-               + "</tr></tbody></table>")
-    # principal moments per stage end
-    rows = []
-    pm0 = [float(x) for x in ctx["moments0"]]
-    rows.append("<tr><th>start</th><td class='t'>initial state</td>"
-                + Cells.src("h5: /time[0]", float(h["time"][0]), fmt_fixed(float(h["time"][0]), 3),
-                            unit="s")
-                + "".join(Cells.src(f"h5: /principal_moments[0][{k}]", pm0[k], fmt_num(pm0[k], 6),
-                                    unit="kg m^2") for k in range(3))
-                + f"<td class='t'>{esc(role_text(ctx['axis_role0']))}</td></tr>")
-    for i, s in enumerate(j["stages"]):
-        rows.append(
-            "<tr>" + c.js(ptr("stages", i, "index"), tag="th", cls=None)
-            + c.js(ptr("stages", i, "name"), cls="t")
-            + c.js(ptr("stages", i, "t_end"), unit="s", dec=3)
-            + "".join(c.js(ptr("stages", i, "principal_moments_end", k), unit="kg m^2", digits=6)
+    return out
+
+
+def section_configuration(c, h, ctx):
+    out = ['<section id="configuration"><h2>1. Configuration</h2>']
+    model = ctx["model"] or {}
+    desc = model.get("description") or ""
+    out.append("<p>Model <b>" + c.h5("@model_name", tag="span", cls=None) + "</b> (<code>"
+               + c.h5("@model_source", tag="span", cls=None) + "</code>, kind "
+               f"<code>{esc(model.get('kind', '?'))}</code>)"
+               f"{': ' + esc(' '.join(str(desc).split()).rstrip('.')) if desc else ''}. Mode "
+               + c.h5("@mode", tag="code", cls=None) + ", coupling "
+               + c.h5("@coupling", tag="code", cls=None) + ".</p>")
+    out += model_tables(model)
+    out.append(initial_state(c, h, ctx))
+    rows = ["<tr><th>start</th><td class='t'>initial state</td>"
+            + c.h5("/time#0", unit="s", dec=3)
+            + "".join(c.h5(hp("principal_moments", 0, k), unit="kg m^2", digits=6)
                       for k in range(3))
-            + c.js(ptr("stages", i, "spin_axis_end"), cls="t",
-                   shown=esc(role_text(s["spin_axis_end"])))
+            + f"<td class='t'>{esc(role_text(ctx['axis_role0']))}</td></tr>"]
+    for i, s in enumerate(ctx["stages"]):
+        rows.append(
+            "<tr>" + c.h5(hp("stages/index", i), tag="th", cls=None)
+            + c.h5(hp("stages/name", i), cls="t")
+            + c.h5(hp("stages/t_end", i), unit="s", dec=3)
+            + "".join(c.h5(hp("stages/moments_end", i, k), unit="kg m^2", digits=6)
+                      for k in range(3))
+            + c.h5(hp("stages/spin_axis_role", i), cls="t",
+                   shown=esc(role_text(s["spin_axis_role"])))
             + "</tr>")
     out.append("<table><caption>Principal moments at each stage end (ascending) and the role "
                "of the spin axis among the principal axes</caption><thead><tr><th>#</th>"
@@ -716,39 +664,59 @@ def section_configuration(c, j, h, ctx):
     return "".join(out)
 
 
-def section_stability(c, j, h, ctx):
+def initial_state(c, h, ctx):
+    """The table of the initial spin: axis, rate, w and |H_B| at the first sample."""
+    w0 = [float(x) for x in h["w_NB_B"][0]]
+    rate = math.sqrt(sum(x * x for x in w0))
+    H0 = math.sqrt(sum(float(x) ** 2 for x in h["H_B"][0]))
+    return ("<table class='kv'><caption>Initial state (t = "
+            + c.h5("/time#0", tag="span", cls=None) + " s, from the trajectory file)"
+            "</caption><tbody>"
+            f"<tr><th>spin axis (principal axis nearest H_B)</th><td class='t'>"
+            f"{esc(ctx['axis_name'])}, the {esc(role_text(ctx['axis_role0']))} axis</td></tr>"
+            "<tr><th>spin rate |w|</th>"
+            + c.derived("norm /w_NB_B#0", rate,
+                        f"{fmt_num(rate, 4)} rad/s = {fmt_num(rate * 60 / (2 * math.pi), 4)} rpm",
+                        unit="rad/s")
+            + "</tr><tr><th>w_NB_B(0) [rad/s]</th>"
+            + c.h5("/w_NB_B#0", shown=", ".join(fmt_num(x, 5) for x in w0), unit="rad/s")
+            + "</tr><tr><th>|H_B(0)| [kg m\u00b2/s]</th>"
+            + c.derived("norm /H_B#0", H0, fmt_num(H0, 5), unit="kg m^2/s")
+            + "</tr></tbody></table>")
+
+
+def stability_row(c, i, s):
+    """One row of the stability table: stage i of the file's stage table."""
+    def p(col):
+        return hp("stages/" + col, i)
+    rigid = s["rigid"]
+    regime = (c.h5(p("regime"), cls="t") if rigid else
+              f"<td class='t'>{'(free hinges)' if s['law'] == 'free' else '(deploying)'}</td>")
+    flips = c.h5(p("observed_flip_count"), tag="span", cls=None)
+    if rigid:
+        flips += " / " + c.h5(p("predicted_flip_count"), tag="span", cls=None)
+    half = p("predicted_flip_half_period")
+    return (
+        "<tr>" + c.h5(p("index"), tag="th", cls=None) + c.h5(p("name"), cls="t")
+        + c.h5(p("law"), cls="t")
+        + "<td class='n'>" + c.h5(p("t_begin"), tag="span", cls=None, unit="s", dec=3)
+        + "\u2013<br>" + c.h5(p("t_end"), tag="span", cls=None, unit="s", dec=3) + "</td>"
+        + c.h5(p("rigid"), cls="t", shown="yes" if rigid else "no")
+        + c.h5(p("spin_axis_role"), cls="t") + regime
+        + (c.h5(p("one_minus_k2"), digits=3) if rigid else "<td class='t'>\u2014</td>")
+        + c.h5(p("separatrix_distance"), digits=3)
+        + (c.h5(half, unit="s", dec=3) if math.isfinite(s["predicted_flip_half_period"]) else
+           c.h5(half, unit="s", shown="\u221e" if rigid else "\u2014"))
+        + f"<td class='n'>{flips}</td>"
+        + c.h5(p("rigid_body_only"), cls="t",
+               shown=(f'<span class="warn">{RIGID_CAVEAT_MARK}</span>'
+                      if s["rigid_body_only"] else ""))
+        + "</tr>")
+
+
+def section_stability(c, h, ctx):
     out = ['<section id="stability"><h2>2. Stability per stage</h2>']
-    rows = []
-    for i, s in enumerate(j["stages"]):
-        p = lambda *k: ptr("stages", i, *k)  # noqa: E731
-        rigid = s["rigid"]
-        regime = (c.js(p("regime"), cls="t") if rigid else
-                  f"<td class='t'>{'(free hinges)' if s['law'] == 'free' else '(deploying)'}</td>")
-        seen = c.derived(f"len {p('observed_flips')}", len(s["observed_flips"]),
-                         str(len(s["observed_flips"])), tag="span", cls=None)
-        if rigid:
-            pred = c.derived(f"len {p('predicted_flips')}", len(s["predicted_flips"]),
-                             str(len(s["predicted_flips"])), tag="span", cls=None)
-            flips = f"<td class='n'>{seen} / {pred}</td>"
-        else:
-            flips = f"<td class='n'>{seen}</td>"
-        hp = s["flip_half_period"]
-        rows.append(
-            "<tr>" + c.js(p("index"), tag="th", cls=None) + c.js(p("name"), cls="t")
-            + c.js(p("law"), cls="t")
-            + "<td class='n'>" + c.js(p("t_begin"), tag="span", cls=None, unit="s", dec=3)
-            + "\u2013<br>" + c.js(p("t_end"), tag="span", cls=None, unit="s", dec=3) + "</td>"
-            + c.js(p("rigid"), cls="t")
-            + c.js(p("spin_axis_end"), cls="t") + regime
-            + (c.js(p("one_minus_k2"), digits=3) if rigid else "<td class='t'>\u2014</td>")
-            + c.js(p("separatrix_distance"), digits=3)
-            + (c.js(p("flip_half_period"), unit="s", dec=3) if hp is not None else
-               c.js(p("flip_half_period"), shown="\u221e" if rigid else "\u2014"))
-            + flips
-            + c.js(p("rigid_body_only"), cls="t",
-                   shown=(f'<span class="warn">{RIGID_CAVEAT_MARK}</span>'
-                          if s["rigid_body_only"] else ""))
-            + "</tr>")
+    rows = [stability_row(c, i, s) for i, s in enumerate(ctx["stages"])]
     out.append(
         "<table class='stab'><caption>Stability table (one row per stage; a free-hinge profile: "
         "per phase between hinge events)</caption><thead><tr><th>#</th><th>stage</th>"
@@ -769,9 +737,9 @@ def section_stability(c, j, h, ctx):
         "verdict holds only for a perfectly rigid body (see the caveats).</p>")
     # caveats
     crow = []
-    for i, s in enumerate(j["stages"]):
-        crow.append("<tr>" + c.js(ptr("stages", i, "index"), tag="th", cls=None)
-                    + c.js(ptr("stages", i, "caveat"), cls="t",
+    for i, s in enumerate(ctx["stages"]):
+        crow.append("<tr>" + c.h5(hp("stages/index", i), tag="th", cls=None)
+                    + c.h5(hp("stages/caveat", i), cls="t",
                            shown=(f'<span class="warn">{RIGID_CAVEAT_MARK}</span> '
                                   if s["rigid_body_only"] else "") + esc(s["caveat"] or "\u2014"))
                     + "</tr>")
@@ -781,77 +749,75 @@ def section_stability(c, j, h, ctx):
                "fuel slosh) a spin settles about the major axis (the major-axis rule).</p>"
                "<table><thead><tr><th>#</th><th>caveat</th></tr></thead><tbody>"
                + "".join(crow) + "</tbody></table>")
-    # danger windows
-    if j["danger_windows"]:
-        drow = []
-        for w in range(len(j["danger_windows"])):
-            a, b = j["danger_windows"][w]
-            drow.append(f"<tr><th>{w + 1}</th>"
-                        + c.js(ptr("danger_windows", w, 0), unit="s", dec=3)
-                        + c.js(ptr("danger_windows", w, 1), unit="s", dec=3)
-                        + c.derived(f"{ptr('danger_windows', w, 1)} - "
-                                    f"{ptr('danger_windows', w, 0)}",
-                                    b - a, fmt_fixed(b - a, 3), unit="s") + "</tr>")
-        out.append("<h3>Danger windows</h3><p class='note'>Intervals in which the spin axis is "
-                   "the intermediate principal axis of J_B(t) (flips possible); first and last "
-                   "output time.</p><table class='kv'><thead><tr><th>#</th><th>from [s]</th>"
-                   "<th>to [s]</th><th>length [s]</th></tr></thead><tbody>" + "".join(drow)
-                   + "</tbody></table>")
-    else:
-        out.append("<h3>Danger windows</h3><p>None: the spin axis is never the intermediate "
-                   "axis.</p>")
+    out.append(danger_windows(c, h))
     out.append("</section>")
     return "".join(out)
 
 
-def section_flips(c, j, h, ctx):
+def danger_windows(c, h):
+    if not h.danger_windows:
+        return ("<h3>Danger windows</h3><p>None: the spin axis is never the intermediate "
+                "axis.</p>")
+    drow = []
+    for w, (a, b) in enumerate(h.danger_windows):
+        begin, end = hp("danger_windows/t_begin", w), hp("danger_windows/t_end", w)
+        drow.append(f"<tr><th>{w + 1}</th>" + c.h5(begin, unit="s", dec=3)
+                    + c.h5(end, unit="s", dec=3)
+                    + c.derived(f"{end} - {begin}", b - a, fmt_fixed(b - a, 3), unit="s")
+                    + "</tr>")
+    return ("<h3>Danger windows</h3><p class='note'>Intervals in which the spin axis is "
+            "the intermediate principal axis of J_B(t) (flips possible); first and last "
+            "output time.</p><table class='kv'><thead><tr><th>#</th><th>from [s]</th>"
+            "<th>to [s]</th><th>length [s]</th></tr></thead><tbody>" + "".join(drow)
+            + "</tbody></table>")
+
+
+def flip_rows(c, h, ctx):
+    """The located flips, each with its stage and the nearest predicted flip; then the
+    predicted flips that no located flip matched."""
+    stages, tp = ctx["stages"], h.predicted_flip_time
+    stage_of = {}
+    for i, s in enumerate(stages):
+        for f in s["flip_rows"]:
+            stage_of.setdefault(f, i)
+    rows, matched = [], set()
+    for f, t in enumerate(h.flip_time):
+        i = stage_of.get(f)
+        cells = f"<tr><th>{f + 1}</th>" + c.h5(hp("events/flip_time", f), unit="s", dec=6)
+        preds = stages[i]["predicted_flip_rows"] if i is not None else []
+        if i is None:
+            cells += "<td class='t'>?</td><td></td><td></td>"
+        elif preds:
+            n = min(preds, key=lambda k: abs(tp[k] - t))
+            matched.add(n)
+            d = float(t - tp[n])
+            cells += (c.h5(hp("stages/name", i), cls="t")
+                      + c.h5(hp("events/predicted_flip_time", n), unit="s", dec=6)
+                      + c.derived(f"{hp('events/flip_time', f)} - "
+                                  f"{hp('events/predicted_flip_time', n)}", d, fmt_num(d, 3),
+                                  unit="s"))
+        else:
+            cells += (c.h5(hp("stages/name", i), cls="t")
+                      + "<td class='t'>(no closed form: deploying)</td><td class='t'>\u2014</td>")
+        rows.append(cells + "</tr>")
+    for i, s in enumerate(stages):
+        for n in s["predicted_flip_rows"]:
+            if n not in matched:
+                rows.append("<tr><th>\u2014</th><td class='t warn'>not located</td>"
+                            + c.h5(hp("stages/name", i), cls="t")
+                            + c.h5(hp("events/predicted_flip_time", n), unit="s", dec=6)
+                            + "<td class='t'>\u2014</td></tr>")
+    return rows
+
+
+def section_flips(c, h, ctx):
     out = ['<section id="flips"><h2>3. Flips: located vs predicted</h2>']
     out.append("<p class='note'>A flip is a sign change of the angular momentum along the "
                "tracked spin axis while that axis is intermediate, located on the dense "
                "output (docs/file_formats.md, Flips). On constant-inertia stages the closed "
                "form predicts a flip every half period; on deploying stages there is no "
                "closed-form prediction.</p>")
-    stage_of = {}
-    for i, s in enumerate(j["stages"]):
-        for k, t in enumerate(s["observed_flips"]):
-            stage_of.setdefault(t, (i, k))
-    rows = []
-    for f, t in enumerate(j["flip_times"]):
-        i, k = stage_of.get(t, (None, None))
-        cells = f"<tr><th>{f + 1}</th>" + c.js(ptr("flip_times", f), unit="s", dec=6)
-        if i is None:
-            cells += "<td class='t'>?</td><td></td><td></td>"
-        else:
-            s = j["stages"][i]
-            cells += c.js(ptr("stages", i, "name"), cls="t")
-            preds = s["predicted_flips"]
-            if preds:
-                # the nearest predicted flip
-                n = min(range(len(preds)), key=lambda m: abs(preds[m] - t))
-                cells += c.js(ptr("stages", i, "predicted_flips", n), unit="s", dec=6)
-                d = t - preds[n]
-                cells += c.derived(f"{ptr('flip_times', f)} - "
-                                   f"{ptr('stages', i, 'predicted_flips', n)}", d,
-                                   fmt_num(d, 3), unit="s")
-            else:
-                cells += ("<td class='t'>(no closed form: deploying)</td>"
-                          "<td class='t'>\u2014</td>")
-        rows.append(cells + "</tr>")
-    # predicted flips that no located flip matched
-    seen = set()
-    for i, s in enumerate(j["stages"]):
-        for f, t in enumerate(j["flip_times"]):
-            if s["predicted_flips"] and stage_of.get(t, (None,))[0] == i:
-                n = min(range(len(s["predicted_flips"])),
-                        key=lambda m: abs(s["predicted_flips"][m] - t))
-                seen.add((i, n))
-    for i, s in enumerate(j["stages"]):
-        for n, t in enumerate(s["predicted_flips"]):
-            if (i, n) not in seen:
-                rows.append("<tr><th>\u2014</th><td class='t warn'>not located</td>"
-                            + c.js(ptr("stages", i, "name"), cls="t")
-                            + c.js(ptr("stages", i, "predicted_flips", n), unit="s", dec=6)
-                            + "<td class='t'>\u2014</td></tr>")
+    rows = flip_rows(c, h, ctx)
     if rows:
         out.append("<table><thead><tr><th>#</th><th>located t [s]</th><th>stage</th>"
                    "<th>predicted t [s]</th><th>located \u2212 predicted [s]</th></tr></thead>"
@@ -859,16 +825,14 @@ def section_flips(c, j, h, ctx):
     else:
         out.append("<p>No flips located, none predicted.</p>")
     srow = []
-    for i, s in enumerate(j["stages"]):
-        if not s["predicted_flips"] and not s["observed_flips"]:
+    for i, s in enumerate(ctx["stages"]):
+        if not s["predicted_flip_count"] and not s["observed_flip_count"]:
             continue
-        srow.append("<tr>" + c.js(ptr("stages", i, "index"), tag="th", cls=None)
-                    + c.js(ptr("stages", i, "name"), cls="t")
-                    + c.derived(f"len {ptr('stages', i, 'observed_flips')}",
-                                len(s["observed_flips"]), str(len(s["observed_flips"])))
-                    + c.derived(f"len {ptr('stages', i, 'predicted_flips')}",
-                                len(s["predicted_flips"]), str(len(s["predicted_flips"])))
-                    + c.js(ptr("stages", i, "max_flip_time_difference"), unit="s", digits=3)
+        srow.append("<tr>" + c.h5(hp("stages/index", i), tag="th", cls=None)
+                    + c.h5(hp("stages/name", i), cls="t")
+                    + c.h5(hp("stages/observed_flip_count", i))
+                    + c.h5(hp("stages/predicted_flip_count", i))
+                    + c.h5(hp("stages/max_flip_time_difference", i), unit="s", digits=3)
                     + "</tr>")
     if srow:
         out.append("<table class='kv'><caption>Per stage</caption><thead><tr><th>#</th>"
@@ -879,69 +843,77 @@ def section_flips(c, j, h, ctx):
     return "".join(out)
 
 
-def section_timeline(c, j, h, ctx):
+def hinge_event_row(c, e, ev):
+    """One row of the deployment timeline: event e of the hinge event table."""
+    def p(col):
+        return hp("events/hinge/" + col, e)
+    dash = "<td class='t'>\u2014</td>"
+    rel = ev["kind"] == "release"
+    wj = math.sqrt(sum(float(x) ** 2 for x in ev["w_jump_B"]))
+    return (
+        "<tr>" + c.h5(p("time"), unit="s", dec=4) + c.h5(p("panel_name"), cls="t")
+        + c.h5(p("kind"), cls="t")
+        + c.h5(p("angle"), unit="rad", scale=DEG, dec=3)
+        + (dash * 2 if rel else c.h5(p("rate_before"), unit="rad/s", scale=DEG, dec=3)
+           + c.h5(p("rate_after"), unit="rad/s", scale=DEG, dec=3))
+        + (dash * 3 if rel else c.h5(p("impulse"), unit="N m s", digits=4)
+           + c.derived(f"norm {p('w_jump_B')}", wj, fmt_num(wj * DEG, 4), unit="rad/s")
+           + c.h5(p("energy_dissipated"), unit="J", digits=4))
+        + "</tr>")
+
+
+def hinge_timeline(c, h, ctx):
+    """The hinge event table and the panels' lock times of a free-hinge profile."""
+    ev = ctx["events"]
+    rows = [hinge_event_row(c, e, x) for e, x in enumerate(ev)]
+    total = sum(e["energy_dissipated"] for e in ev)
+    rows.append("<tr><th colspan='8' style='text-align:right'>energy dissipated in all "
+                "events [J]</th>"
+                + c.derived("sum /events/hinge/energy_dissipated", total,
+                            "<b>" + fmt_num(total, 4) + "</b>", unit="J") + "</tr>")
+    out = ["<table><caption>Hinge events in time order</caption><thead><tr>"
+           "<th>t [s]</th><th>panel</th><th>event</th><th>angle [deg]</th>"
+           "<th>rate before [deg/s]</th><th>rate after [deg/s]</th>"
+           "<th>impulse [N m s]</th><th>|hub w jump| [deg/s]</th>"
+           "<th>dissipated [J]</th></tr></thead><tbody>" + "".join(rows) + "</tbody></table>",
+           "<p class='note'><b>release</b>: a held hinge starts to move. "
+           "<b>latch</b>: the hinge reaches its latch angle and is locked by a plastic "
+           "impulse. <b>jam</b>: locked part-way (failure mode). <b>stop</b>: impact on "
+           "a hard stop, the panel rebounds. <b>rest</b>: the panel comes to rest on a "
+           "stop. <b>|hub w jump|</b>: the shock a latch gives the spacecraft (jump of "
+           "the hub's angular velocity); angles 0 = deployed.</p>"]
+    lrow = []
+    for k, (name, t) in enumerate(h.latch_times.items()):
+        how = ""
+        for e in ev:
+            if e["panel_name"] == name and e["time"] == t and e["kind"] not in ("release", "stop"):
+                how = e["kind"]
+        lrow.append(f"<tr><th>{esc(name)}</th>"
+                    + (c.h5(hp("hinge_latch_time", k), unit="s", dec=4) if math.isfinite(t)
+                       else c.h5(hp("hinge_latch_time", k), shown="never", cls="t warn"))
+                    + f"<td class='t'>{esc(how)}</td></tr>")
+    out.append("<table class='kv'><caption>Panels locked (latch, jam or rest on a stop)"
+               "</caption><thead><tr><th>panel</th><th>t [s]</th><th>how</th></tr></thead>"
+               "<tbody>" + "".join(lrow) + "</tbody></table>")
+    return "".join(out)
+
+
+def section_timeline(c, h, ctx):
     out = ['<section id="timeline"><h2>4. Deployment timeline</h2>']
     if not ctx["is_hinge"]:
         out.append("<p>A stage profile: the panels follow prescribed laws (section 2); there "
                    "are no hinge events (releases, latches, impacts).</p>")
     else:
-        ev = j["hinge_events"]
-        rows = []
-        for e in range(len(ev)):
-            p = lambda *k: ptr("hinge_events", e, *k)  # noqa: E731
-            rel = ev[e]["kind"] == "release"
-            dash = "<td class='t'>\u2014</td>"
-            wj = math.sqrt(sum(x * x for x in ev[e]["w_jump_B"]))
-            rows.append(
-                "<tr>" + c.js(p("t"), unit="s", dec=4) + c.js(p("panel_name"), cls="t")
-                + c.js(p("kind"), cls="t")
-                + c.js(p("angle"), unit="rad", scale=DEG, dec=3)
-                + (dash * 2 if rel else c.js(p("rate_before"), unit="rad/s", scale=DEG, dec=3)
-                   + c.js(p("rate_after"), unit="rad/s", scale=DEG, dec=3))
-                + (dash * 3 if rel else c.js(p("impulse"), unit="N m s", digits=4)
-                   + c.derived(f"norm {p('w_jump_B')}", wj, fmt_num(wj * DEG, 4),
-                               unit="rad/s")
-                   + c.js(p("energy_dissipated"), unit="J", digits=4))
-                + "</tr>")
-        total = sum(e["energy_dissipated"] for e in ev)
-        rows.append("<tr><th colspan='8' style='text-align:right'>energy dissipated in all "
-                    "events [J]</th>"
-                    + c.derived("sum /hinge_events/*/energy_dissipated", total,
-                                "<b>" + fmt_num(total, 4) + "</b>", unit="J") + "</tr>")
-        out.append("<table><caption>Hinge events in time order</caption><thead><tr>"
-                   "<th>t [s]</th><th>panel</th><th>event</th><th>angle [deg]</th>"
-                   "<th>rate before [deg/s]</th><th>rate after [deg/s]</th>"
-                   "<th>impulse [N m s]</th><th>|hub w jump| [deg/s]</th>"
-                   "<th>dissipated [J]</th></tr></thead><tbody>" + "".join(rows)
-                   + "</tbody></table>")
-        out.append("<p class='note'><b>release</b>: a held hinge starts to move. "
-                   "<b>latch</b>: the hinge reaches its latch angle and is locked by a plastic "
-                   "impulse. <b>jam</b>: locked part-way (failure mode). <b>stop</b>: impact on "
-                   "a hard stop, the panel rebounds. <b>rest</b>: the panel comes to rest on a "
-                   "stop. <b>|hub w jump|</b>: the shock a latch gives the spacecraft (jump of "
-                   "the hub's angular velocity); angles 0 = deployed.</p>")
-        lrow = []
-        for name, t in j["latch_times"].items():
-            how = ""
-            for e in ev:
-                if e["panel_name"] == name and e["t"] == t and e["kind"] not in ("release", "stop"):
-                    how = e["kind"]
-            lrow.append(f"<tr><th>{esc(name)}</th>"
-                        + (c.js(ptr("latch_times", name), unit="s", dec=4) if t is not None
-                           else c.js(ptr("latch_times", name), shown="never", cls="t warn"))
-                        + f"<td class='t'>{esc(how)}</td></tr>")
-        out.append("<table class='kv'><caption>Panels locked (latch, jam or rest on a stop)"
-                   "</caption><thead><tr><th>panel</th><th>t [s]</th><th>how</th></tr></thead>"
-                   "<tbody>" + "".join(lrow) + "</tbody></table>")
-    cr = j["spin_axis_45_crossings"]
-    if cr:
+        out.append(hinge_timeline(c, h, ctx))
+    cr = h.spin_axis_45_time
+    if len(cr):
         per_row = 6  # a grid, not one tall column
         rows = []
         for r0 in range(0, len(cr), per_row):
             r1 = min(len(cr), r0 + per_row)
             rows.append(f"<tr><th>{r0 + 1}\u2013{r1}</th>" if r1 > r0 + 1 else
                         f"<tr><th>{r0 + 1}</th>")
-            rows[-1] += "".join(c.js(ptr("spin_axis_45_crossings", k), unit="s", dec=3)
+            rows[-1] += "".join(c.h5(hp("events/spin_axis_45_time", k), unit="s", dec=3)
                                 for k in range(r0, r1)) + "</tr>"
         out.append("<h3>45-degree crossings</h3><p class='note'>Times [s] at which the angle "
                    "between the initial spin axis (fixed in the body) and the inertial "
@@ -954,7 +926,7 @@ def section_timeline(c, j, h, ctx):
     return "".join(out)
 
 
-def section_coupling(c, j, h, ctx):
+def section_coupling(c, h, ctx):
     out = ['<section id="coupling"><h2>5. Coupling: exact vs quasi-rigid</h2>']
     if ctx["is_hinge"]:
         out.append("<p>Not applicable: this is a free-hinge profile (<code>hinges:</code>). "
@@ -962,20 +934,20 @@ def section_coupling(c, j, h, ctx):
                    "dynamics and their relative momentum enters the equations; there is no "
                    "quasi-rigid alternative to compare.</p></section>")
         return "".join(out)
-    if "coupling_comparison" not in j:
-        out.append(f"<p>Not applicable: mode <code>{esc(j['mode'])}</code> has no hinge "
+    if not ctx["comparison"]:
+        out.append(f"<p>Not applicable: mode <code>{esc(h.attr('mode'))}</code> has no hinge "
                    "geometry, so the panels carry no relative momentum to neglect (the "
                    "comparison needs a geometry-mode stage profile).</p></section>")
         return "".join(out)
     cc = "/coupling_comparison/"
-    cmp = j["coupling_comparison"]
+    cmp = ctx["other"]["coupling_comparison"]
     frac = cmp["max_w_difference_deploying"] / cmp["w_scale"]
     other = ctx["other_coupling"]
     rows = [
         "<tr><th>max |w<sub>exact</sub> \u2212 w<sub>quasi</sub>| while deploying</th>"
         + c.js(cc + "max_w_difference_deploying", unit="rad/s", digits=4, suffix=" rad/s")
         + c.derived(f"{cc}max_w_difference_deploying / {cc}w_scale", frac,
-                    fmt_num(frac, 3) + " of max |w|") + "</tr>",
+                    fmt_num(frac, 3) + " of max |w|", doc=OTHER) + "</tr>",
         "<tr><th>attitude offset at the end of deployment (t = "
         + c.js(cc + "deployment_end", tag="span", cls=None, unit="s", digits=4) + " s)</th>"
         + c.js(cc + "attitude_offset_at_deployment_end", unit="rad", digits=4, suffix=" rad")
@@ -991,39 +963,43 @@ def section_coupling(c, j, h, ctx):
     out.append("<p>With <b>exact</b> coupling the panels' relative momentum h_rel (from the "
                "hinge rates) enters the equations; <b>quasi-rigid</b> coupling takes the body "
                "as instantaneously rigid (h_rel = 0). This run uses "
-               + c.js("/coupling", tag="code", cls=None) + " coupling; the comparison runs "
-               "both.</p>")
+               + c.h5("@coupling", tag="code", cls=None) + " coupling. The comparison runs "
+               f"both: <code>deploysim analyze --json --coupling {esc(other)}</code> with the "
+               "same settings, whose cells carry data-doc=\"other-coupling\".</p>")
     out.append("<table class='kv'><tbody>" + "".join(rows) + "</tbody></table>")
-    if ctx["other"] is not None:
-        o = ctx["other"]
-        ex_j, qr_j = (j, o) if j["coupling"] == "exact" else (o, j)
-        ex_doc, qr_doc = ((None, "other-coupling") if j["coupling"] == "exact"
-                          else ("other-coupling", None))
-        n = max(len(ex_j["flip_times"]), len(qr_j["flip_times"]))
-        frow = []
-        for k in range(n):
-            r = f"<tr><th>{k + 1}</th>"
-            for doc, d in ((ex_doc, ex_j), (qr_doc, qr_j)):
-                r += (c.js(ptr("flip_times", k), unit="s", dec=3, doc=doc)
-                      if k < len(d["flip_times"]) else "<td class='t'>\u2014</td>")
-            if k < len(ex_j["flip_times"]) and k < len(qr_j["flip_times"]):
-                dd = qr_j["flip_times"][k] - ex_j["flip_times"][k]
-                r += Cells.src("quasi-rigid minus exact flip time", dd, fmt_num(dd, 3),
-                               unit="s")
-            else:
-                r += "<td></td>"
-            frow.append(r + "</tr>")
-        out.append(f"<h3>Flips under each coupling</h3><p class='note'>The {esc(other)} run is "
-                   f"<code>deploysim analyze --json --coupling {esc(other)}</code> with the same "
-                   "settings (its cells carry data-doc=\"other-coupling\").</p>"
-                   "<table class='kv'><thead><tr><th>#</th><th>exact t [s]</th>"
-                   "<th>quasi-rigid t [s]</th><th>difference [s]</th></tr></thead><tbody>"
-                   + "".join(frow) + "</tbody></table>")
+    out.append(coupling_flips(c, h, ctx))
     out.append("</section>")
     return "".join(out)
 
 
-def section_plots(c, j, h, ctx):
+def coupling_flips(c, h, ctx):
+    """This run's flips (the trajectory file) beside the other coupling's (its JSON)."""
+    mine, theirs = list(h.flip_time), ctx["other"]["flip_times"]
+    exact_first = h.attr("coupling") == "exact"
+    n = max(len(mine), len(theirs))
+    frow = []
+    for k in range(n):
+        this = (c.h5(hp("events/flip_time", k), unit="s", dec=3) if k < len(mine)
+                else "<td class='t'>\u2014</td>")
+        that = (c.js(ptr("flip_times", k), unit="s", dec=3) if k < len(theirs)
+                else "<td class='t'>\u2014</td>")
+        r = f"<tr><th>{k + 1}</th>" + (this + that if exact_first else that + this)
+        if k < len(mine) and k < len(theirs):
+            ex, qr = (mine[k], theirs[k]) if exact_first else (theirs[k], mine[k])
+            dd = float(qr - ex)
+            r += Cells.src("quasi-rigid minus exact flip time", dd, fmt_num(dd, 3), unit="s")
+        else:
+            r += "<td></td>"
+        frow.append(r + "</tr>")
+    return (f"<h3>Flips under each coupling</h3><p class='note'>This run's flips from its "
+            f"trajectory file, the {esc(ctx['other_coupling'])} run's from its "
+            "<code>analyze --json</code>.</p>"
+            "<table class='kv'><thead><tr><th>#</th><th>exact t [s]</th>"
+            "<th>quasi-rigid t [s]</th><th>difference [s]</th></tr></thead><tbody>"
+            + "".join(frow) + "</tbody></table>")
+
+
+def section_plots(c, h, ctx):
     out = ['<section id="plots"><h2>6. Plots</h2>']
     n = 0
     for name, caption in TRAJECTORY_FIGURES:
@@ -1055,97 +1031,88 @@ def section_plots(c, j, h, ctx):
     return "".join(out)
 
 
-def section_integrator(c, j, h, ctx):
-    a = h["attrs"]
-    st = parse_kv(a.get("statistics", ""))
-    settings = parse_kv(a.get("integrator_settings", ""))
+def section_integrator(c, h, ctx):
+    settings = h.attr_fields("integrator_settings")
     out = ['<section id="integrator"><h2>7. Integrator and accuracy</h2>']
-    rows = ["<tr><th>method</th>" + c.js("/integrator", cls="t") + "</tr>"]
+    rows = ["<tr><th>method</th>" + c.h5("@integrator", cls="t") + "</tr>"]
     for k in ("rtol", "atol", "step", "max_step", "output_dt"):
         if k in settings:
-            v = float(settings[k])
             unit = {"step": "s", "max_step": "s", "output_dt": "s"}.get(k, "1")
             rows.append(f"<tr><th>{esc(k)}{' [s]' if unit == 's' else ''}</th>"
-                        + Cells.src("h5: @integrator_settings " + k, v,
-                                    esc(settings[k]), unit=unit) + "</tr>")
-    rows.append("<tr><th>termination</th>" + c.js("/termination", cls="t") + "</tr>")
-    rows.append("<tr><th>accepted steps</th>" + c.js("/steps") + "</tr>")
-    if "rejected" in st:
-        rows.append("<tr><th>rejected steps</th>"
-                    + Cells.src("h5: @statistics rejected", int(st["rejected"]), st["rejected"])
-                    + "</tr>")
-    rows.append("<tr><th>right-hand-side evaluations</th>" + c.js("/rhs_evaluations") + "</tr>")
-    rows.append("<tr><th>wall time of the analyze run [s]</th>"
-                + c.js("/wall_seconds", unit="s", digits=3) + "</tr>")
+                        + c.h5("@integrator_settings#" + k, shown=esc(settings[k]), unit=unit)
+                        + "</tr>")
+    rows.append("<tr><th>termination</th>" + c.h5("@termination", cls="t") + "</tr>")
+    stats = h.attr_fields("statistics")
+    for label, key in (("accepted steps", "steps"), ("rejected steps", "rejected"),
+                       ("right-hand-side evaluations", "evaluations")):
+        if key in stats:
+            rows.append(f"<tr><th>{label}</th>" + c.h5("@statistics#" + key) + "</tr>")
     rows.append("<tr><th>wall time of the simulate run (incl. writing HDF5) [s]</th>"
-                + Cells.src("measured by tools/report.py", ctx["sim_seconds"],
-                            fmt_num(ctx["sim_seconds"], 3), unit="s") + "</tr>")
+                + Cells.src("measured by tools/report.py around deploysim simulate",
+                            ctx["sim_seconds"], fmt_num(ctx["sim_seconds"], 3), unit="s")
+                + "</tr>")
     out.append("<table class='kv'><caption>Settings and work</caption><tbody>"
                + "".join(rows) + "</tbody></table>")
-    # accuracy
-    arow = ["<tr><th>max |h_N(t) \u2212 h_N(0)| / |h_N(0)| over the run (inertial momentum, "
-            "conserved exactly)</th>" + c.js("/max_h_N_drift", digits=3) + "</tr>"]
-    drifts = ctx["energy_drift"]
-    for i, s in enumerate(j["stages"]):
-        if drifts[i] is None:
-            continue
-        d, n = drifts[i]
-        arow.append("<tr><th>energy drift on stage "
-                    + c.js(ptr("stages", i, "index"), tag="span", cls=None) + " \u201c"
-                    + esc(s["name"]) + "\u201d ("
-                    + c.js(ptr("stages", i, "t_begin"), tag="span", cls=None, dec=2) + "\u2013"
-                    + c.js(ptr("stages", i, "t_end"), tag="span", cls=None, dec=2)
-                    + f" s, {n} samples): max |E \u2212 E<sub>first</sub>| / E</th>"
-                    + Cells.src(f"h5: /energy over /time in (t_begin, t_end) of stage {i}", d,
-                                fmt_num(d, 3)) + "</tr>")
-    wi = max(range(len(j["stages"])), key=lambda i: j["stages"][i]["max_flip_time_difference"])
-    arow.append("<tr><th>max |located \u2212 closed-form flip time| [s]</th>"
-                + c.js(ptr("stages", wi, "max_flip_time_difference"), unit="s", digits=3) + "</tr>")
-    out.append("<table class='kv'><caption>Accuracy evidence</caption><tbody>" + "".join(arow)
-               + "</tbody></table>")
-    out.append("<p class='note'>Rigid (constant-inertia) stages conserve the kinetic energy "
-               "exactly; its drift there, like the drift of the inertial momentum h_N over the "
-               "whole run, measures the integration error. The closed-form flip times are an "
-               "independent analytic oracle for the located ones.</p>")
-    out.append("<h3>Consistency of the two runs</h3><p class='ok'>\u2714 "
-               "<code>deploysim simulate</code> (the HDF5 file) and <code>deploysim analyze "
-               "--json</code> agree exactly: flip times, predicted flip times, stage bounds, "
-               "moments and spin-axis roles, danger windows, hinge events, latch times, "
-               "45-degree crossings, h_N drift, steps and right-hand-side evaluations.</p>")
+    out.append("<p class='note'>The wall time is measured by tools/report.py around the "
+               "<code>deploysim simulate</code> process (the trajectory file holds no wall "
+               "time); everything else is read from the trajectory file.</p>")
+    out.append(accuracy(c, h, ctx))
     out.append("</section>")
     return "".join(out)
 
 
-def section_inputs(c, j, h, ctx):
-    a = h["attrs"]
+def accuracy(c, h, ctx):
+    """The accuracy evidence: h_N drift, energy drift on rigid stages, flip times."""
+    stages = ctx["stages"]
+    arow = ["<tr><th>max |h_N(t) \u2212 h_N(0)| / |h_N(0)| over the run (inertial momentum, "
+            "conserved exactly)</th>" + c.h5("@max_h_N_drift", digits=3) + "</tr>"]
+    for i, s in enumerate(stages):
+        if ctx["energy_drift"][i] is None:
+            continue
+        d, n = ctx["energy_drift"][i]
+        arow.append("<tr><th>energy drift on stage "
+                    + c.h5(hp("stages/index", i), tag="span", cls=None) + " \u201c"
+                    + esc(s["name"]) + "\u201d ("
+                    + c.h5(hp("stages/t_begin", i), tag="span", cls=None, dec=2) + "\u2013"
+                    + c.h5(hp("stages/t_end", i), tag="span", cls=None, dec=2)
+                    + f" s, {n} samples): max |E \u2212 E<sub>first</sub>| / E</th>"
+                    + Cells.src(f"h5: /energy over /time in (t_begin, t_end) of stage {i}", d,
+                                fmt_num(d, 3)) + "</tr>")
+    wi = max(range(len(stages)), key=lambda i: stages[i]["max_flip_time_difference"])
+    arow.append("<tr><th>max |located \u2212 closed-form flip time| [s]</th>"
+                + c.h5(hp("stages/max_flip_time_difference", wi), unit="s", digits=3)
+                + "</tr>")
+    return ("<table class='kv'><caption>Accuracy evidence</caption><tbody>" + "".join(arow)
+            + "</tbody></table>"
+            "<p class='note'>Rigid (constant-inertia) stages conserve the kinetic energy "
+            "exactly; its drift there, like the drift of the inertial momentum h_N over the "
+            "whole run, measures the integration error. The closed-form flip times are an "
+            "independent analytic oracle for the located ones.</p>")
+
+
+def section_inputs(c, h, ctx):
+    a = h.attrs
     out = ['<section id="inputs" class="inputs"><h2>8. Inputs and provenance</h2>']
-    # (label, where it comes from, its value, how it is shown)
+
+    def attr(name, tag="span"):
+        return c.h5("@" + name, tag=tag, cls=None)
+    build = (" " + Cells.src("deploysim --version", ctx["build_id"],
+                             f"({esc(ctx['build_id'])})", tag="span", cls=None)
+             if ctx["build_id"] else "")
     rows = [
-        ("deploysim version", "h5: @deploysim_version", a.get("deploysim_version", "?"),
-         esc(a.get("deploysim_version", "?"))
-         + (f" <span class='meta'>({esc(ctx['build_id'])})</span>" if ctx["build_id"] else "")),
-        ("HDF5 schema version", "h5: @schema_version", a.get("schema_version", "?"),
-         esc(a.get("schema_version", "?"))),
-        ("report generated", "clock of tools/report.py (UTC)", ctx["generated"],
-         esc(ctx["generated"])),
-        ("profile", "h5: @profile_source", a.get("profile_source", "?"),
-         f"<code>{esc(a.get('profile_source', '?'))}</code> "
-         f"(name {esc(a.get('profile_name', '?'))})"),
-        ("model", "h5: @model_source", a.get("model_source", "?"),
-         f"<code>{esc(a.get('model_source', '?'))}</code> "
-         f"(name {esc(a.get('model_name', '?'))})"),
-        ("mode, coupling", "h5: @mode, @coupling",
-         a.get("mode", "?") + ", " + a.get("coupling", "?"),
-         esc(a.get("mode", "?")) + ", " + esc(a.get("coupling", "?"))),
-        ("integrator", "h5: @integrator, @integrator_settings",
-         a.get("integrator", "?") + ": " + a.get("integrator_settings", "?"),
-         f"{esc(a.get('integrator', '?'))}: "
-         f"<code>{esc(a.get('integrator_settings', '?'))}</code>"),
+        ("deploysim version", attr("deploysim_version") + build),
+        ("HDF5 schema version", attr("schema_version")),
+        ("report generated", Cells.src("clock of tools/report.py (UTC)", ctx["generated"],
+                                       esc(ctx["generated"]), tag="span", cls=None)),
+        ("profile", attr("profile_source", "code") + " (name " + attr("profile_name") + ")"),
+        ("model", attr("model_source", "code") + " (name " + attr("model_name") + ")"),
+        ("mode, coupling", attr("mode") + ", " + attr("coupling")),
+        ("integrator", attr("integrator") + ": " + attr("integrator_settings", "code")),
     ]
     cmds = "".join(f"<li><code>{esc(cmd)}</code></li>" for cmd in ctx["commands"])
     out.append("<table class='kv'><tbody>" + "".join(
-        f"<tr><th>{k}</th>" + Cells.src(where, value, shown, cls="t") + "</tr>"
-        for k, where, value, shown in rows) + "</tbody></table>")
+        f"<tr><th>{k}</th><td class='t'>{cell}</td></tr>" for k, cell in rows)
+        + "</tbody></table>")
     out.append(f"<p>Commands run for this report:</p><ul class='note'>{cmds}</ul>")
     out.append("<p class='note'>To reproduce the run from the texts below: save the profile, "
                "save the model at the path its <code>model:</code> key names, and run "
@@ -1155,22 +1122,30 @@ def section_inputs(c, j, h, ctx):
                f"<pre>{esc(a.get('profile_text', ''))}</pre>")
     out.append(f"<h3>Model ({esc(a.get('model_source', ''))})</h3>"
                f"<pre>{esc(a.get('model_text', ''))}</pre>")
-    out.append("<h3>Reading the numbers by machine</h3><p class='note'>Every number of the "
-               "analysis carries <code>data-json</code> (a JSON pointer into the output of "
-               "<code>deploysim analyze --json</code> with the settings above) and "
-               "<code>data-value</code> (its full-precision value, SI units even where the "
-               "cell shows degrees); numbers computed from it carry <code>data-derived</code>, "
-               "numbers from the trajectory file or the model carry <code>data-src</code>.</p>")
+    out.append(
+        "<h3>Reading the numbers by machine</h3><p class='note'>Every number of the run "
+        "carries <code>data-h5</code>, a pointer into the trajectory file that "
+        "<code>deploysim simulate</code> writes with the settings above "
+        "(docs/file_formats.md, \u201cTrajectory files\u201d): a dataset and its row, "
+        "<code>/stages/t_end#2</code>, or row and column, <code>/stages/moments_end#2,0</code>; "
+        "a root attribute, <code>@max_h_N_drift</code>, or a field of one, "
+        "<code>@statistics#steps</code>. <code>data-value</code> is its full-precision value "
+        "(SI units even where the cell shows degrees). Numbers computed from the file carry "
+        "<code>data-derived</code> (<code>/a#i - /b#j</code>, <code>len /a</code>, "
+        "<code>sum /a</code>, <code>norm /a#i</code>); the comparison with the other coupling "
+        "carries <code>data-json</code>, a JSON pointer into that run's <code>analyze "
+        "--json</code>, with <code>data-doc=\"other-coupling\"</code>; numbers from the model "
+        "text or measured by the report carry <code>data-src</code>.</p>")
     out.append("</section>")
     return "".join(out)
 
 
-def build_html(j, h, ctx):
-    c = Cells(j, ctx["other"])
-    a = h["attrs"]
+def build_html(h, ctx):
+    c = Cells(h, ctx["other"])
+    a = h.attrs
     profile = ctx["profile_doc"] or {}
     desc = profile.get("description") or ""
-    title = f"Mission report: {a.get('profile_name', j['profile'])}"
+    title = f"Mission report: {h.profile_name}"
     toc = ("<ol class='toc'><li><a href='#configuration'>Configuration</a></li>"
            "<li><a href='#stability'>Stability per stage</a></li>"
            "<li><a href='#flips'>Flips: located vs predicted</a></li>"
@@ -1184,18 +1159,12 @@ def build_html(j, h, ctx):
         f"<div class='meta'>deploysim {esc(a.get('deploysim_version', '?'))} \u00b7 profile "
         f"<code>{esc(a.get('profile_source', ''))}</code> \u00b7 model "
         f"<code>{esc(a.get('model_source', ''))}</code> \u00b7 integrator "
-        f"{esc(j['integrator'])} \u00b7 generated {esc(ctx['generated'])}</div>",
-        section_summary(c, j, h, ctx),
+        f"{esc(a.get('integrator', '?'))} \u00b7 generated {esc(ctx['generated'])}</div>",
+        section_summary(c, h, ctx),
         toc,
-        section_configuration(c, j, h, ctx),
-        section_stability(c, j, h, ctx),
-        section_flips(c, j, h, ctx),
-        section_timeline(c, j, h, ctx),
-        section_coupling(c, j, h, ctx),
-        section_plots(c, j, h, ctx),
-        section_integrator(c, j, h, ctx),
-        section_inputs(c, j, h, ctx),
-    ]
+    ] + [section(c, h, ctx) for section in (
+        section_configuration, section_stability, section_flips, section_timeline,
+        section_coupling, section_plots, section_integrator, section_inputs)]
     return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
             "<meta name='viewport' content='width=device-width, initial-scale=1'>"
             f"<meta name='generator' content='deploysim tools/report.py'>"
@@ -1222,7 +1191,9 @@ def parse_args(argv):
         prog=os.environ.get("DEPLOYSIM_PROG") or "report.py",
         description="Write a self-contained HTML mission report of a deployment profile "
                     "(verdict, stability table, flips vs prediction, deployment timeline, "
-                    "coupling comparison, plots, integrator accuracy, inputs).",
+                    "coupling comparison, plots, integrator accuracy, inputs). It runs "
+                    "deploysim simulate once and reads every number of the run from its "
+                    "trajectory file.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="Examples:\n"
                "  deploysim report deployment_profiles/smallsat_spring_deploy.yaml -o spring.html\n"
@@ -1231,8 +1202,8 @@ def parse_args(argv):
                "  /usr/bin/python3 tools/report.py deployment_profiles/smallsat_three_stage.yaml"
                " \\\n      -o three_stage.html --method rkmk-rkf78 --rtol 1e-12 --dt 0.05\n\n"
                "Exit codes: 0 written; 1 bad input (deploysim's message passed through); 2 bad "
-               "command line;\n3 integration stopped early; 4 simulate and analyze disagree; "
-               "5 a plot tool or the output failed.\nOn an error no file is written.")
+               "command line;\n3 integration stopped early; 5 a plot tool, the trajectory "
+               "file or the output failed\n(4 is not used). On an error no file is written.")
     ap.add_argument("profile", help="deployment profile (YAML)")
     ap.add_argument("-o", "--output", required=True, help="the report to write (HTML)")
     ap.add_argument("--deploysim", help="the deploysim executable (default: $DEPLOYSIM_BIN, then "
@@ -1256,18 +1227,8 @@ def generated_stamp():
     return t.strftime("%Y-%m-%d %H:%M UTC")
 
 
-def make_report(args):
-    t_start = time.monotonic()
-    exe = find_deploysim(args.deploysim)
-    profile = args.profile
-    out = args.output
-    if not os.path.isfile(profile):
-        # deploysim names the file in its own words
-        pass
-    inputs = [profile, exe]
-    mp = model_path_of(profile)
-    if mp:
-        inputs.append(mp)
+def check_output(out, inputs):
+    """The folder of -o (which must exist and be no input); ReportError otherwise."""
     for inp in inputs:
         if same_file(out, inp):
             raise ReportError(f"-o {out}: is an input ({inp}); refusing to overwrite it",
@@ -1277,94 +1238,82 @@ def make_report(args):
     out_dir = os.path.dirname(os.path.abspath(out))
     if not os.path.isdir(out_dir):
         raise ReportError(f"-o {out}: folder {out_dir} does not exist", EXIT_BAD_INPUT)
-    ov = overrides(args)
-    commands = []
+    return out_dir
 
-    # The first run also validates the input: its progress line comes after it, so that
-    # bad input gives deploysim's one line and nothing else.
-    cmd = [exe, "analyze", profile, "--json", *ov]
-    commands.append(" ".join(["deploysim"] + cmd[1:]))
-    js_text, secs = run(cmd, "analyze")
+
+def yaml_text(text):
+    """A YAML text (the file's profile or model) as a dict, {} if it is none."""
+    import yaml
     try:
-        j = json.loads(js_text)
+        doc = yaml.safe_load(text)
+    except yaml.YAMLError:
+        return {}
+    return doc if isinstance(doc, dict) else {}
+
+
+def simulate(args, exe, profile, work, ctx):
+    """Runs deploysim simulate into work/ and reads its trajectory file: (path, run)."""
+    h5 = os.path.join(work, "trajectory.h5")
+    cmd = [exe, "simulate", profile, "-o", h5, *overrides(args), "-q"]
+    ctx["commands"].append(" ".join(["deploysim"] + cmd[1:]).replace(h5, "TRAJECTORY.h5"))
+    # The first run also validates the input: the progress line comes after it, so that
+    # bad input gives deploysim's one line and nothing else.
+    _, ctx["sim_seconds"] = run(cmd, "simulate")
+    try:
+        h = read_trajectory(h5)
+        ctx["stages"], ctx["events"] = h.stages, h.hinge_events
+    except TrajectoryError as e:
+        raise ReportError(str(e).replace(h5, "the trajectory file"), EXIT_TOOL) from None
+    progress(args, f"simulated {profile} (deploysim simulate, {ctx['sim_seconds']:.1f} s): "
+                   f"{len(ctx['stages'])} stage(s), {len(h.flip_time)} flip(s)")
+    return h5, h
+
+
+def compare_couplings(args, exe, profile, h, ctx):
+    """Stage profiles in geometry mode: the other coupling's analyze --json (deploysim runs
+    both couplings and compares them) into ctx["other"]."""
+    ctx["other"], ctx["other_coupling"], ctx["comparison"] = None, None, False
+    if ctx["is_hinge"] or h.attrs.get("mode") != "geometry":
+        return
+    other = "quasi-rigid" if h.attrs.get("coupling") == "exact" else "exact"
+    ctx["other_coupling"] = other
+    progress(args, f"comparing with {other} coupling (deploysim analyze --json)")
+    cmd = [exe, "analyze", profile, "--json", *overrides(args), "--coupling", other]
+    ctx["commands"].append(" ".join(["deploysim"] + cmd[1:]))
+    text, _ = run(cmd, "analyze")
+    try:
+        ctx["other"] = json.loads(text)
     except ValueError as e:
         raise ReportError(f"deploysim analyze --json: not JSON ({e})", EXIT_TOOL)
-    progress(args, f"analyzed {profile} (deploysim analyze --json, {secs:.1f} s): "
-                   f"{len(j['stages'])} stage(s), {len(j['flip_times'])} flip(s)")
+    ctx["comparison"] = "coupling_comparison" in ctx["other"]
 
-    with tempfile.TemporaryDirectory(prefix="deploysim-report-") as work:
-        h5 = os.path.join(work, "trajectory.h5")
-        progress(args, "simulating (deploysim simulate)")
-        cmd = [exe, "simulate", profile, "-o", h5, *ov]
-        compare = "coupling_comparison" in j
-        if compare:
-            cmd.append("--compare-coupling")
-        else:
-            cmd.append("-q")
-        commands.append(" ".join(["deploysim"] + cmd[1:]).replace(h5, "TRAJECTORY.h5"))
-        sim_out, sim_seconds = run(cmd, "simulate")
-        h = read_h5(h5)
-        check_agreement(j, h)
-        ctx = {"commands": commands, "sim_seconds": sim_seconds, "other": None,
-               "other_coupling": None, "generated": generated_stamp(), "build_id": ""}
-        try:
-            v = subprocess.run([exe, "--version"], stdout=subprocess.PIPE,
-                               stderr=subprocess.DEVNULL, text=True, timeout=30)
-            ctx["build_id"] = v.stdout.strip()
-        except (OSError, subprocess.SubprocessError):
-            pass
-        if compare:
-            other = "quasi-rigid" if j["coupling"] == "exact" else "exact"
-            ctx["other_coupling"] = other
-            progress(args, f"analyzing with {other} coupling")
-            cmd = [exe, "analyze", profile, "--json", *ov, "--coupling", other]
-            commands.append(" ".join(["deploysim"] + cmd[1:]))
-            o_text, _ = run(cmd, "analyze")
-            ctx["other"] = json.loads(o_text)
-            # simulate --compare-coupling prints "flips: exact N, quasi-rigid M"
-            m = re.search(r"flips: exact (\d+), quasi-rigid (\d+)", sim_out)
-            if m:
-                n_other = int(m.group(2) if other == "quasi-rigid" else m.group(1))
-                if n_other != len(ctx["other"]["flip_times"]):
-                    raise ReportError(
-                        f"simulate --compare-coupling counts {n_other} {other} flips, "
-                        f"analyze --coupling {other} {len(ctx['other']['flip_times'])}",
-                        EXIT_DISAGREE)
-        import yaml
-        try:
-            ctx["model"] = yaml.safe_load(h["attrs"].get("model_text", "")) or {}
-        except yaml.YAMLError:
-            ctx["model"] = {}
-        try:
-            ctx["profile_doc"] = yaml.safe_load(h["attrs"].get("profile_text", "")) or {}
-        except yaml.YAMLError:
-            ctx["profile_doc"] = {}
-        ctx["is_hinge"] = isinstance(ctx["profile_doc"], dict) and "hinges" in ctx["profile_doc"]
-        ctx["axis_name"], ctx["axis_role0"], ctx["moments0"] = initial_spin_axis(h)
-        ctx["energy_drift"] = rigid_energy_drift(j, h)
 
-        progress(args, "plotting (tools/plot_trajectory.py)")
-        ctx["plot_dir"] = os.path.join(work, "plots")
-        run([sys.executable, os.path.join(TOOLS, "plot_trajectory.py"), h5, "-o",
-             ctx["plot_dir"]], "plot_trajectory.py")
-        geo = os.path.join(TOOLS, "plot_geometry.py")
-        ctx["geometry_dir"] = os.path.join(work, "geometry")
-        ctx["geometry_note"] = ""
-        if os.path.isfile(geo):
-            progress(args, "plotting (tools/plot_geometry.py)")
-            try:
-                run([sys.executable, geo, h5, "-o", ctx["geometry_dir"]], "plot_geometry.py")
-            except ReportError as e:
-                # e.g. two equal principal moments in the last stage: no separatrix to draw.
-                # The rest of the report stands; the note says why the figures are missing.
-                why = str(e).replace(h5, "the trajectory")
-                ctx["geometry_note"] = f"tools/plot_geometry.py could not draw them ({why})"
-                progress(args, f"no geometry figures: {e}")
-        else:
-            ctx["geometry_note"] = ("tools/plot_geometry.py is not installed next to "
-                                    "tools/report.py.")
-        page = build_html(j, h, ctx)
+def plots(args, h5, work, ctx):
+    """The figures of tools/plot_trajectory.py and tools/plot_geometry.py into work/."""
+    progress(args, "plotting (tools/plot_trajectory.py)")
+    ctx["plot_dir"] = os.path.join(work, "plots")
+    run([sys.executable, os.path.join(TOOLS, "plot_trajectory.py"), h5, "-o",
+         ctx["plot_dir"]], "plot_trajectory.py")
+    geo = os.path.join(TOOLS, "plot_geometry.py")
+    ctx["geometry_dir"] = os.path.join(work, "geometry")
+    ctx["geometry_note"] = ""
+    if not os.path.isfile(geo):
+        ctx["geometry_note"] = ("tools/plot_geometry.py is not installed next to "
+                                "tools/report.py.")
+        return
+    progress(args, "plotting (tools/plot_geometry.py)")
+    try:
+        run([sys.executable, geo, h5, "-o", ctx["geometry_dir"]], "plot_geometry.py")
+    except ReportError as e:
+        # e.g. two equal principal moments in the last stage: no separatrix to draw.
+        # The rest of the report stands; the note says why the figures are missing.
+        why = str(e).replace(h5, "the trajectory")
+        ctx["geometry_note"] = f"tools/plot_geometry.py could not draw them ({why})"
+        progress(args, f"no geometry figures: {e}")
 
+
+def write_page(out, out_dir, page):
+    """Writes the page to a temporary file in out_dir and renames it to out."""
     fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(out) + ".", suffix=".tmp",
                                dir=out_dir)
     try:
@@ -1378,6 +1327,32 @@ def make_report(args):
         except OSError:
             pass
         raise ReportError(f"{out}: cannot write: {e.strerror}", EXIT_TOOL)
+
+
+def make_report(args):
+    t_start = time.monotonic()
+    exe = find_deploysim(args.deploysim)
+    profile, out = args.profile, args.output
+    mp = model_path_of(profile)
+    out_dir = check_output(out, [profile, exe] + ([mp] if mp else []))
+    ctx = {"commands": [], "generated": generated_stamp(), "build_id": ""}
+    with tempfile.TemporaryDirectory(prefix="deploysim-report-") as work:
+        h5, h = simulate(args, exe, profile, work, ctx)
+        try:
+            v = subprocess.run([exe, "--version"], stdout=subprocess.PIPE,
+                               stderr=subprocess.DEVNULL, text=True, timeout=30)
+            ctx["build_id"] = v.stdout.strip()
+        except (OSError, subprocess.SubprocessError):
+            pass
+        ctx["model"] = yaml_text(h.attrs.get("model_text", ""))
+        ctx["profile_doc"] = yaml_text(h.attrs.get("profile_text", ""))
+        ctx["is_hinge"] = "hinges" in ctx["profile_doc"]
+        compare_couplings(args, exe, profile, h, ctx)
+        ctx["axis_name"], ctx["axis_role0"] = initial_spin_axis(h)
+        ctx["energy_drift"] = rigid_energy_drift(h, ctx["stages"])
+        plots(args, h5, work, ctx)
+        page = build_html(h, ctx)
+    write_page(out, out_dir, page)
     progress(args, f"wrote {out} ({len(page.encode()) / 1024:.0f} kB) in "
                    f"{time.monotonic() - t_start:.1f} s")
 

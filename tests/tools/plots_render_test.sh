@@ -1,10 +1,9 @@
 #!/usr/bin/env bash
-# Renders the main job's plots in a scratch folder (issue 3, acceptance 5) and checks
-# that every PNG exists, is a PNG and is not trivially small; and that the plot tool
-# rejects a missing or non-trajectory file with one line and a non-zero exit.
-# Issue 9: energy.png for every file, hinge_angles.png for files with hinge angles
-# (geometry mode: the main job has them); a version 2 file from before issue 9 still
-# plots; and, when the spring-driven deployment profile is there, the same plots of a
+# Renders the main job's plots in a scratch folder and checks that every PNG exists, is
+# a PNG and is not trivially small; and that the plot tool rejects a missing or
+# non-trajectory file with one line and a non-zero exit. energy.png for every file,
+# hinge_angles.png for files with hinge angles (geometry mode: the main job has them); a
+# version 2 file from before the free-hinge outputs still plots; and, when the spring-driven deployment profile is there, the same plots of a
 # free-hinge run (hinge events marked).
 # Usage: plots_render_test.sh DEPLOYSIM_BINARY SOURCE_DIR
 set -euo pipefail
@@ -32,7 +31,8 @@ check_pngs() {  # folder, names...
 check_pngs "$tmp/plots" $plots
 count=7
 
-# A file written before issue 9 (no spring energy, hinge rates or event tables) still plots.
+# A file written before the free-hinge outputs (no spring energy, hinge rates or event
+# tables) still plots.
 /usr/bin/python3 "$src/tools/plot_trajectory.py" "$src/tests/io/data/trajectory_v2_before_issue9.h5" \
   -o "$tmp/v2_plots" >/dev/null
 # shellcheck disable=SC2086

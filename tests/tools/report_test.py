@@ -1,13 +1,20 @@
 #!/usr/bin/python3
-"""tools/report.py writes a mission report a reader can trust: every number of the analysis
-in it equals `deploysim analyze --json` at its data-json pointer, every stage, flip, hinge
-event, latch, 45-degree crossing and danger window appears, the page opens in headless
-Chromium without errors and loads nothing from outside, and bad input leaves no file.
+"""tools/report.py writes a mission report a reader can trust: every number of the run in
+it equals the trajectory file of `deploysim simulate` (read here with h5py, independently
+of the tools) at its data-h5 pointer, every number of the coupling comparison equals the
+other coupling's `deploysim analyze --json` at its data-json pointer, every stage, flip,
+hinge event, latch, 45-degree crossing and danger window appears, the page opens in
+headless Chromium without errors and loads nothing from outside, the report runs one
+simulation, and bad input leaves no file. Also the tools' one trajectory reader
+(tools/deploysim_results.py): a fresh file, a version 2 file from before the free-hinge
+outputs, and its errors.
 
 Usage: report_test.py DEPLOYSIM SOURCE_DIR [ARTEFACT_DIR]
-ARTEFACT_DIR (default: ./test_artefacts/report) keeps the reports, full-page screenshots
-(screen and print media) and the PDF prints, for a person to look at.
-Standard library only (plus the project's tools/headless_chromium.py).
+ARTEFACT_DIR (default: ./test_artefacts/report) keeps the reports, the trajectory files
+they are checked against, full-page screenshots (screen and print media) and the PDF
+prints, for a person to look at.
+Needs Debian's python3-h5py and python3-numpy (run with /usr/bin/python3), and the
+project's tools/headless_chromium.py.
 """
 
 import base64
@@ -24,8 +31,12 @@ import tempfile
 import time
 import unittest
 
+import h5py
+import numpy as np
+
 HERE = pathlib.Path(__file__).resolve()
 sys.path.insert(0, str(HERE.parents[2] / "tools"))
+import deploysim_results  # noqa: E402
 import headless_chromium  # noqa: E402
 
 DEPLOYSIM = SOURCE = ARTEFACTS = None
@@ -37,14 +48,25 @@ CASES = {
     "spring": "deployment_profiles/smallsat_spring_deploy.yaml",
     "three_stage": "deployment_profiles/smallsat_three_stage.yaml",
 }
-# Measured, not reproduced by a second run: only checked to be there and positive.
-VARYING = {"/wall_seconds"}
+OTHER = "other-coupling"
+# Flags (0 or 1) the report shows as words or marks, not as numbers.
+FLAGS = {"/stages/rigid", "/stages/rigid_body_only"}
+# The wall time of the simulate run, measured by the report (not in the file): only
+# checked to be there and positive.
+WALL_TIME = "measured by tools/report.py around deploysim simulate"
 # Slow-report bound: the report of the main job takes ~3 s on one free core (the plots).
 
 
 def report_cmd(profile, out, *extra, deploysim=None):
     return [PYTHON, str(pathlib.Path(SOURCE) / "tools" / "report.py"), profile, "-o", str(out),
             "--deploysim", deploysim or DEPLOYSIM, *extra]
+
+
+def simulate(profile, out, *extra):
+    """The run of the report, again: its trajectory file (the same bit for bit)."""
+    subprocess.run([DEPLOYSIM, "simulate", profile, "-q", "-o", str(out), *extra], cwd=SOURCE,
+                   stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=True)
+    return out
 
 
 def analyze_json(profile, *extra):
@@ -65,39 +87,64 @@ def ptr(*parts):
     return "".join("/" + str(p).replace("~", "~0").replace("/", "~1") for p in parts)
 
 
-def glob_ptr(doc, pattern):
-    """Values at a pointer with `*` tokens (every list element)."""
-    toks = pattern.split("/")[1:]
-
-    def walk(cur, i):
-        if i == len(toks):
-            yield cur
-            return
-        t = toks[i].replace("~1", "/").replace("~0", "~")
-        if t == "*":
-            for x in (cur if isinstance(cur, list) else cur.values()):
-                yield from walk(x, i + 1)
-        else:
-            yield from walk(cur[int(t)] if isinstance(cur, list) else cur[t], i + 1)
-    return list(walk(doc, 0))
+def hp(path, *index):
+    """A data-h5 pointer: /path#i,k."""
+    return "/" + path + ("#" + ",".join(str(i) for i in index) if index else "")
 
 
-def evaluate(doc, expr):
-    """The data-derived grammar of tools/report.py."""
+def text_of(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def h5_get(f, pointer):
+    """The value at a data-h5 pointer of tools/report.py, read with h5py: a root attribute
+    (@name, or the field key= of a "k=v, k=v" attribute: @name#key) as its text; a
+    dataset's element (/path#i or /path#i,k) or whole dataset (/path) as a number, str or
+    list."""
+    if pointer.startswith("@"):
+        name, _, key = pointer[1:].partition("#")
+        v = text_of(f.attrs[name])
+        if key:
+            v = dict(part.strip().split("=", 1) for part in v.split(","))[key]
+        return v
+    path, _, index = pointer.partition("#")
+    v = f[path][()]
+    for i in index.split(",") if index else []:
+        v = v[int(i)]
+    if isinstance(v, np.ndarray):
+        return [text_of(x) if isinstance(x, bytes) else x for x in v.tolist()]
+    return text_of(v) if isinstance(v, bytes) else v.item() if hasattr(v, "item") else v
+
+
+def as_number(text):
+    """An attribute's text as a number, or None if it is no number."""
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
+def same(a, b):
+    return a == b or (isinstance(a, float) and isinstance(b, float) and math.isnan(a)
+                      and math.isnan(b))
+
+
+def evaluate(get, expr):
+    """The data-derived grammar of tools/report.py; get(pointer) gives a pointer's value."""
     if expr.startswith("len "):
-        return len(get_ptr(doc, expr[4:]))
+        return len(get(expr[4:]))
     if expr.startswith("sum "):
-        return sum(glob_ptr(doc, expr[4:]))
+        return sum(get(expr[4:]))
     if expr.startswith("norm "):
-        return math.sqrt(sum(x * x for x in get_ptr(doc, expr[5:])))
+        return math.sqrt(sum(x * x for x in get(expr[5:])))
     for op in (" - ", " / ", " + "):
         if op in expr:
-            a, b = (get_ptr(doc, s.strip()) for s in expr.split(op))
+            a, b = (get(s.strip()) for s in expr.split(op))
             return {" - ": a - b, " / ": a / b, " + ": a + b}[op]
     raise ValueError(f"unknown data-derived expression {expr!r}")
 
 
-SOURCE_ATTRS = {"data-json", "data-derived", "data-src"}
+SOURCE_ATTRS = {"data-h5", "data-json", "data-derived", "data-src"}
 VOID = {"img", "meta", "br", "hr", "link", "input", "col", "source", "wbr"}
 
 
@@ -134,16 +181,25 @@ class Elements(html.parser.HTMLParser):
                 e["unsourced"].append(data)
 
 
+NUMBER = re.compile(r"(-?\d+(?:\.\d+)?)(?:(?:\u00d710|e)([-+]?\d+))?")
+
+
+def shown_numbers(text):
+    """The numbers a reader sees in a cell (U+2212 minus, ×10<sup>n</sup>, 1e-11), each
+    with half a unit of its last digit."""
+    out = []
+    for m in NUMBER.finditer(text.replace("\u2212", "-")):
+        mant = m.group(1)
+        dec = len(mant.split(".")[1]) if "." in mant else 0
+        exp = int(m.group(2)) if m.group(2) else 0
+        out.append((float(mant) * 10.0 ** exp, 0.5 * 10.0 ** (exp - dec)))
+    return out
+
+
 def shown_number(text):
-    """The first number a reader sees in a cell (U+2212 minus, ×10<sup>n</sup>)."""
-    t = text.replace("\u2212", "-")
-    m = re.search(r"(-?\d+(?:\.\d+)?)(?:\u00d710(-?\d+))?", t)
-    if not m:
-        return None
-    mant = m.group(1)
-    dec = len(mant.split(".")[1]) if "." in mant else 0
-    exp = int(m.group(2)) if m.group(2) else 0
-    return float(mant) * 10.0 ** exp, 0.5 * 10.0 ** (exp - dec)
+    """The first number a reader sees in a cell, or None."""
+    numbers = shown_numbers(text)
+    return numbers[0] if numbers else None
 
 
 # How far the page, or a table, figure, code block or the summary box, runs past the
@@ -189,7 +245,7 @@ class ReportTest(unittest.TestCase):
     def setUpClass(cls):
         cls.art = pathlib.Path(ARTEFACTS)
         cls.art.mkdir(parents=True, exist_ok=True)
-        cls.reports, cls.json, cls.seconds = {}, {}, {}
+        cls.reports, cls.h5, cls.seconds = {}, {}, {}
         for name, profile in CASES.items():
             out = cls.art / f"{name}_report.html"
             if out.exists():
@@ -203,7 +259,7 @@ class ReportTest(unittest.TestCase):
             print(f"report of {profile}: {cls.seconds[name]:.2f} s, "
                   f"{out.stat().st_size / 1024:.0f} kB -> {out}", file=sys.stderr)
             cls.reports[name] = out
-            cls.json[name] = analyze_json(profile)
+            cls.h5[name] = simulate(profile, cls.art / f"{name}.h5")
         cls.other = analyze_json(CASES["three_stage"], "--coupling", "quasi-rigid")
         cls.browser = headless_chromium.Browser(900, 1200)
 
@@ -217,101 +273,142 @@ class ReportTest(unittest.TestCase):
         return p
 
     # --- the numbers ---------------------------------------------------------------
+    def check_h5_cell(self, f, where, pointer, value_attr, text):
+        """A data-h5 element: its data-value is the file's value at the pointer, and what
+        it shows is that value (or in degrees) to the digits shown."""
+        v = h5_get(f, pointer)
+        base = pointer.partition("#")[0]
+        if isinstance(v, str) and as_number(v) is None:
+            self.assertEqual(value_attr, v, where)
+            return
+        if isinstance(v, str):
+            v = as_number(v)
+        if isinstance(v, list):
+            self.assertEqual(json.loads(value_attr), v, where)
+            shown = shown_numbers(text)
+            self.assertEqual(len(shown), len(v), f"{where}: shows {text!r}")
+        else:
+            self.assertTrue(same(float(value_attr), float(v)), f"{where}: {value_attr} vs {v!r}")
+            if base in FLAGS:
+                self.assertIn(v, (0, 1), where)
+                return
+            if not math.isfinite(v):
+                self.assertIsNone(shown_number(text), f"{where}: shows {text!r} for {v!r}")
+                return
+            shown = [shown_number(text)]
+            self.assertIsNotNone(shown[0], f"{where}: shows no number: {text!r}")
+            v = [v]
+        for (x, tol), y in zip(shown, v):
+            self.assertTrue(abs(x - y) <= tol * 1.01 or abs(x - y * DEG) <= tol * 1.01,
+                            f"{where}: shows {text!r} for {y!r}")
+
+    def check_json_cell(self, doc, where, pointer, value_attr, text):
+        """A data-json element (the other coupling's analyze --json)."""
+        v = get_ptr(doc, pointer)
+        if isinstance(v, str):
+            self.assertEqual(value_attr, v, where)
+            return
+        self.assertEqual(json.loads(value_attr), v, where)
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            sn = shown_number(text)
+            self.assertIsNotNone(sn, f"{where}: shows no number: {text!r}")
+            x, tol = sn
+            self.assertTrue(abs(x - v) <= tol * 1.01 or abs(x - v * DEG) <= tol * 1.01,
+                            f"{where}: shows {text!r} for {v!r}")
+
     def check_numbers(self, name, other=None):
-        j = self.json[name]
+        """Every number of the page against the trajectory file (data-h5), the other
+        coupling's JSON (data-json) or the expression it was computed by (data-derived);
+        every table cell with a digit names its source."""
         p = self.parse(name)
         seen = set()
         n_checked = 0
-        for e in p.elements:
-            a = e["attrs"]
-            text = "".join(e["text"]).strip()
-            if "data-json" in a:
-                doc = other if a.get("data-doc") == "other-coupling" else j
-                self.assertIsNotNone(doc, f"{name}: data-doc without its document")
-                where = f"{name}: <{e['tag']} data-json={a['data-json']!r}>"
-                v = get_ptr(doc, a["data-json"])
-                self.assertIn("data-value", a, where)
-                if a["data-json"] in VARYING:
-                    self.assertGreater(json.loads(a["data-value"]), 0.0, where)
-                elif isinstance(v, str):
-                    self.assertEqual(a["data-value"], v, where)
-                else:
-                    self.assertEqual(json.loads(a["data-value"]), v, where)
-                    if isinstance(v, (int, float)) and not isinstance(v, bool):
-                        sn = shown_number(text)
-                        self.assertIsNotNone(sn, f"{where}: shows no number: {text!r}")
-                        x, tol = sn
-                        self.assertTrue(abs(x - v) <= tol * 1.01 or abs(x - v * DEG) <= tol * 1.01,
-                                        f"{where}: shows {text!r} for {v!r}")
-                seen.add((a.get("data-doc"), a["data-json"]))
-                n_checked += 1
-            if "data-derived" in a:
-                doc = other if a.get("data-doc") == "other-coupling" else j
-                where = f"{name}: data-derived={a['data-derived']!r}"
-                v = evaluate(doc, a["data-derived"])
-                got = json.loads(a["data-value"])
-                self.assertTrue(got == v or abs(got - v) <= 1e-12 * abs(v),
-                                f"{where}: {got} vs {v}")
-                seen.add(("derived", a["data-derived"]))
-                n_checked += 1
-            # every table cell that shows a number says where the number comes from
-            # (itself, or each number in an element inside it that does)
-            if e["tag"] == "td" and re.search(r"\d", text):
+        with h5py.File(self.h5[name], "r") as f:
+            def get(pointer):
+                return h5_get(f, pointer)
+            for e in p.elements:
+                a = e["attrs"]
+                text = "".join(e["text"]).strip()
                 if SOURCE_ATTRS & set(a):
-                    self.assertIn("data-value", a, f"{name}: {text!r}")
-                else:
+                    self.assertIn("data-value", a, f"{name}: {e['tag']} {a}")
+                if "data-h5" in a:
+                    where = f"{name}: <{e['tag']} data-h5={a['data-h5']!r}>"
+                    self.check_h5_cell(f, where, a["data-h5"], a["data-value"], text)
+                    seen.add((None, a["data-h5"]))
+                    n_checked += 1
+                if "data-json" in a:
+                    self.assertEqual(a.get("data-doc"), OTHER, f"{name}: {a}")
+                    self.assertIsNotNone(other, f"{name}: data-json without its document")
+                    where = f"{name}: <{e['tag']} data-json={a['data-json']!r}>"
+                    self.check_json_cell(other, where, a["data-json"], a["data-value"], text)
+                    seen.add((OTHER, a["data-json"]))
+                    n_checked += 1
+                if "data-derived" in a:
+                    doc = a.get("data-doc")
+                    where = f"{name}: data-derived={a['data-derived']!r}"
+                    v = evaluate((lambda q: get_ptr(other, q)) if doc == OTHER else get,
+                                 a["data-derived"])
+                    got = json.loads(a["data-value"])
+                    self.assertTrue(got == v or abs(got - v) <= 1e-12 * abs(v),
+                                    f"{where}: {got} vs {v}")
+                    seen.add(("derived", a["data-derived"]))
+                    n_checked += 1
+                if "data-src" in a:
+                    seen.add(("src", a["data-src"]))
+                    if a["data-src"] == WALL_TIME:
+                        self.assertGreater(float(a["data-value"]), 0.0, name)
+                # every table cell that shows a number says where the number comes from
+                # (itself, or each number in an element inside it that does)
+                if e["tag"] == "td" and re.search(r"\d", text) and not SOURCE_ATTRS & set(a):
                     self.assertNotRegex("".join(e["unsourced"]), r"\d",
                                         f"{name}: number cell without a source: {text!r}")
-        print(f"{name}: {n_checked} machine-readable numbers checked against analyze --json",
-              file=sys.stderr)
+        print(f"{name}: {n_checked} machine-readable numbers checked against the trajectory "
+              "file (and the other coupling's analyze --json)", file=sys.stderr)
         return seen
 
     def check_coverage(self, name, seen, other=None):
-        j = self.json[name]
-
+        """Every stage, flip, event, latch, crossing and danger window is in the page."""
         def need(pointer, doc=None):
-            self.assertTrue((doc, pointer) in seen, f"{name}: {pointer} ({doc or 'analyze'}) "
-                            "not in the report")
-        for key in ("/integrator", "/termination", "/steps", "/rhs_evaluations",
-                    "/wall_seconds", "/max_h_N_drift", "/mode", "/coupling"):
+            self.assertTrue((doc, pointer) in seen, f"{name}: {pointer} "
+                            f"({doc or 'trajectory file'}) not in the report")
+        for key in ("@integrator", "@termination", "@statistics#steps",
+                    "@statistics#evaluations", "@max_h_N_drift", "@mode", "@coupling"):
             need(key)
-        for i, s in enumerate(j["stages"]):
-            for k in ("index", "name", "law", "t_begin", "t_end", "spin_axis_end",
-                      "separatrix_distance", "caveat", "rigid_body_only", "flip_half_period",
-                      "rigid"):
-                need(ptr("stages", i, k))
-            if s["observed_flips"] or s["predicted_flips"]:
-                need(ptr("stages", i, "max_flip_time_difference"))
-            for k in range(3):
-                need(ptr("stages", i, "principal_moments_end", k))
-            if s["rigid"]:
-                need(ptr("stages", i, "regime"))
-                need(ptr("stages", i, "one_minus_k2"))
-            for n in range(len(s["predicted_flips"])):
-                need(ptr("stages", i, "predicted_flips", n))
-        for k in range(len(j["flip_times"])):
-            need(ptr("flip_times", k))
-        for w in range(len(j["danger_windows"])):
-            need(ptr("danger_windows", w, 0))
-            need(ptr("danger_windows", w, 1))
-        for k in range(len(j["spin_axis_45_crossings"])):
-            need(ptr("spin_axis_45_crossings", k))
-        for e, ev in enumerate(j["hinge_events"]):
-            for k in ("t", "panel_name", "kind", "angle"):
-                need(ptr("hinge_events", e, k))
-            if ev["kind"] != "release":
-                for k in ("rate_before", "rate_after", "impulse", "energy_dissipated"):
-                    need(ptr("hinge_events", e, k))
-                self.assertTrue(("derived", f"norm {ptr('hinge_events', e, 'w_jump_B')}") in seen,
-                                f"{name}: hub w jump of event {e} not in the report")
-        for panel in j["latch_times"]:
-            need(ptr("latch_times", panel))
-        for k in j.get("coupling_comparison", {}):
-            if k != "w_scale":
-                need(ptr("coupling_comparison", k))
+        self.assertIn(("src", WALL_TIME), seen, f"{name}: no wall time")
+        with h5py.File(self.h5[name], "r") as f:
+            st = f["stages"]
+            for i in range(len(st["t_begin"])):
+                for k in ("index", "name", "law", "t_begin", "t_end", "spin_axis_role",
+                          "separatrix_distance", "caveat", "rigid_body_only",
+                          "predicted_flip_half_period", "rigid", "observed_flip_count"):
+                    need(hp("stages/" + k, i))
+                if st["observed_flip_count"][i] or st["predicted_flip_count"][i]:
+                    need(hp("stages/max_flip_time_difference", i))
+                for k in range(3):
+                    need(hp("stages/moments_end", i, k))
+                if st["rigid"][i]:
+                    for k in ("regime", "one_minus_k2", "predicted_flip_count"):
+                        need(hp("stages/" + k, i))
+            for path in ("events/flip_time", "events/predicted_flip_time",
+                         "danger_windows/t_begin", "danger_windows/t_end",
+                         "events/spin_axis_45_time", "hinge_latch_time"):
+                for k in range(len(f[path])):
+                    need(hp(path, k))
+            ev = f["events/hinge"]
+            for e in range(len(ev["time"])):
+                for k in ("time", "panel_name", "kind", "angle"):
+                    need(hp("events/hinge/" + k, e))
+                if text_of(ev["kind"][e]) != "release":
+                    for k in ("rate_before", "rate_after", "impulse", "energy_dissipated"):
+                        need(hp("events/hinge/" + k, e))
+                    self.assertIn(("derived", f"norm {hp('events/hinge/w_jump_B', e)}"), seen,
+                                  f"{name}: hub w jump of event {e} not in the report")
         if other is not None:
+            for k in other.get("coupling_comparison", {}):
+                if k != "w_scale":
+                    need(ptr("coupling_comparison", k), OTHER)
             for k in range(len(other["flip_times"])):
-                need(ptr("flip_times", k), "other-coupling")
+                need(ptr("flip_times", k), OTHER)
 
     def check_self_contained(self, name):
         p = self.parse(name)
@@ -382,7 +479,7 @@ class ReportTest(unittest.TestCase):
     def test_other_kinds_of_profile(self):
         # A tensor model (no panels), an energy sink with no flip and a panel that never
         # locks, a spinning rotor (prescribed) with a free damper: every number still
-        # equals analyze --json and the page stays self-contained.
+        # equals the trajectory file and the page stays self-contained.
         for name, profile in (("seed_satellite", "deployment_profiles/seed_satellite.yaml"),
                               ("flat_spin", "deployment_profiles/minor_axis_flat_spin.yaml"),
                               ("dual_spin", "deployment_profiles/dual_spin_rotor.yaml")):
@@ -391,7 +488,8 @@ class ReportTest(unittest.TestCase):
                 t0 = time.monotonic()
                 subprocess.run(report_cmd(profile, out, "-q"), cwd=SOURCE, check=True)
                 print(f"report of {profile}: {time.monotonic() - t0:.2f} s", file=sys.stderr)
-                self.reports[name], self.json[name] = out, analyze_json(profile)
+                self.reports[name] = out
+                self.h5[name] = simulate(profile, self.art / f"{name}.h5")
                 self.check_coverage(name, self.check_numbers(name))
                 self.check_self_contained(name)
 
@@ -453,31 +551,50 @@ class ReportTest(unittest.TestCase):
             self.assertEqual((d / "good.yaml").read_bytes(), before)
             self.assertTrue(model.exists())
 
-    def test_runs_that_disagree_fail_loudly(self):
-        # A deploysim whose analyze --json moves the first flip by 1 ns: the report must
-        # refuse (exit 4) and write nothing.
+    def fake_deploysim(self, d, corrupt=False):
+        """A deploysim that logs its command lines to d/calls and runs the real one;
+        corrupt: its simulate then overwrites the trajectory file with text."""
+        fake = pathlib.Path(d, "deploysim")
+        fake.write_text(
+            f"#!{PYTHON}\nimport subprocess, sys\n"
+            f"with open({str(pathlib.Path(d, 'calls'))!r}, 'a') as log:\n"
+            "    log.write(' '.join(sys.argv[1:]) + '\\n')\n"
+            f"p = subprocess.run([{DEPLOYSIM!r}] + sys.argv[1:])\n"
+            f"if {corrupt!r} and sys.argv[1] == 'simulate' and p.returncode == 0:\n"
+            "    open(sys.argv[sys.argv.index('-o') + 1], 'w').write('not HDF5\\n')\n"
+            "sys.exit(p.returncode)\n")
+        fake.chmod(0o755)
+        return fake
+
+    def test_one_simulation_per_report(self):
+        # The run's numbers come from one simulate; analyze runs only for the comparison
+        # with the other coupling (a geometry-mode stage profile), never for this run.
+        for name, want in (("spring", ["simulate"]), ("three_stage", ["simulate", "analyze"])):
+            with self.subTest(name), tempfile.TemporaryDirectory() as d:
+                fake = self.fake_deploysim(d)
+                out = pathlib.Path(d, "r.html")
+                subprocess.run(report_cmd(CASES[name], out, "-q", deploysim=str(fake)),
+                               cwd=SOURCE, check=True)
+                calls = pathlib.Path(d, "calls").read_text().splitlines()
+                runs = [c for c in calls if c.split()[0] in ("simulate", "analyze")]
+                self.assertEqual([c.split()[0] for c in runs], want, calls)
+                if len(runs) > 1:
+                    self.assertIn("--coupling quasi-rigid", runs[1])
+
+    def test_unreadable_trajectory_fails_loudly(self):
+        # A deploysim whose simulate writes no HDF5 file: exit 5, one line, nothing written.
         with tempfile.TemporaryDirectory() as d:
-            fake = pathlib.Path(d, "deploysim")
-            fake.write_text(
-                f"#!{PYTHON}\nimport json, subprocess, sys\n"
-                f"p = subprocess.run([{DEPLOYSIM!r}] + sys.argv[1:], stdout=subprocess.PIPE, "
-                "text=True)\n"
-                "out = p.stdout\n"
-                "if '--json' in sys.argv and p.returncode == 0:\n"
-                "    j = json.loads(out); j['flip_times'][0] += 1e-9; out = json.dumps(j)\n"
-                "sys.stdout.write(out); sys.exit(p.returncode)\n")
-            fake.chmod(0o755)
+            fake = self.fake_deploysim(d, corrupt=True)
             out = pathlib.Path(d, "r.html")
             p = subprocess.run(report_cmd(CASES["spring"], out, deploysim=str(fake)),
                                cwd=SOURCE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                text=True)
-            self.assertEqual(p.returncode, 4, p.stderr)
-            lines = [ln for ln in p.stderr.splitlines() if not ln.startswith("report: ")
-                     or "error" in ln]
+            self.assertEqual(p.returncode, 5, p.stderr)
+            lines = p.stderr.splitlines()
             self.assertEqual(len(lines), 1, p.stderr)
-            self.assertIn("flip times[0]", lines[0])
+            self.assertIn("the trajectory file: not an HDF5 file", lines[0])
             self.assertFalse(out.exists())
-            self.assertEqual(sorted(os.listdir(d)), ["deploysim"])
+            self.assertEqual(sorted(os.listdir(d)), ["calls", "deploysim"])
 
     def test_help(self):
         p = subprocess.run([PYTHON, str(pathlib.Path(SOURCE) / "tools" / "report.py"), "--help"],
@@ -485,6 +602,130 @@ class ReportTest(unittest.TestCase):
         self.assertEqual(p.returncode, 0)
         self.assertIn("Examples:", p.stdout)
         self.assertIn("Exit codes", p.stdout)
+
+
+class ResultsReaderTest(unittest.TestCase):
+    """tools/deploysim_results.py, the tools' one trajectory reader: a fresh file read as
+    h5py reads it, a version 2 file from before the free-hinge outputs with its stand-ins,
+    and one clear error (file and dataset named) for each kind of bad file."""
+
+    OLD = "tests/io/data/trajectory_v2_before_issue9.h5"
+    # The datasets added to version 2 with the free hinges (docs/file_formats.md) that the
+    # reader fills in for an older file; /hinge_rates has no stand-in.
+    ADDITIONS = {"energy_spring", "energy_total", "panel_names", "hinge_latch_time",
+                 "events/spin_axis_45_time", "stages/caveat", "stages/rigid_body_only"} | {
+        "events/hinge/" + k for k in ("time", "panel", "panel_name", "kind", "angle",
+                                      "rate_before", "rate_after", "impulse", "w_jump_B",
+                                      "energy_dissipated")}
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.dir = pathlib.Path(cls.tmp.name)
+        cls.fresh = simulate(CASES["spring"], cls.dir / "spring.h5")
+        cls.old = pathlib.Path(SOURCE, cls.OLD)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def assert_as_h5py_reads(self, path, run):
+        """Every dataset and root attribute of the file, as h5py reads it; the per-sample
+        datasets (those filled in aside) found without a list of names."""
+        with h5py.File(path, "r") as f:
+            names = []
+            f.visititems(lambda k, o: names.append(k) if isinstance(o, h5py.Dataset) else None)
+            for k in names:
+                raw = f[k][()]
+                if raw.dtype.kind == "O":
+                    self.assertEqual(run[k], [text_of(x) for x in raw], k)
+                else:
+                    self.assertTrue(np.array_equal(run[k], raw, equal_nan=True), k)
+            self.assertEqual(run.attrs, {k: text_of(v) for k, v in f.attrs.items()})
+            n = len(f["time"])
+            per_sample = {k for k in f if isinstance(f[k], h5py.Dataset) and f[k].ndim
+                          and f[k].shape[0] == n and k not in ("panel_names", "hinge_latch_time")}
+        self.assertEqual(set(run.samples) - set(run.filled), per_sample)
+        return names
+
+    def test_fresh_file(self):
+        run = deploysim_results.read_trajectory(str(self.fresh))
+        names = self.assert_as_h5py_reads(self.fresh, run)
+        self.assertEqual(run.filled, [])
+        self.assertTrue(run.has_hinge_outputs)
+        self.assertTrue(self.ADDITIONS <= set(names))
+        self.assertEqual(run.panel_names, ["wing_plus_x", "wing_minus_x"])
+        self.assertEqual(list(run.latch_times), run.panel_names)
+        self.assertTrue(all(isinstance(v, str) for v in run.attrs.values()))
+        self.assertEqual(run.attr_fields("statistics")["steps"],
+                         run.attrs["statistics"].split(",")[0].split("=")[1])
+        stages = run.stages
+        self.assertEqual([s["name"] for s in stages], run["stages/name"])
+        self.assertEqual(sum(len(s["flip_rows"]) for s in stages), len(run.flip_time))
+        for s in stages:
+            self.assertEqual(len(s["flip_rows"]), s["observed_flip_count"])
+            self.assertEqual(len(s["predicted_flip_rows"]), s["predicted_flip_count"])
+        ev = run.hinge_events
+        self.assertEqual([e["kind"] for e in ev], run["events/hinge/kind"])
+        self.assertEqual(len(ev), 4)
+        self.assertEqual(len(run.danger_windows), len(run["danger_windows/t_begin"]))
+
+    def test_file_from_before_the_free_hinge_outputs(self):
+        run = deploysim_results.read_trajectory(str(self.old))
+        names = self.assert_as_h5py_reads(self.old, run)
+        self.assertFalse(self.ADDITIONS & set(names))
+        self.assertEqual(set(run.filled), self.ADDITIONS)
+        self.assertFalse(run.has_hinge_outputs)
+        n = len(run.time)
+        self.assertTrue(np.array_equal(run["energy_spring"], np.zeros(n)))
+        self.assertTrue(np.array_equal(run["energy_total"], run["energy"]))
+        self.assertIn("energy_total", run.samples)
+        self.assertEqual(run.panel_names, ["panel 0", "panel 1"])
+        self.assertEqual((run.hinge_events, run.latch_times), ([], {}))
+        self.assertEqual(run["events/hinge/w_jump_B"].shape, (0, 3))
+        self.assertEqual(len(run.spin_axis_45_time), 0)
+        self.assertEqual([s["caveat"] for s in run.stages], [""] * 5)
+        self.assertEqual([s["rigid_body_only"] for s in run.stages], [0] * 5)
+        self.assertIsNone(run.get("hinge_rates"))
+        with self.assertRaises(deploysim_results.TrajectoryError) as e:
+            run["hinge_rates"]
+        self.assertEqual(str(e.exception),
+                         f"{self.old}: not a deploysim trajectory (no dataset /hinge_rates)")
+
+    def assert_error(self, path, words):
+        with self.assertRaises(deploysim_results.TrajectoryError) as e:
+            deploysim_results.read_trajectory(str(path))
+        msg = str(e.exception)
+        self.assertTrue(msg.startswith(f"{path}: "), msg)
+        self.assertIn(words, msg)
+        self.assertEqual(len(msg.splitlines()), 1, msg)
+
+    def test_errors_name_the_file_and_what_is_wrong(self):
+        self.assert_error(self.dir / "nope.h5", "no such file")
+        text = self.dir / "notes.h5"
+        text.write_text("not HDF5\n")
+        self.assert_error(text, "not an HDF5 file")
+        v3 = self.dir / "v3.h5"
+        shutil.copy(self.fresh, v3)
+        with h5py.File(v3, "r+") as f:
+            f.attrs["schema_version"] = "3"
+        self.assert_error(v3, "schema_version 3: this reader reads version 2 only")
+        foreign = self.dir / "foreign.h5"
+        with h5py.File(foreign, "w") as f:
+            f["time"] = np.zeros(3)
+        self.assert_error(foreign, "not a deploysim trajectory (no schema_version attribute)")
+        no_q = self.dir / "no_q.h5"
+        shutil.copy(self.fresh, no_q)
+        with h5py.File(no_q, "r+") as f:
+            del f["q_NB"]
+        run = deploysim_results.read_trajectory(str(no_q))
+        with self.assertRaises(deploysim_results.TrajectoryError) as e:
+            run["q_NB"]
+        self.assertEqual(str(e.exception),
+                         f"{no_q}: not a deploysim trajectory (no dataset /q_NB)")
+        with self.assertRaises(deploysim_results.TrajectoryError) as e:
+            run.attr("no_such_attribute")
+        self.assertIn("@no_such_attribute", str(e.exception))
 
 
 if __name__ == "__main__":

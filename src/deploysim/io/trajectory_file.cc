@@ -287,8 +287,41 @@ void WriteAnalysis(Hdf5Writer& w, const analysis::MissionResult& r, bool geometr
 
 // ---- reading ----
 
-/// Reads one dataset of doubles whose shape is {any, trailing...}; returns the data and
-/// sets `rows`. Records its units attribute under its absolute path.
+/// The dataset `name` of `group` (absolute path `full`), which must exist, hold data of
+/// the type class `type` (`what`, for the message) and have a units attribute; records
+/// the units under `full`.
+H5::DataSet OpenDataset(const std::string& path,
+                        const H5::Group& group,
+                        const std::string& full,
+                        const std::string& name,
+                        H5T_class_t type,
+                        const char* what,
+                        TrajectoryFile& out) {
+  if (!group.nameExists(name)) throw std::runtime_error(path + ": " + full + ": missing dataset");
+  H5::DataSet ds = group.openDataSet(name);
+  if (ds.getTypeClass() != type) {
+    throw std::runtime_error(path + ": " + full + ": expected " + what);
+  }
+  if (!ds.attrExists("units")) {
+    throw std::runtime_error(path + ": " + full + ": missing units attribute");
+  }
+  std::string units;
+  const H5::Attribute a = ds.openAttribute("units");
+  a.read(a.getStrType(), units);
+  out.units[full] = units;
+  return ds;
+}
+
+/// The dimensions of a dataset.
+std::vector<hsize_t> Dims(const H5::DataSet& ds) {
+  const H5::DataSpace space = ds.getSpace();
+  std::vector<hsize_t> dims(static_cast<std::size_t>(space.getSimpleExtentNdims()));
+  space.getSimpleExtentDims(dims.data());
+  return dims;
+}
+
+/// Reads one dataset of doubles whose shape is {any, trailing...} (a trailing 0: any);
+/// returns the data and sets `rows`.
 std::vector<double> ReadDoubles(const std::string& path,
                                 const H5::Group& group,
                                 const std::string& group_path,
@@ -297,78 +330,48 @@ std::vector<double> ReadDoubles(const std::string& path,
                                 hsize_t& rows,
                                 TrajectoryFile& out) {
   const std::string full = group_path + "/" + name;
-  if (!group.nameExists(name)) throw std::runtime_error(path + ": " + full + ": missing dataset");
-  const H5::DataSet ds = group.openDataSet(name);
-  if (ds.getTypeClass() != H5T_FLOAT) {
-    throw std::runtime_error(path + ": " + full + ": expected floating-point data");
-  }
-  const H5::DataSpace space = ds.getSpace();
-  const int rank = space.getSimpleExtentNdims();
-  std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
-  space.getSimpleExtentDims(dims.data());
+  const H5::DataSet ds =
+      OpenDataset(path, group, full, name, H5T_FLOAT, "floating-point data", out);
+  const std::vector<hsize_t> dims = Dims(ds);
   bool ok = dims.size() == trailing.size() + 1;
   for (std::size_t i = 0; ok && i < trailing.size(); ++i) {
     ok = trailing[i] == 0 || dims[i + 1] == trailing[i];
   }
   if (!ok) throw std::runtime_error(path + ": " + full + ": unexpected shape");
-  std::vector<double> data(static_cast<std::size_t>(space.getSimpleExtentNpoints()));
+  std::vector<double> data(static_cast<std::size_t>(ds.getSpace().getSimpleExtentNpoints()));
   if (!data.empty()) ds.read(data.data(), H5::PredType::NATIVE_DOUBLE);
   rows = dims[0];
-  if (!ds.attrExists("units")) {
-    throw std::runtime_error(path + ": " + full + ": missing units attribute");
-  }
-  std::string units;
-  const H5::Attribute a = ds.openAttribute("units");
-  a.read(a.getStrType(), units);
-  out.units[full] = units;
   return data;
 }
 
-/// Reads a 1-D dataset of integers and records its units attribute.
+/// Reads a 1-D dataset of integers.
 std::vector<long long> ReadIntegers(const std::string& path,
                                     const H5::Group& group,
                                     const std::string& group_path,
                                     const std::string& name,
                                     TrajectoryFile& out) {
   const std::string full = group_path + "/" + name;
-  if (!group.nameExists(name)) throw std::runtime_error(path + ": " + full + ": missing dataset");
-  const H5::DataSet ds = group.openDataSet(name);
-  if (ds.getTypeClass() != H5T_INTEGER) {
-    throw std::runtime_error(path + ": " + full + ": expected integer data");
-  }
-  const H5::DataSpace space = ds.getSpace();
-  if (space.getSimpleExtentNdims() != 1) {
-    throw std::runtime_error(path + ": " + full + ": unexpected shape");
-  }
-  std::vector<long long> data(static_cast<std::size_t>(space.getSimpleExtentNpoints()));
+  const H5::DataSet ds = OpenDataset(path, group, full, name, H5T_INTEGER, "integer data", out);
+  const std::vector<hsize_t> dims = Dims(ds);
+  if (dims.size() != 1) throw std::runtime_error(path + ": " + full + ": unexpected shape");
+  std::vector<long long> data(static_cast<std::size_t>(dims[0]));
   if (!data.empty()) ds.read(data.data(), H5::PredType::NATIVE_LLONG);
-  if (!ds.attrExists("units")) {
-    throw std::runtime_error(path + ": " + full + ": missing units attribute");
-  }
-  std::string units;
-  const H5::Attribute a = ds.openAttribute("units");
-  a.read(a.getStrType(), units);
-  out.units[full] = units;
   return data;
 }
 
+/// Reads a 1-D dataset of variable-length strings.
 std::vector<std::string> ReadStrings(const std::string& path,
                                      const H5::Group& group,
                                      const std::string& group_path,
                                      const std::string& name,
                                      TrajectoryFile& out) {
   const std::string full = group_path + "/" + name;
-  if (!group.nameExists(name)) throw std::runtime_error(path + ": " + full + ": missing dataset");
-  const H5::DataSet ds = group.openDataSet(name);
-  if (ds.getTypeClass() != H5T_STRING || !ds.getStrType().isVariableStr()) {
+  const H5::DataSet ds =
+      OpenDataset(path, group, full, name, H5T_STRING, "variable-length strings", out);
+  if (!ds.getStrType().isVariableStr()) {
     throw std::runtime_error(path + ": " + full + ": expected variable-length strings");
   }
-  std::vector<std::string> values = hdf5::ReadTextValues(ds);
-  std::string units;
-  const H5::Attribute a = ds.openAttribute("units");
-  a.read(a.getStrType(), units);
-  out.units[full] = units;
-  return values;
+  return hdf5::ReadTextValues(ds);
 }
 
 H5::Group OpenGroup(const std::string& path, const H5::Group& parent, const std::string& name) {
