@@ -165,7 +165,9 @@ TEST_F(LimitsTest, OptionErrorsAreOneLine) {
       {"sweep " + sw + " --threads abc", "--threads: abc is not an integer"},
       {"sweep " + sw + " --threads 100000", "--threads: 100000 is not an integer in [0, 256]"},
       {"simulate " + wn + o + " --dt 1e-5x", "--dt: 1e-5x is not a number > 0"},
-      {"simulate " + wn + o + " --rtol -1", "--rtol: -1 is not a number in [1e-16, 1)"},
+      {"simulate " + wn + o + " --rtol -1", "--rtol: -1: must be in [1e-16, 1)"},
+      {"simulate " + wn + o + " --step -2", "--step: -2: must be >= 0 (0: automatic)"},
+      {"simulate " + wn + o + " --atol x", "--atol: x is not a number"},
       {"crosscheck " + wn + o + " --accuracy 5", "--accuracy: 5 is not a number in [1e-16, 0.1]"},
       {"crosscheck " + wn + o + " --until 1e300", "crosscheck end time 1e+300 s: must lie in"},
       {"crosscheck " + wn + o + " --until 1e999", "--until: 1e999 is not a number"},
@@ -176,6 +178,7 @@ TEST_F(LimitsTest, OptionErrorsAreOneLine) {
     SCOPED_TRACE(args);
     const CliRun r = Run(args);
     ExpectOneLine(r, msg);
+    EXPECT_EQ(r.exit_code, 1);  // bad input, as every other (not CLI11's own codes)
     EXPECT_EQ(r.err.find("179769313486"), std::string::npos) << r.err;
   }
   EXPECT_FALSE(fs::exists(Path("o.h5")));

@@ -71,14 +71,36 @@ CLI::Validator Number(const std::string& rule,
       rule);
 }
 
+// An `integrator:` key's override (--rtol, --atol, --step): its range is the profile
+// key's (schedule::IntegratorRuleViolated), stated there once.
+CLI::Validator IntegratorNumber(const std::string& key) {
+  using deploysim::schedule::IntegratorRuleViolated;
+  const std::string must = IntegratorRuleViolated(key, std::nan(""));  // "must be ..."
+  const std::string rule = must.substr(must.find(' ') + 1);            // "be ..."
+  return CLI::Validator(
+      [key](std::string& text) -> std::string {
+        const char* b = text.c_str();
+        char* e = nullptr;
+        errno = 0;
+        const double v = std::strtod(b, &e);
+        const std::string shown = text.size() > 40 ? text.substr(0, 40) + "..." : text;
+        if (e == b || *e != '\0' || errno != 0 || !std::isfinite(v)) {
+          return shown + " is not a number";
+        }
+        const std::string violated = IntegratorRuleViolated(key, v);
+        return violated.empty() ? std::string() : shown + ": " + violated;
+      },
+      rule.substr(rule.find(' ') + 1));
+}
+
 void AddOverrideOptions(CLI::App* cmd, Overrides& o) {
   cmd->add_option("--method", o.method, "integrator (see `deploysim methods`)");
   cmd->add_option("--rtol", o.rtol, "relative tolerance of adaptive integrators")
-      ->check(Number("in [1e-16, 1)", [](double v) { return v >= 1e-16 && v < 1.0; }));
+      ->check(IntegratorNumber("rtol"));
   cmd->add_option("--atol", o.atol, "absolute tolerance, relative to |H_B(0)|")
-      ->check(Number("> 0", [](double v) { return v > 0.0; }));
+      ->check(IntegratorNumber("atol"));
   cmd->add_option("--step", o.step, "fixed step [s] (initial step for adaptive methods)")
-      ->check(Number(">= 0", [](double v) { return v >= 0.0; }));
+      ->check(IntegratorNumber("step"));
   cmd->add_option("--dt", o.dt, "output sampling interval [s]")->check(Number("> 0", [](double v) {
     return v > 0.0;
   }));
@@ -541,7 +563,13 @@ int main(int argc, char** argv) {
   CommandLine cl;
   const Subcommands cmds = AddSubcommands(app, cl);
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; a bad option or value is bad input like any other
+    // (exit 1), not one of CLI11's own exit codes.
+    return app.exit(e) == 0 ? 0 : kExitBadInput;
+  }
 
   if (ExecNamedPythonTool(cmds)) return kExitBadInput;
 
