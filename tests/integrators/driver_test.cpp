@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <vector>
@@ -108,8 +109,11 @@ struct ScalarRun {
   explicit ScalarRun(
       std::vector<Spec> specs = {},
       std::vector<double> breakpoints = {},
-      std::function<double(double, double)> f = [](double t, double) { return std::cos(t); })
-      : events(std::move(specs)), adapter(std::move(f), std::move(breakpoints), tol, true) {
+      std::function<double(double, double)> f = [](double t, double) { return std::cos(t); },
+      Tolerances tolerances = {1e-10, 1e-10})
+      : tol(tolerances),
+        events(std::move(specs)),
+        adapter(std::move(f), std::move(breakpoints), tol, true) {
     settings.tolerances = tol;
   }
   driver::Outcome<Scalar> Go(double t_end, const std::vector<double>& grid = {}) {
@@ -126,7 +130,7 @@ struct ScalarRun {
     double at(std::size_t i) const override { return v_[i]; }
     const std::vector<double>& v_;
   };
-  Tolerances tol{1e-10, 1e-10};
+  Tolerances tol;
   IntegratorSettings settings;
   std::vector<Spec> events;
   ScalarAdapter adapter;
@@ -218,6 +222,45 @@ TEST(Driver, ATerminalZeroAtTheStartMustBeLeftFirst) {
   EXPECT_FALSE(left.stuck);
   EXPECT_TRUE(left.stopped_at_event);
   EXPECT_NEAR(left.final_state.t, M_PI, 5e-11);
+}
+
+// y' = 1 - t (y = t - t^2 / 2, which Heun's steps and the cubic Hermite give exactly)
+// and g = y - (1/2 - d), which just reaches zero near the peak at t = 1: both zeros,
+// 1 -+ sqrt(2 d), 2.8e-3 s apart, fall inside one step of about 0.04 s. Without a rate
+// the step's ends show no sign change and the pair is missed; with it the step is
+// searched on the dense output and both zeros are found (and only the rising one when
+// the direction asks for it).
+TEST(Driver, FindsAZeroPairInsideOneStepFromTheRate) {
+  const double d = 1e-6;
+  auto g = [d](const Scalar& s) { return s.y - (0.5 - d); };
+  auto rate = [](const Scalar& s) { return 1.0 - s.t; };
+  const double t_in = 1.0 - std::sqrt(2.0 * d), t_out = 1.0 + std::sqrt(2.0 * d);
+  auto run = [&](Spec spec) {
+    ScalarRun r({spec}, {}, [](double t, double) { return 1.0 - t; }, {1e-3, 1e-3});
+    driver::Outcome<Scalar> out = r.Go(3.0);
+    double longest = 0.0;  // the step across the peak
+    for (std::size_t i = 1; i < r.adapter.step_ends.size(); ++i) {
+      if (r.adapter.step_ends[i - 1] < t_in && r.adapter.step_ends[i] > t_out) {
+        longest = r.adapter.step_ends[i] - r.adapter.step_ends[i - 1];
+      }
+    }
+    return std::make_pair(out, longest);
+  };
+  const auto [blind, step] = run(Spec{"graze", g, 0, false, true});
+  EXPECT_GT(step, 2.0 * (t_out - t_in));  // the pair is inside one step
+  EXPECT_TRUE(blind.events.empty());
+  const auto [seen, step2] = run(Spec{"graze", g, 0, false, true, rate});
+  ASSERT_EQ(seen.events.size(), 2u);
+  EXPECT_EQ(seen.events[0].direction, 1);
+  EXPECT_EQ(seen.events[1].direction, -1);
+  EXPECT_NEAR(seen.events[0].t, t_in, 1e-12);  // measured 9e-14
+  EXPECT_NEAR(seen.events[1].t, t_out, 1e-12);
+  std::printf("zero pair found at %.3g and %.3g s from the closed form\n",
+              seen.events[0].t - t_in, seen.events[1].t - t_out);
+  const auto [rising, step3] = run(Spec{"graze", g, +1, true, true, rate});
+  ASSERT_EQ(rising.events.size(), 1u);
+  EXPECT_TRUE(rising.stopped_at_event);
+  EXPECT_EQ(rising.events[0].t, seen.events[0].t);
 }
 
 TEST(Driver, ATerminalFunctionAlreadyPastItsZeroStopsAtTheStart) {

@@ -71,6 +71,26 @@ double FlipFunction(const math::Mat3& J_B, const math::Vec3& spin_axis_B, const 
   return H_B.dot(LocateSpinAxis(J_B, spin_axis_B).axis_B);
 }
 
+double FlipFunctionRate(const math::Mat3& J_B,
+                        const math::Mat3& Jdot_B,
+                        const math::Vec3& spin_axis_B,
+                        const math::Vec3& H_B,
+                        const math::Vec3& Hdot_B) {
+  const math::PrincipalAxes p = math::PrincipalDecomposition(J_B);
+  const int i = NearestAxis(p, spin_axis_B);
+  math::Vec3 a = p.axes.col(i);
+  const double sign = a.dot(spin_axis_B) < 0.0 ? -1.0 : 1.0;
+  a *= sign;
+  math::Vec3 a_dot = math::Vec3::Zero();
+  for (int j = 0; j < 3; ++j) {
+    const double gap = p.moments[i] - p.moments[j];
+    if (j == i || std::abs(gap) <= kDegenerateMoments * p.moments[2]) continue;
+    const math::Vec3 e = p.axes.col(j);
+    a_dot += (e.dot(Jdot_B * a) / gap) * e;
+  }
+  return Hdot_B.dot(a) + H_B.dot(a_dot);
+}
+
 bool IsFlip(const math::Mat3& J_B, const math::Vec3& spin_axis_B, const math::Vec3& H_B) {
   const SpinAxisRole r = LocateSpinAxis(J_B, spin_axis_B);
   return r.role == AxisRole::kIntermediate &&

@@ -54,6 +54,17 @@ SpinAxisRole LocateSpinAxis(const math::PrincipalAxes& principal_J_B,
 /// The flip function g = H_B . a (see the rule above) [kg m^2/s].
 double FlipFunction(const math::Mat3& J_B, const math::Vec3& spin_axis_B, const math::Vec3& H_B);
 
+/// The rate of the flip function, dg/dt = H_B' . a + H_B . a' [kg m^2/s^2], from the
+/// rates of J_B and H_B seen in B. a' is the first-order change of the principal axis,
+/// sum over the other axes e_j of (e_j . J_B' a) / (J_a - J_j) e_j; a term whose two
+/// moments are equal (kDegenerateMoments) is left out (the axis is not defined there).
+/// For the search of a crossing and return inside one step (integrators::EventFunction).
+double FlipFunctionRate(const math::Mat3& J_B,
+                        const math::Mat3& Jdot_B,
+                        const math::Vec3& spin_axis_B,
+                        const math::Vec3& H_B,
+                        const math::Vec3& Hdot_B);
+
 /// Whether a located sign change of FlipFunction at a time where the inertia is J_B and
 /// the momentum H_B counts as a flip (the rule above).
 bool IsFlip(const math::Mat3& J_B, const math::Vec3& spin_axis_B, const math::Vec3& H_B);

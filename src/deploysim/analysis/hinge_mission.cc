@@ -95,6 +95,8 @@ class HingeRun {
   void AddStats(const integrators::Statistics& s);
   bool Stopped(integrators::Termination t, const std::string& message);
   double Cos(const Vec3& H_B) const { return s_.dot(H_B) / H_B.norm(); }
+  const FreeHingeSystem::Snapshot& SnapOf(const integrators::ShapeState& y) const;
+  Mat3 JdotOf(const integrators::ShapeState& y) const;
 
   const std::string where_;
   const model::HingedBody body_;
@@ -104,6 +106,12 @@ class HingeRun {
   const double t0_, t1_;
   FreeHingeSystem sys_;
   integrators::State y_;  // H_B, q_NB at t_
+  // The last shape state the event functions and their rates asked about (several ask
+  // about each step's end): its snapshot and, once asked for, dJ_B/dt.
+  mutable integrators::ShapeState memo_state_;
+  mutable FreeHingeSystem::Snapshot memo_snap_;
+  mutable bool memo_valid_ = false, memo_jdot_valid_ = false;
+  mutable Mat3 memo_jdot_ = Mat3::Zero();
   Eigen::VectorXd x_;     // shape state of the free set
   double t_;
   Vec3 s_;
@@ -290,16 +298,41 @@ bool HingeRun::Stopped(integrators::Termination t, const std::string& message) {
   return true;
 }
 
-// The terminal events of the free hinges (latches, jams, stops) and the spin-axis events.
+const FreeHingeSystem::Snapshot& HingeRun::SnapOf(const integrators::ShapeState& y) const {
+  if (!(memo_valid_ && y.t == memo_state_.t && y.H_B == memo_state_.H_B &&
+        y.x.size() == memo_state_.x.size() && y.x == memo_state_.x)) {
+    memo_snap_ = sys_.Snap(y.t, y.H_B, y.x);
+    memo_state_ = y;
+    memo_valid_ = true;
+    memo_jdot_valid_ = false;
+  }
+  return memo_snap_;
+}
+
+Mat3 HingeRun::JdotOf(const integrators::ShapeState& y) const {
+  const FreeHingeSystem::Snapshot& snap = SnapOf(y);
+  if (!memo_jdot_valid_) {
+    memo_jdot_ = model::ComputeMassProperties(body_, snap.theta, snap.theta_dot).Jdot_B;
+    memo_jdot_valid_ = true;
+  }
+  return memo_jdot_;
+}
+
+// The terminal events of the free hinges (latches, jams, stops) and the spin-axis events,
+// each with its rate (a hinge angle's is the hinge rate).
 void HingeRun::FreeEvents(std::vector<integrators::ShapeEventFunction>& events,
                           std::vector<EventTag>& tags) const {
   const std::vector<int>& free = sys_.free_hinges();
   auto add_hinge = [&](const std::string& name, double sense, double angle, HingeEvent::Kind kind,
                        int a, double restitution) {
+    const int k = free[static_cast<std::size_t>(a)];
     events.push_back(
         {name,
          [a, sense, angle](const integrators::ShapeState& s) { return sense * (s.x[a] - angle); },
-         1, true, options_.refine_events});
+         1, true, options_.refine_events,
+         [this, k, sense](const integrators::ShapeState& s) {
+           return sense * SnapOf(s).theta_dot[k];
+         }});
     tags.push_back({EventTag::What::kHinge, kind, a, angle, restitution});
   };
   for (int a = 0; a < static_cast<int>(free.size()); ++a) {
@@ -325,16 +358,24 @@ void HingeRun::FreeEvents(std::vector<integrators::ShapeEventFunction>& events,
     }
   }
   const Vec3 s = s_;
-  const FreeHingeSystem& sys = sys_;
+  auto h_dot = [this](const integrators::ShapeState& y) {
+    return Vec3(y.H_B.cross(SnapOf(y).w_NB_B));
+  };
   events.push_back({"flip",
-                    [&sys, s](const integrators::ShapeState& y) {
-                      return FlipFunction(sys.Snap(y.t, y.H_B, y.x).J_B, s, y.H_B);
+                    [this, s](const integrators::ShapeState& y) {
+                      return FlipFunction(SnapOf(y).J_B, s, y.H_B);
                     },
-                    0, false, options_.refine_events});
+                    0, false, options_.refine_events,
+                    [this, s, h_dot](const integrators::ShapeState& y) {
+                      return FlipFunctionRate(SnapOf(y).J_B, JdotOf(y), s, y.H_B, h_dot(y));
+                    }});
   tags.push_back({EventTag::What::kFlip});
   events.push_back({"spin axis 45 deg",
                     [s](const integrators::ShapeState& y) { return SpinAxis45Gap(s, y.H_B); }, 0,
-                    false, options_.refine_events});
+                    false, options_.refine_events,
+                    [s, h_dot](const integrators::ShapeState& y) {
+                      return SpinAxis45GapRate(s, y.H_B, h_dot(y));
+                    }});
   tags.push_back({EventTag::What::kCross45});
 }
 
@@ -343,6 +384,7 @@ void HingeRun::FreeEvents(std::vector<integrators::ShapeEventFunction>& events,
 // minimum of f inside a step from the cubic Hermite interpolant of f (no extra
 // right-hand sides; the error control keeps steps short against the nutation).
 SegmentEnd HingeRun::FreeSegment(double t_next) {
+  memo_valid_ = false;  // the free set may have changed
   std::vector<integrators::ShapeEventFunction> events;
   std::vector<EventTag> tags;
   FreeEvents(events, tags);
@@ -454,21 +496,19 @@ SegmentEnd HingeRun::RigidSegment(double t_next) {
   const Vec3 s = s_;
   const double M = M_;
   const FreeHingeSystem& sys = sys_;
-  const integrators::EventFunction flip{"flip", [&sys, s](const integrators::State& y) {
-                                          return FlipFunction(sys.Evaluate(y.t).J_B, s, y.H_B);
-                                        }};
-  const integrators::EventFunction cross45{
-      "spin axis 45 deg", [s](const integrators::State& y) { return SpinAxis45Gap(s, y.H_B); }};
   const integrators::EventFunction extremum{"spin axis extremum",
                                             [&sys, s, M](const integrators::State& y) {
                                               const dynamics::InertiaSample js = sys.Evaluate(y.t);
                                               const Vec3 w = js.J_inv_B * (y.H_B - js.h_rel_B);
                                               return s.dot(y.H_B.cross(w)) / M;
                                             }};
+  std::vector<integrators::EventFunction> events =
+      RigidSpinAxisEvents(s, [&sys](double t) { return sys.Evaluate(t); }, true);
+  events.push_back(extremum);
   const std::vector<EventTag> tags = {
       {EventTag::What::kFlip}, {EventTag::What::kCross45}, {EventTag::What::kExtremum}};
   const integrators::IntegrationResult r = integrators::Integrate(
-      *rigid_stepper_, settings_, sys_, y_, t_next, times, {flip, cross45, extremum},
+      *rigid_stepper_, settings_, sys_, y_, t_next, times, events,
       [this](const integrators::State& y) { rec_.Progress(y.t); },
       [&](const integrators::State& y) {
         const dynamics::Side side = y.t >= t_next ? dynamics::Side::kLeft : dynamics::Side::kRight;

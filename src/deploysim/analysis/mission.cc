@@ -400,18 +400,12 @@ MissionResult StageRun::Run() {
   }
   const GridWithExtras times(grid, extra_);
   times_ = &times;
-  const math::Vec3 s = s_;
   CachedSchedule& cache = cache_;
-  const integrators::EventFunction flip{"flip", [&cache, s](const integrators::State& y) {
-                                          return FlipFunction(cache.At(y.t).J_B, s, y.H_B);
-                                        }};
-  const integrators::EventFunction cross45{
-      "spin axis 45 deg", [s](const integrators::State& y) { return SpinAxis45Gap(s, y.H_B); }};
   const auto stepper = MakeStepper(profile_.integrator.method);
   last_sample_ = y0_;
   // An outcome-only run locates no 45-degree crossings (RunOptions::sample_trajectory).
-  std::vector<integrators::EventFunction> events{flip};
-  if (rec_.sampling()) events.push_back(cross45);
+  const std::vector<integrators::EventFunction> events = RigidSpinAxisEvents(
+      s_, [&cache](double t) { return cache.At(t); }, rec_.sampling());
   const integrators::IntegrationResult run = integrators::Integrate(
       *stepper, SettingsOf(profile_), sched_, y0_, t1_, times, events,
       [this](const integrators::State& y) { OnStep(y); },

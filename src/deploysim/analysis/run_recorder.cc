@@ -34,6 +34,38 @@ double SpinAxis45Gap(const math::Vec3& spin_axis_B, const math::Vec3& H_B) {
   return kCos45 - spin_axis_B.dot(H_B) / H_B.norm();
 }
 
+double SpinAxis45GapRate(const math::Vec3& spin_axis_B,
+                         const math::Vec3& H_B,
+                         const math::Vec3& Hdot_B) {
+  return -spin_axis_B.dot(Hdot_B) / H_B.norm();
+}
+
+std::vector<integrators::EventFunction> RigidSpinAxisEvents(
+    const math::Vec3& spin_axis_B,
+    const std::function<dynamics::InertiaSample(double)>& inertia,
+    bool cross45) {
+  const math::Vec3 s = spin_axis_B;
+  auto h_dot = [](const dynamics::InertiaSample& js, const math::Vec3& H_B) {
+    return math::Vec3(H_B.cross(js.J_inv_B * (H_B - js.h_rel_B)));
+  };
+  std::vector<integrators::EventFunction> events;
+  events.push_back(
+      {"flip",
+       [inertia, s](const integrators::State& y) { return FlipFunction(inertia(y.t).J_B, s, y.H_B); },
+       [inertia, s, h_dot](const integrators::State& y) {
+         const dynamics::InertiaSample js = inertia(y.t);
+         return FlipFunctionRate(js.J_B, js.Jdot_B, s, y.H_B, h_dot(js, y.H_B));
+       }});
+  if (cross45) {
+    events.push_back({"spin axis 45 deg",
+                      [s](const integrators::State& y) { return SpinAxis45Gap(s, y.H_B); },
+                      [inertia, s, h_dot](const integrators::State& y) {
+                        return SpinAxis45GapRate(s, y.H_B, h_dot(inertia(y.t), y.H_B));
+                      }});
+  }
+  return events;
+}
+
 RunRecorder::RunRecorder(const math::Vec3& spin_axis_B,
                          const math::Vec3& h_N0,
                          SampleSink* sink,

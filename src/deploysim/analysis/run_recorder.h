@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "deploysim/analysis/mission.h"
+#include "deploysim/dynamics/inertia_source.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/math/inertia.h"
 #include "deploysim/math/types.h"
@@ -62,6 +63,18 @@ struct AxisPoint {
 /// The 45-degree rule: cos 45 deg - s . H_B / |H_B|, whose zeros are the times the spin
 /// axis s passes 45 degrees from h_N (either way).
 double SpinAxis45Gap(const math::Vec3& spin_axis_B, const math::Vec3& H_B);
+/// Its rate, from the rate of H_B seen in B (H_B' = H_B x w_NB_B).
+double SpinAxis45GapRate(const math::Vec3& spin_axis_B,
+                         const math::Vec3& H_B,
+                         const math::Vec3& Hdot_B);
+
+/// The spin-axis event functions of a run on the rigid-body path (no free hinge), with
+/// their rates: the flip function (flip_rule.h) and, if `cross45`, the 45-degree gap.
+/// `inertia(t)`: the inertia sample at t (J_B, its rate, h_rel_B).
+std::vector<integrators::EventFunction> RigidSpinAxisEvents(
+    const math::Vec3& spin_axis_B,
+    const std::function<dynamics::InertiaSample(double)>& inertia,
+    bool cross45);
 
 /// A window [begin, end) of an output grid's indices (begin == end: no times).
 class WindowTimes final : public integrators::OutputTimes {

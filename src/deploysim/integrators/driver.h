@@ -48,6 +48,9 @@ struct EventSpec {
   int direction = 0;      ///< +1: rising sign changes only, -1: falling only, 0: both
   bool terminal = false;  ///< stop at the first located terminal event
   bool refine = true;     ///< finish the location on partial steps
+  /// dg/dt at a state (optional). With it a step is also searched for a crossing and
+  /// return inside it (both zeros between the step's ends, see GrazingCandidate).
+  std::function<double(const S&)> rate = {};
 };
 
 template <class S>
@@ -102,7 +105,10 @@ class Driver {
 
   Outcome<S> Run(double t_end) {
     EmitUntil(y_.t, true, y_, y_, false);  // samples at the start: the initial state
-    for (const EventSpec<S>& e : events_) g_prev_.push_back(e.g(y_));
+    for (const EventSpec<S>& e : events_) {
+      g_prev_.push_back(e.g(y_));
+      r_prev_.push_back(e.rate ? e.rate(y_) : 0.0);
+    }
     if (AlreadyPast()) return std::move(out_);
     for (std::size_t e = 0; e < events_.size(); ++e) {
       leaving_.push_back(events_[e].terminal && events_[e].direction != 0 && g_prev_[e] == 0.0);
@@ -193,24 +199,51 @@ class Driver {
     return Leave::kStuck;
   }
 
-  /// The sign change of function e inside the accepted step [y_, y1].
-  FoundEvent<S> Locate(std::size_t e, const S& y1, double g1, bool rising) {
+  /// The sign change of function e over [ta, tb] inside the accepted step [y_, y1]: g
+  /// is ga, gb there (exact), gda, gdb on the continuous extension.
+  FoundEvent<S> Locate(std::size_t e, const S& y1, double ta, double tb, double ga, double gb,
+                       double gda, double gdb) {
     const EventSpec<S>& fn = events_[e];
     const S y0 = y_;
     const bool refine = fn.refine && !a_.DenseIsExact();
     auto exact_at = [&](double t) {
       return t <= y0.t ? y0 : t >= y1.t ? y1 : a_.Partial(y0, t - y0.t);
     };
-    double t_ev = y1.t;
-    if (g1 != 0.0) {
-      t_ev = LocateEvent(
-          y0.t, y1.t, g_prev_[e], g1, [&](double t) { return fn.g(a_.Dense(t)); },
-          [&](double t) { return fn.g(exact_at(t)); }, !refine);
-    }
-    FoundEvent<S> ev{t_ev, static_cast<int>(e), rising ? 1 : -1,
+    const double t_ev = LocateEvent(
+        ta, tb, ga, gb, gda, gdb, [&](double t) { return fn.g(a_.Dense(t)); },
+        [&](double t) { return fn.g(exact_at(t)); }, !refine, y1.t - y0.t);
+    FoundEvent<S> ev{t_ev, static_cast<int>(e), ga < 0.0 ? 1 : -1,
                      refine ? exact_at(t_ev) : a_.Dense(t_ev)};
     ev.state.t = t_ev;
     return ev;
+  }
+
+  /// A grazing candidate of function e over the accepted step [y_, y1] (GrazingCandidate):
+  /// the extremum of g on the continuous extension, where its rate is 0; if g has crossed
+  /// zero there (on a partial step, when the location is refined), the crossing and the
+  /// return are events (those of the function's direction).
+  void Grazing(std::size_t e, const S& y1, double g1, double r1,
+               std::vector<FoundEvent<S>>& found) {
+    const EventSpec<S>& fn = events_[e];
+    const double t0 = y_.t, t1 = y1.t;
+    const double g0 = g_prev_[e], r0 = r_prev_[e];
+    const double tol_t = kEventRelTolerance * (t1 - t0);
+    std::uintmax_t iters = kMaxEventIterations;
+    const auto bracket = boost::math::tools::toms748_solve(
+        [&](double t) { return fn.rate(a_.Dense(t)); }, t0, t1, r0, r1,
+        [tol_t](double lo, double hi) { return hi - lo <= tol_t; }, iters);
+    const double tm = 0.5 * (bracket.first + bracket.second);
+    const double gdm = fn.g(a_.Dense(tm));
+    const bool refine = fn.refine && !a_.DenseIsExact();
+    const double gm = refine ? fn.g(a_.Partial(y_, tm - t0)) : gdm;
+    if ((gm < 0.0) == (g0 < 0.0) && gm != 0.0) return;
+    const int dir_in = g0 < 0.0 ? 1 : -1;  // the crossing; the return is the opposite
+    if (fn.direction == 0 || fn.direction == dir_in) {
+      found.push_back(Locate(e, y1, t0, tm, g0, gm, g0, gdm));
+    }
+    if (gm != 0.0 && (fn.direction == 0 || fn.direction == -dir_in)) {
+      found.push_back(Locate(e, y1, tm, t1, gm, g1, gdm, g1));
+    }
   }
 
   /// Keeps the events before the earliest terminal one (ties: the first) and stops there.
@@ -236,23 +269,30 @@ class Driver {
   /// The events over the accepted step [y_, y1]; true when a terminal one stopped the run.
   bool StepEvents(const S& y1) {
     if (events_.empty()) return false;
-    double t_stop = std::numeric_limits<double>::infinity();
     std::vector<FoundEvent<S>> found;
+    g_next_.resize(events_.size());
+    r_next_.resize(events_.size());
     for (std::size_t e = 0; e < events_.size(); ++e) {
-      const double g1 = events_[e].g(y1);
+      const EventSpec<S>& fn = events_[e];
+      const double g1 = fn.g(y1);
+      const double r1 = fn.rate ? fn.rate(y1) : 0.0;
       const double g0 = g_prev_[e];
       const bool rising = g0 < 0.0 && g1 >= 0.0;
       const bool falling = g0 > 0.0 && g1 <= 0.0;
-      const int dir = events_[e].direction;
-      if ((rising && dir >= 0) || (falling && dir <= 0)) {
-        found.push_back(Locate(e, y1, g1, rising));
-        if (events_[e].terminal) t_stop = std::min(t_stop, found.back().t);
+      if ((rising && fn.direction >= 0) || (falling && fn.direction <= 0)) {
+        found.push_back(Locate(e, y1, y_.t, y1.t, g0, g1, g0, g1));
+      } else if (fn.rate && GrazingCandidate(g0, r_prev_[e], g1, r1, y1.t - y_.t)) {
+        Grazing(e, y1, g1, r1, found);
       }
-      g_next_.resize(events_.size());
       g_next_[e] = g1;
+      r_next_[e] = r1;
     }
     std::sort(found.begin(), found.end(),
               [](const FoundEvent<S>& l, const FoundEvent<S>& r) { return l.t < r.t; });
+    double t_stop = std::numeric_limits<double>::infinity();
+    for (const FoundEvent<S>& ev : found) {
+      if (events_[static_cast<std::size_t>(ev.index)].terminal) t_stop = std::min(t_stop, ev.t);
+    }
     if (t_stop < std::numeric_limits<double>::infinity()) {
       StopAtTerminal(found, t_stop, y1);
       return true;
@@ -260,6 +300,7 @@ class Driver {
     out_.events.insert(out_.events.end(), found.begin(), found.end());
     std::fill(leaving_.begin(), leaving_.end(), 0);  // the accepted step left the zeros
     g_prev_.swap(g_next_);
+    r_prev_.swap(r_next_);
     return false;
   }
 
@@ -331,7 +372,8 @@ class Driver {
   const int q_;
   double h_adapt_;
   long attempts_ = 0;
-  std::vector<double> g_prev_, g_next_;
+  std::vector<double> g_prev_, g_next_;  // g at the ends of the accepted step
+  std::vector<double> r_prev_, r_next_;  // their rates (0 without a rate function)
   std::vector<char> leaving_;  // terminal functions at exactly 0, not yet left
   Outcome<S> out_;
 };

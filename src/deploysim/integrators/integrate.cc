@@ -231,7 +231,7 @@ IntegrationResult Integrate(const Stepper& stepper,
   State y = initial;
   y.q_NB = q_NB0;
   std::vector<driver::EventSpec<State>> specs;
-  for (const EventFunction& e : events) specs.push_back({e.name, e.g, 0, false, true});
+  for (const EventFunction& e : events) specs.push_back({e.name, e.g, 0, false, true, e.rate});
   IntegrationResult result;
   if (!samples) result.samples.reserve(output_times.size());
   const std::function<void(const State&)> emit =

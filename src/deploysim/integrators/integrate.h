@@ -44,6 +44,9 @@ struct IntegratorSettings {
 struct EventFunction {
   std::string name;
   std::function<double(const State&)> g;
+  /// dg/dt at a state (optional; analytic). With it, a crossing and return of zero
+  /// inside one step is found too (docs/design.md, "Events").
+  std::function<double(const State&)> rate = {};
 };
 
 struct Event {

@@ -316,7 +316,7 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
   }
   std::vector<driver::EventSpec<ShapeState>> specs;
   for (const ShapeEventFunction& e : events) {
-    specs.push_back({e.name, e.g, e.direction, e.terminal, e.refine});
+    specs.push_back({e.name, e.g, e.direction, e.terminal, e.refine, e.rate});
   }
   ShapeAdapter adapter(tableau, system, settings.tolerances);
   const std::function<void(const ShapeState&)> emit = [&samples](const ShapeState& s) {

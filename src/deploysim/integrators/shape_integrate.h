@@ -57,6 +57,10 @@ struct ShapeEventFunction {
   /// accuracy); false: on the dense output only (its own error, far below the steps'
   /// tolerance for the degree-9 Hermite and Dormand-Prince extensions; no extra steps).
   bool refine = true;
+  /// dg/dt at a state (optional; analytic). With it, a crossing and return of zero
+  /// inside one step (a panel that just reaches its latch) is found too: see the
+  /// guarantee in docs/design.md, "Events".
+  std::function<double(const ShapeState&)> rate = {};
 };
 
 struct ShapeEvent {
