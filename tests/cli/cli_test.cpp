@@ -150,10 +150,6 @@ TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
   fs::remove_all(d);
 }
 
-// Hinge profiles (issue 9): analyze runs them; simulate (no hinge trajectory output yet)
-// and crosscheck (no free-hinge Simbody model yet) refuse them with one line, exit 1 and
-// no output file (before that check they crashed on the empty stage list). Replace each
-// part when the command runs them.
 // A hinge profile (issue 9) runs through analyze, simulate (the trajectory with its hinge
 // outputs) and crosscheck (against the Simbody model of free hinges).
 TEST(CliTest, HingeProfilesRunThroughEveryCommand) {
@@ -177,7 +173,18 @@ TEST(CliTest, HingeProfilesRunThroughEveryCommand) {
     EXPECT_NE(checked.out.find("Simbody cross-check (free hinges)"), std::string::npos)
         << checked.out;
     EXPECT_NE(checked.out.find("latch times [s]"), std::string::npos) << checked.out;
+    EXPECT_NE(checked.out.find("verdict: agree"), std::string::npos) << checked.out;
     EXPECT_TRUE(fs::exists(cc));
+    // A tolerance below the two models' difference: they disagree, exit 4, and the
+    // comparison is still written (it is the evidence).
+    const fs::path strict = d / "strict.h5";
+    const CliRun disagree = RunCli(
+        "crosscheck '" + profile + "' --until 70 --tolerance 1e-13 -o '" + strict.string() + "'",
+        d);
+    EXPECT_EQ(disagree.exit_code, 4) << disagree.err;
+    EXPECT_NE(disagree.out.find("verdict: DISAGREE: H_B differs by"), std::string::npos)
+        << disagree.out;
+    EXPECT_TRUE(fs::exists(strict));
   }
   fs::remove_all(d);
 }

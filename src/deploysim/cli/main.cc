@@ -44,6 +44,8 @@ namespace {
 using deploysim::analysis::MissionResult;
 
 constexpr int kExitBadInput = 1;
+constexpr int kExitIncomplete = 3;  // simulate: the integration did not reach the end
+constexpr int kExitDisagree = 4;    // crosscheck: the two models disagree (CrosscheckVerdict)
 constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as shells report it
 
 struct Overrides {
@@ -194,6 +196,7 @@ struct CommandLine {
   Overrides ov;
 #ifdef DEPLOYSIM_HAVE_CROSSCHECK
   double cc_accuracy = 1e-12;
+  double cc_tolerance = deploysim::crosscheck::kDefaultAgreementTolerance;
   std::optional<double> cc_until;
   bool speed_study = false;
   std::string speed_csv;
@@ -297,6 +300,10 @@ CLI::App* AddCrosscheckCommand(CLI::App& app, CommandLine& cl) {
       ->check(Number("(finite)", [](double) { return true; }));
   cc->add_option("--dt", cl.ov.dt, "output sampling interval [s]")
       ->check(Number("> 0", [](double v) { return v > 0.0; }));
+  cc->add_option("--tolerance", cl.cc_tolerance,
+                 "largest relative difference that counts as agreement (default 1e-4): exit "
+                 "status 4 beyond it, or when the flips or hinge events differ")
+      ->check(Number("in (0, 1]", [](double v) { return v > 0.0 && v <= 1.0; }));
   cc->add_flag("--speed-study", cl.speed_study,
                "also run the deployment-speed study: quasi-rigid coupling vs Simbody for "
                "deployments of 1 to 1000 s (geometry-mode profiles)");
@@ -453,7 +460,7 @@ int RunSimulate(CommandLine& cl, const deploysim::schedule::Profile& profile, bo
       {cl.out_path, cl.out_path + ".csv"});
   if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
     std::cerr << "deploysim: error: " << cl.profile_path << ": integration " << r.message << "\n";
-    return 3;
+    return kExitIncomplete;
   }
   outputs.Finish(r);
   outputs.Commit();
@@ -499,8 +506,12 @@ int RunCrosscheck(CommandLine& cl, const deploysim::schedule::Profile& profile, 
     const xc::FreeHingeCrosscheckResult r =
         NamingFile(cl.profile_path, [&] { return xc::RunFreeHingeCrosscheck(profile, o); });
     xc::WriteCrosscheckFile(cl.out_path, xc::AsCrosscheckResult(r));
-    std::cout << xc::FormatFreeHingeCrosscheckTable(r) << "\nwrote " << cl.out_path << "\n";
-    return 0;
+    const xc::CrosscheckVerdict v =
+        xc::Judge(r.difference, r.max_flip_difference, r.events.same_sequence, r.events.max_time,
+                  r.profile.t_end() - r.profile.t_begin(), cl.cc_tolerance);
+    std::cout << xc::FormatFreeHingeCrosscheckTable(r) << "\n"
+              << xc::FormatVerdict(v) << "\nwrote " << cl.out_path << "\n";
+    return v.agree ? 0 : kExitDisagree;
   }
   xc::CrosscheckOptions o;
   o.accuracy = cl.cc_accuracy;
@@ -508,7 +519,11 @@ int RunCrosscheck(CommandLine& cl, const deploysim::schedule::Profile& profile, 
   const xc::CrosscheckResult r =
       NamingFile(cl.profile_path, [&] { return xc::RunCrosscheck(profile, o); });
   xc::WriteCrosscheckFile(cl.out_path, r);
-  std::cout << xc::FormatCrosscheckTable(r) << "\nwrote " << cl.out_path << "\n";
+  const xc::CrosscheckVerdict v = xc::Judge(r.difference, r.max_flip_difference, true, 0.0,
+                                            r.profile.t_end() - r.profile.t_begin(),
+                                            cl.cc_tolerance);
+  std::cout << xc::FormatCrosscheckTable(r) << "\n"
+            << xc::FormatVerdict(v) << "\nwrote " << cl.out_path << "\n";
   if (cl.speed_study) {
     xc::SpeedStudyOptions so;
     so.accuracy = cl.cc_accuracy;
@@ -519,7 +534,7 @@ int RunCrosscheck(CommandLine& cl, const deploysim::schedule::Profile& profile, 
               << xc::FormatSpeedStudyTable(st) << "\nwrote " << cl.speed_csv
               << " (plot: /usr/bin/python3 tools/plot_speed_study.py " << cl.speed_csv << ")\n";
   }
-  return 0;
+  return v.agree ? 0 : kExitDisagree;
 }
 #endif
 

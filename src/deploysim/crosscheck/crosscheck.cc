@@ -149,6 +149,42 @@ CrosscheckResult RunCrosscheck(const schedule::Profile& profile, const Crosschec
   return r;
 }
 
+CrosscheckVerdict Judge(const TrajectoryDifference& d,
+                        double max_flip_difference,
+                        bool events_same,
+                        double max_event_time,
+                        double duration,
+                        double tolerance) {
+  CrosscheckVerdict v;
+  v.tolerance = tolerance;
+  auto fail = [&v](const std::string& why) {
+    if (v.agree) v.reason = why;
+    v.agree = false;
+  };
+  if (!events_same) fail("the hinge events differ (kinds, panels or counts)");
+  if (std::isinf(max_flip_difference)) fail("the flip counts differ");
+  if (!(d.max_H_B_relative <= tolerance)) {
+    fail("H_B differs by " + Num(d.max_H_B_relative) + " of |H|");
+  }
+  if (d.w_scale > 0.0 && !(d.max_w <= tolerance * d.w_scale)) {
+    fail("w_NB_B differs by " + Num(d.max_w / d.w_scale) + " of its largest value");
+  }
+  const double t_tol = tolerance * duration;
+  if (!std::isinf(max_flip_difference) && !(max_flip_difference <= t_tol)) {
+    fail("a flip time differs by " + Num(max_flip_difference) + " s");
+  }
+  if (events_same && !(max_event_time <= t_tol)) {
+    fail("an event time differs by " + Num(max_event_time) + " s");
+  }
+  return v;
+}
+
+std::string FormatVerdict(const CrosscheckVerdict& v) {
+  const std::string rule = "(tolerance " + Num(v.tolerance) +
+                           ": H_B and w relative, flip and event times relative to the run)";
+  return v.agree ? "verdict: agree " + rule : "verdict: DISAGREE: " + v.reason + " " + rule;
+}
+
 std::string FormatCrosscheckTable(const CrosscheckResult& r) {
   std::ostringstream o;
   const schedule::Profile& p = r.profile;

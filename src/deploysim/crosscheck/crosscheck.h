@@ -69,6 +69,32 @@ struct CrosscheckResult {
   double reduced_max_analytic_error = 0.0;            ///< max |H_B,reduced - H_B,analytic| / |H|
 };
 
+/// The default agreement tolerance of a cross-check (CrosscheckVerdict).
+inline constexpr double kDefaultAgreementTolerance = 1e-4;
+
+/// Whether the reduced model and Simbody agree: the same flips (and, for a hinge profile,
+/// the same sequence of hinge events: kinds, panels, order), and every difference within
+/// `tolerance`: H_B relative to |H_B(t0)|, w_NB_B relative to Simbody's largest |w|, and
+/// flip and event times relative to the run's length. `reason`: the first rule broken.
+struct CrosscheckVerdict {
+  bool agree = true;
+  std::string reason;
+  double tolerance = kDefaultAgreementTolerance;
+};
+
+/// The verdict from a comparison: `events_same` false when the hinge events differ,
+/// `max_event_time` the largest event-time difference [s] (0 without events),
+/// max_flip_difference +inf when the flip counts differ.
+CrosscheckVerdict Judge(const TrajectoryDifference& difference,
+                        double max_flip_difference,
+                        bool events_same,
+                        double max_event_time,
+                        double duration,
+                        double tolerance);
+
+/// "verdict: agree (...)" or "verdict: DISAGREE: <reason> (...)", one line.
+std::string FormatVerdict(const CrosscheckVerdict& verdict);
+
 /// The profile cut at t_end (see CrosscheckOptions::t_end); throws std::invalid_argument
 /// if t_end is outside (t_begin, t_end] or inside a move stage.
 schedule::Profile TruncateProfile(const schedule::Profile& profile, double t_end);
