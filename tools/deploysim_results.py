@@ -35,7 +35,7 @@ PER_PANEL = ("panel_names", "hinge_latch_time")
 # The columns of the hinge event table /events/hinge/* (for its empty stand-in).
 HINGE_EVENT_TEXT = ("panel_name", "kind")
 HINGE_EVENT_NUMBERS = ("time", "angle", "rate_before", "rate_after", "impulse",
-                       "energy_dissipated")
+                       "energy_dissipated", "drive_work")
 
 
 class TrajectoryError(Exception):

@@ -58,7 +58,7 @@ py::dict StageDict(const analysis::StageReport& a, const schedule::Profile& p, s
 
 py::dict EventColumns(const analysis::MissionResult& r) {
   const std::size_t n = r.hinge_events.size();
-  std::vector<double> time, angle, before, after, impulse, dissipated;
+  std::vector<double> time, angle, before, after, impulse, dissipated, drive;
   std::vector<math::Vec3> jump;
   std::vector<long long> panel;
   py::list kind, name;
@@ -73,6 +73,7 @@ py::dict EventColumns(const analysis::MissionResult& r) {
     impulse.push_back(e.impulse);
     jump.push_back(e.w_jump_B);
     dissipated.push_back(e.energy_dissipated);
+    drive.push_back(e.drive_work);
   }
   py::dict d;
   d["time"] = Doubles(std::move(time));
@@ -85,6 +86,7 @@ py::dict EventColumns(const analysis::MissionResult& r) {
   d["impulse"] = Doubles(std::move(impulse));
   d["w_jump_B"] = Vec3s(std::move(jump));
   d["energy_dissipated"] = Doubles(std::move(dissipated));
+  d["drive_work"] = Doubles(std::move(drive));
   return d;
 }
 

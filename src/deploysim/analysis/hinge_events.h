@@ -32,6 +32,10 @@ struct HingeEvent {
   math::Vec3 w_jump_B = math::Vec3::Zero();  ///< [rad/s] hub w_NB_B+ - w_NB_B-.
   /// [J] kinetic energy lost: (M^-1)_kk lambda^2 / 2 (docs/design.md 2.7); 0 for a release.
   double energy_dissipated = 0.0;
+  /// [J] impulsive work of the drives of the prescribed hinges moving at the event (they
+  /// keep their rates through it): the kinetic energy jumps by drive_work -
+  /// energy_dissipated. 0 when no prescribed hinge moves.
+  double drive_work = 0.0;
 };
 
 /// "release", "latch", "jam", "stop", "rest".

@@ -469,6 +469,7 @@ void HingeRun::OnHingeEvent(const EventTag& tag, bool stuck) {
   ev.impulse = imp.lambda;
   ev.w_jump_B = imp.w_jump_B;
   ev.energy_dissipated = imp.energy_dissipated;
+  ev.drive_work = imp.drive_work;
   out_.hinge_events.push_back(ev);
   if (!lock) return;
   rec_.ClosePhase(before);

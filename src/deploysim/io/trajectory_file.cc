@@ -171,7 +171,7 @@ void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
 /// time of every panel and the model's panel names (geometry mode).
 void WriteHingeOutputs(Hdf5Writer& w, const analysis::MissionResult& r, bool geometry) {
   const std::vector<model::Panel>& panels = r.profile.model.hinged.panels;
-  std::vector<double> time, angle, before, after, impulse, jump, dissipated;
+  std::vector<double> time, angle, before, after, impulse, jump, dissipated, drive;
   std::vector<long long> panel;
   std::vector<std::string> panel_name, kind;
   for (const analysis::HingeEvent& e : r.hinge_events) {
@@ -185,6 +185,7 @@ void WriteHingeOutputs(Hdf5Writer& w, const analysis::MissionResult& r, bool geo
     impulse.push_back(e.impulse);
     jump.insert(jump.end(), {e.w_jump_B[0], e.w_jump_B[1], e.w_jump_B[2]});
     dissipated.push_back(e.energy_dissipated);
+    drive.push_back(e.drive_work);
   }
   const std::size_t count = time.size();
   const std::string g = "/events/hinge/";
@@ -207,7 +208,11 @@ void WriteHingeOutputs(Hdf5Writer& w, const analysis::MissionResult& r, bool geo
             "jump of the hub's angular velocity w_NB_B+ - w_NB_B- (the latch shock), B "
             "components");
   w.Doubles(g + "energy_dissipated", {count}, dissipated, "J",
-            "kinetic energy lost in the impulse, (M^-1)_kk impulse^2 / 2 (0 for a release)");
+            "energy the impulse at the hinge dissipates: minus its work, ((rate_before)^2 - "
+            "(rate_after)^2) / (2 (M^-1)_kk) (0 for a release)");
+  w.Doubles(g + "drive_work", {count}, drive, "J",
+            "impulsive work of the drives of the prescribed hinges moving at the event (they "
+            "keep their rates); the kinetic energy jumps by drive_work - energy_dissipated");
   w.Doubles("/hinge_latch_time", {r.latch_times.size()}, r.latch_times, "s",
             "per panel, the time it locked (latch, jam or rest on a stop); NaN if it never "
             "did; empty for stage profiles");
@@ -421,6 +426,10 @@ void ReadHingeEvents(const std::string& path, const H5::Group& g, TrajectoryFile
   const std::vector<double> impulse = doubles("impulse", {});
   const std::vector<double> jump = doubles("w_jump_B", {3});
   const std::vector<double> dissipated = doubles("energy_dissipated", {});
+  // Files written before the column existed: no drive work recorded (0).
+  const std::vector<double> drive = g.nameExists("drive_work")
+                                        ? doubles("drive_work", {})
+                                        : std::vector<double>(time.size(), 0.0);
   for (std::size_t i = 0; i < time.size(); ++i) {
     HingeEventRow row;
     analysis::HingeEvent& e = row.event;
@@ -433,6 +442,7 @@ void ReadHingeEvents(const std::string& path, const H5::Group& g, TrajectoryFile
     e.impulse = impulse[i];
     e.w_jump_B = math::Vec3(jump[3 * i], jump[3 * i + 1], jump[3 * i + 2]);
     e.energy_dissipated = dissipated[i];
+    e.drive_work = drive[i];
     row.panel_name = names[i];
     out.hinge_events.push_back(row);
   }

@@ -375,6 +375,14 @@ FreeHingeSystem::Impulse FreeHingeSystem::ApplyImpulse(
   // is the change of the kinetic energy, for a plastic latch -theta'^2 / (2 (A^-1)_aa).
   out.energy_dissipated =
       -(out.lambda * out.rate_before + 0.5 * out.lambda * out.lambda * col[3 + a]);
+  // The moving prescribed hinges keep their rates: their conjugate momenta jump by the
+  // coupling rows times the jump of (w, theta'_f), and their drives do that times the
+  // (unchanged) rate.
+  const int q = static_cast<int>(moving_.size());
+  for (int b = 0; b < q; ++b) {
+    const double dp = out.lambda * M_.row(u + b).head(u).dot(col);
+    out.drive_work += dp * theta_dot_[moving_[static_cast<std::size_t>(b)]];
+  }
   x[m + a] += out.lambda;
   return out;
 }

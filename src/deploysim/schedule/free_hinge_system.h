@@ -110,6 +110,9 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
     double rate_before = 0.0, rate_after = 0.0;  ///< [rad/s]
     math::Vec3 w_jump_B = math::Vec3::Zero();    ///< [rad/s]
     double energy_dissipated = 0.0;              ///< [J] -(work of the impulse)
+    /// [J] work of the impulses the drives of the moving prescribed hinges exert to keep
+    /// their rates: the kinetic energy jumps by drive_work - energy_dissipated.
+    double drive_work = 0.0;
   };
   Impulse ApplyImpulse(
       double t, const math::Vec3& H_B, Eigen::VectorXd& x, int a, double rate_after) const;
