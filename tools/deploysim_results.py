@@ -83,6 +83,8 @@ def _fallbacks(data):
     }
     out.update({"events/hinge/" + k: [] for k in HINGE_EVENT_TEXT})
     out.update({"events/hinge/" + k: np.zeros(0) for k in HINGE_EVENT_NUMBERS})
+    # Added later: a file with hinge events but no drive work recorded reads 0 for each.
+    out["events/hinge/drive_work"] = np.zeros(len(data.get("events/hinge/time", [])))
     if "energy" in data:
         out["energy_total"] = data["energy"] + data.get("energy_spring", energy_spring)
     if angles is not None:

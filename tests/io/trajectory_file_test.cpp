@@ -614,6 +614,7 @@ TEST_F(TrajectoryFileTest, EveryDatasetHasUnits) {
       {"/events/hinge/impulse", "N m s"},
       {"/events/hinge/w_jump_B", "rad/s"},
       {"/events/hinge/energy_dissipated", "J"},
+      {"/events/hinge/drive_work", "J"},
       {"/stages/caveat", "none"},
       {"/stages/rigid_body_only", "1"},
       {"/danger_windows/t_begin", "s"},

@@ -616,7 +616,7 @@ class ResultsReaderTest(unittest.TestCase):
                  "events/spin_axis_45_time", "stages/caveat", "stages/rigid_body_only"} | {
         "events/hinge/" + k for k in ("time", "panel", "panel_name", "kind", "angle",
                                       "rate_before", "rate_after", "impulse", "w_jump_B",
-                                      "energy_dissipated")}
+                                      "energy_dissipated", "drive_work")}
 
     @classmethod
     def setUpClass(cls):
