@@ -512,7 +512,9 @@ SegmentEnd HingeRun::RigidSegment(double t_next) {
       *rigid_stepper_, settings_, sys_, y_, t_next, times, events,
       [this](const integrators::State& y) { rec_.Progress(y.t); },
       [&](const integrators::State& y) {
-        const dynamics::Side side = y.t >= t_next ? dynamics::Side::kLeft : dynamics::Side::kRight;
+        // At a prescribed rate jump (a window's end on an output time) the sample holds
+        // the state after it, as every output does; the run's end holds its final state.
+        const dynamics::Side side = y.t >= t1_ ? dynamics::Side::kLeft : dynamics::Side::kRight;
         rec_.Sample(SampleOf(y.t, y.H_B, y.q_NB, Eigen::VectorXd(), side));
       });
   next_out_ = out_end;
