@@ -124,6 +124,36 @@ TEST(FreeHingeCrosscheckTest, LinearWindowsOnOutputTimes) {
   EXPECT_LE(r.difference.max_w, 3e-12 * r.difference.w_scale);  // measured 8.8e-13 of max |w|
 }
 
+// A wing already swinging at the start (initial.hinge_rates): both models start it with
+// that rate and H_B = J w + B theta'.
+TEST(FreeHingeCrosscheckTest, PanelReleasedWhileMoving) {
+  const HingePlan wing = WithLatch(Free(0.3, -30 * kDeg, 0.2), 0.0);
+  schedule::Profile p = HingeProfile(SmallSat(), {wing, Locked()}, SmallSatSpin(), 100.0);
+  p.initial.hinge_rates = Eigen::Vector2d(-25 * kDeg, 0.0);
+  const FreeHingeCrosscheckResult r = Check(Tight(p), "wing released at -25 deg/s");
+  ASSERT_FALSE(r.reduced.trajectory.hinge_rates.empty());
+  // The rate and w solved back from (H_B, p): rounding.
+  EXPECT_NEAR(r.reduced.trajectory.hinge_rates[0][0], -25 * kDeg, 1e-15);
+  EXPECT_LT((r.reduced.trajectory.w_NB_B[0] - SmallSatSpin()).norm(), 1e-15);
+}
+
+// A dual-spin craft whose rotor (a free hinge on a bearing, no spring) spins at 10 rad/s
+// from the start, with a pendulum nutation damper on the platform.
+TEST(FreeHingeCrosscheckTest, RotorSpinningFromTheStart) {
+  const model::Model m = MakeModel(
+      "dual_spin", 60.0, math::Vec3(0.6, 0.6, 1.2),
+      {MakePanel("rotor", -1, math::Vec3(0, 0, 0.9), math::Vec3::UnitZ(), math::Vec3::Zero(), 40.0,
+                 math::Vec3(0.87, 0.87, 0.6)),
+       MakePanel("damper", -1, math::Vec3(0.3, 0, 0.36), math::Vec3::UnitY(),
+                 math::Vec3(0.3, 0, 0), 2.0, math::Vec3(0.08, 0.08, 0.08))},
+      Eigen::Vector2d(0.0, 0.0));
+  schedule::Profile p =
+      HingeProfile(m, {Free(0.0, 0.0, 0.0), Free(0.44, 0.0, 0.5)}, math::Vec3(0.05, 0, 0), 100.0);
+  p.initial.hinge_rates = Eigen::Vector2d(10.0, 0.0);
+  const FreeHingeCrosscheckResult r = Check(Tight(p), "rotor at 10 rad/s from the start");
+  EXPECT_NEAR(r.reduced.trajectory.hinge_rates[0][0], 10.0, 1e-13);
+}
+
 TEST(FreeHingeCrosscheckTest, MotorDrivenHinge) {
   HingePlan a = WithLatch(Free(0.0, 0.0, 0.3), 0.0);
   a.drive.motor.kind = schedule::Motor::Kind::kTorqueSpeed;

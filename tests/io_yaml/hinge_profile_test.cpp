@@ -101,7 +101,10 @@ class HingeProfileTest : public testing::TempDirTest {
 
   /// kEveryKey with `from` replaced by `to` (which must occur once).
   static std::string Edited(const std::string& from, const std::string& to) {
-    std::string text = kEveryKey;
+    return EditedText(kEveryKey, from, to);
+  }
+  /// `text` with `from` replaced by `to` (which must occur once).
+  static std::string EditedText(std::string text, const std::string& from, const std::string& to) {
     const std::size_t at = text.find(from);
     EXPECT_NE(at, std::string::npos) << from;
     EXPECT_EQ(text.find(from, at + 1), std::string::npos) << from << " occurs twice";
@@ -243,6 +246,39 @@ hinges: {}
   ASSERT_EQ(none.hinges.size(), 4u);
   for (const HingePlan& h : none.hinges) EXPECT_EQ(h.kind, HingePlan::Kind::kLocked);
   EXPECT_TRUE(none.is_hinge_profile());
+}
+
+// initial.hinge_rates_deg_s: one rate per panel, in deg/s; non-zero only for a hinge
+// free from the start.
+TEST_F(HingeProfileTest, InitialHingeRates) {
+  const std::string text = R"(name: moving
+model: four.yaml
+initial:
+  configuration: open
+  angular_velocity: [0, 0.5, 0]
+  hinge_rates_deg_s: [0, 0, 0, 3600]
+until: 10
+hinges:
+  rotor:
+    free: {}
+)";
+  const schedule::Profile p = ReadProfile(WriteProfile(text));
+  ASSERT_EQ(p.initial.hinge_rates.size(), 4);
+  EXPECT_DOUBLE_EQ(p.initial.hinge_rates[3], 3600 * kDeg);
+  EXPECT_EQ(p.initial.hinge_rates[0], 0.0);
+  std::string path = WriteProfile(
+      EditedText(text, "[0, 0, 0, 3600]", "[0, 0, 3600]"));
+  EXPECT_EQ(ErrorOf(path), path + ": initial.hinge_rates_deg_s: 3 rates for 4 panels (one per "
+                                  "panel, in the model's order)");
+  path = WriteProfile(EditedText(text, "[0, 0, 0, 3600]", "[10, 0, 0, 3600]"));
+  EXPECT_EQ(ErrorOf(path),
+            path + ": initial.hinge_rates_deg_s[0] (wing_plus_x) = 10: only a free hinge "
+                   "released at the start may move at `start` (a prescribed hinge's rate comes "
+                   "from its moves; a locked or held one is at rest)");
+  path = WriteProfile(EditedText(text, "    free: {}", "    free: {release: {at: 5}}"));
+  EXPECT_NE(ErrorOf(path).find("initial.hinge_rates_deg_s[3] (rotor) = 3600: only a free hinge"),
+            std::string::npos)
+      << ErrorOf(path);
 }
 
 TEST_F(HingeProfileTest, StageProfilesHaveNoHinges) {

@@ -67,6 +67,21 @@ struct EventTag {
 /// How a segment ended.
 enum class SegmentEnd { kReached, kHingeEvent, kStopped };
 
+/// The state at t0: InitialState, plus, when the profile gives the hub's angular velocity,
+/// the momentum of the hinges it starts moving (H_B = J w + B theta', linear in the rates).
+integrators::State HingeInitialState(const schedule::Profile& profile,
+                                     const FreeHingeSystem& sys,
+                                     const model::HingedBody& body) {
+  integrators::State y = InitialState(profile, sys);
+  const Eigen::VectorXd& rate0 = profile.initial.hinge_rates;
+  if (profile.initial.w_NB_B && rate0.size() > 0) {
+    const Eigen::VectorXd& theta0 =
+        profile.model.configuration(profile.initial.configuration).hinge_angles;
+    y.H_B += model::ComputeMassProperties(body, theta0, rate0).h_rel_B;
+  }
+  return y;
+}
+
 class HingeRun {
  public:
   HingeRun(const schedule::Profile& profile,
@@ -105,6 +120,7 @@ class HingeRun {
   const RunOptions& options_;
   const double t0_, t1_;
   FreeHingeSystem sys_;
+  const Eigen::VectorXd plans_rate0_;  // initial.hinge_rates (empty: all at rest)
   integrators::State y_;  // H_B, q_NB at t_
   // The last shape state the event functions and their rates asked about (several ask
   // about each step's end): its snapshot and, once asked for, dJ_B/dt.
@@ -155,7 +171,8 @@ HingeRun::HingeRun(const schedule::Profile& profile,
       t0_(profile.t_begin()),
       t1_(profile.t_end()),
       sys_(body_, plans_, profile.model.configuration(profile.initial.configuration).hinge_angles),
-      y_(InitialState(profile, sys_)),
+      plans_rate0_(profile.initial.hinge_rates),
+      y_(HingeInitialState(profile, sys_, body_)),
       t_(t0_),
       s_(options.spin_axis_B ? *options.spin_axis_B
                              : InitialSpinAxis(sys_.Evaluate(t0_).J_B, y_.H_B)),
@@ -259,7 +276,9 @@ bool HingeRun::ReleasesDue() {
     const RunSample before = Current(dynamics::Side::kRight);
     if (!changed && started_) rec_.ClosePhase(before);
     changed = true;
-    x_ = sys_.Free(k, t_, y_.H_B, x_);
+    // A hinge the profile starts moving (initial.hinge_rates) is released at t0 with it.
+    const Eigen::VectorXd& rate0 = plans_rate0_;
+    x_ = sys_.Free(k, t_, y_.H_B, x_, t_ == t0_ && rate0.size() > 0 ? rate0[k] : 0.0);
     release_angle_[i] = before.theta[k];
     release_time_[i] = std::numeric_limits<double>::infinity();
     HingeEvent ev;

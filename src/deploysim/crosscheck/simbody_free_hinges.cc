@@ -458,12 +458,17 @@ class Runner {
     const math::Mat3 R_NB0 = profile_.initial.q_NB.normalized().toRotationMatrix();
     sys_.hub.setQToFitRotation(s, ToRotation(R_NB0));
     sys_.hub.setQToFitTranslation(s, SimTK::Vec3(0));
+    // Every hinge at rest but those the profile starts moving (free from the start).
+    const Eigen::VectorXd& rate0 = profile_.initial.hinge_rates;
+    auto rate_of = [&rate0](std::size_t k) { return rate0.size() > 0 ? rate0[Index(k)] : 0.0; };
     for (std::size_t k = 0; k < n_; ++k) {
       sys_.pins[k].setOneQ(s, 0, angle0_[Index(k)]);
-      sys_.pins[k].setOneU(s, 0, 0.0);
+      sys_.pins[k].setOneU(s, 0, rate_of(k));
     }
     for (std::size_t k = 0; k < n_; ++k) {
-      if (profile_.hinges[k].kind != HingePlan::Kind::kPrescribed) sys_.pins[k].lock(s);
+      if (profile_.hinges[k].kind != HingePlan::Kind::kPrescribed && rate_of(k) == 0.0) {
+        sys_.pins[k].lock(s);
+      }
     }
     u_index_.assign(kHubU + n_, 0);
     const int hub_first = sys_.hub.getFirstUIndex(s);

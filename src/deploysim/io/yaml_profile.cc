@@ -85,11 +85,18 @@ void RequireConfiguration(const Fields& f, const std::string& key, const model::
 
 schedule::InitialState ReadInitial(const Fields& top, bool hinge_profile, const model::Model& m) {
   const Fields f = top.Mapping(
-      "initial", {"attitude_wxyz", "angular_velocity", "angular_momentum", "configuration"});
+      "initial", {"attitude_wxyz", "angular_velocity", "angular_momentum", "configuration",
+                  "hinge_rates_deg_s"});
   schedule::InitialState init;
   if (hinge_profile) {
     init.configuration = f.Name("configuration");
     RequireConfiguration(f, "configuration", m);
+    if (f.Has("hinge_rates_deg_s")) {
+      // The count is checked (with the rule) by schedule::ValidateProfile.
+      init.hinge_rates = f.Numbers("hinge_rates_deg_s", -1) * yaml::kRadiansPerDegree;
+    }
+  } else if (f.Has("hinge_rates_deg_s")) {
+    f.Fail("hinge_rates_deg_s", "only in hinge profiles (`hinges:`)");
   } else if (f.Has("configuration")) {
     f.Fail("configuration",
            "only in hinge profiles (`hinges:`): a stage profile starts in the configuration "

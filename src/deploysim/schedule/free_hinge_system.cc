@@ -132,13 +132,12 @@ Eigen::VectorXd FreeHingeSystem::Lock(int k, double angle, const Eigen::VectorXd
   return nx;
 }
 
-Eigen::VectorXd FreeHingeSystem::Free(int k,
-                                      double t,
-                                      const math::Vec3& H_B,
-                                      const Eigen::VectorXd& x) {
-  const Snapshot before = Snap(t, H_B, x);
+Eigen::VectorXd FreeHingeSystem::Free(
+    int k, double t, const math::Vec3& H_B, const Eigen::VectorXd& x, double rate) {
+  Snapshot before = Snap(t, H_B, x);
   const int m = free_count();
   Free(k);
+  before.theta_dot[k] = rate;
   const Eigen::VectorXd full = ShapeState(t, H_B, before.theta, before.theta_dot);
   Eigen::VectorXd nx(2 * (m + 1));
   nx.head(m) = x.head(m);

@@ -50,9 +50,11 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   /// Locks free hinge k at `angle`: x without hinge k's entries, the other angles and
   /// momenta unchanged.
   Eigen::VectorXd Lock(int k, double angle, const Eigen::VectorXd& x);
-  /// Frees hinge k at time t, at rest (theta' = 0) at its locked angle: it joins the end of
-  /// the set; the other free hinges keep their angles and momenta.
-  Eigen::VectorXd Free(int k, double t, const math::Vec3& H_B, const Eigen::VectorXd& x);
+  /// Frees hinge k at time t at its locked angle, moving at `rate` [rad/s] (0: at rest; a
+  /// run may start a hinge moving): it joins the end of the set; H_B and the other free
+  /// hinges' angles and momenta are kept (so w takes up the rate's momentum).
+  Eigen::VectorXd Free(
+      int k, double t, const math::Vec3& H_B, const Eigen::VectorXd& x, double rate = 0.0);
   /// The free hinges in shape-state order.
   const std::vector<int>& free_hinges() const { return free_; }
   bool IsFree(int k) const;

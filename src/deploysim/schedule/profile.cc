@@ -510,6 +510,36 @@ void ValidateReleaseOrder(const Profile& p, const std::string& where) {
 }
 
 /// One plan per panel; each plan's own rules, then the release order.
+/// initial.hinge_rates_deg_s: one finite rate per panel, non-zero only where the hinge
+/// moves freely from the start (a prescribed hinge's rate comes from its moves, a locked
+/// or held one is at rest).
+void ValidateInitialRates(const Profile& p, const std::string& where) {
+  const Eigen::VectorXd& r = p.initial.hinge_rates;
+  if (r.size() == 0) return;
+  const std::vector<model::Panel>& panels = p.model.hinged.panels;
+  if (r.size() != static_cast<Eigen::Index>(panels.size())) {
+    Fail(where, "initial.hinge_rates_deg_s: " + std::to_string(r.size()) + " rates for " +
+                    std::to_string(panels.size()) + " panels (one per panel, in the model's order)");
+  }
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const double rate = r[static_cast<Eigen::Index>(k)];
+    const std::string key = "initial.hinge_rates_deg_s[" + std::to_string(k) + "] (" +
+                            panels[k].name + ") = " + Deg(rate);
+    if (!std::isfinite(rate)) Fail(where, key + ": must be finite");
+    if (rate == 0.0) continue;
+    const HingePlan& plan = p.hinges[k];
+    const Release& rel = plan.drive.release;
+    const bool from_start = rel.kind == Release::Kind::kAtStart ||
+                            (rel.kind == Release::Kind::kAtTime && rel.time <= p.t_begin());
+    if (plan.kind != HingePlan::Kind::kFree || !from_start) {
+      Fail(where, key +
+                      ": only a free hinge released at the start may move at `start` (a "
+                      "prescribed hinge's rate comes from its moves; a locked or held one is "
+                      "at rest)");
+    }
+  }
+}
+
 void ValidateHinges(const Profile& p, const std::string& where) {
   const std::vector<model::Panel>& panels = p.model.hinged.panels;
   if (p.hinges.size() != panels.size()) {
@@ -528,6 +558,7 @@ void ValidateHinges(const Profile& p, const std::string& where) {
     }
   }
   ValidateReleaseOrder(p, where);
+  ValidateInitialRates(p, where);
 }
 
 void ValidateNumerics(const Profile& p, const std::string& where) {

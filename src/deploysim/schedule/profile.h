@@ -53,6 +53,10 @@ struct InitialState {
   /// `hinges:` profiles: the model configuration giving the hinge angles at t0 (required
   /// there; empty in stage profiles, whose first stage names it).
   std::string configuration;
+  /// `hinges:` profiles: the hinge rates at t0 [rad/s], one per panel (empty: every hinge
+  /// at rest). Non-zero only for a free hinge released at the start (a panel released
+  /// while moving, a free rotor already spinning); ValidateProfile states the rule.
+  Eigen::VectorXd hinge_rates;
 };
 
 struct IntegratorSpec {
