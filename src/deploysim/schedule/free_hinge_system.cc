@@ -222,14 +222,102 @@ void FreeHingeSystem::Evaluate(double t,
   Solve(H_B, x);
   model::ComputeVelocity(body_, tree_, pose_, w_, theta_dot_, vel_);
   model::KineticEnergyGradient(tree_, pose_, vel_, free_, grad_);
-  x_dot.resize(2 * m);
+  const bool ledger = x.size() == 2 * m + kLedgerTerms;
+  x_dot.resize(ledger ? 2 * m + kLedgerTerms : 2 * m);
   for (int a = 0; a < m; ++a) {
     const int k = free_[static_cast<std::size_t>(a)];
     const double rate = theta_dot_[k];
     x_dot[a] = rate;
     x_dot[m + a] = grad_[a] + Torque(k, t, side, x[a], rate);
   }
+  if (ledger) {
+    const Powers p = PowersNow(t, side, H_B, x);
+    x_dot.tail<kLedgerTerms>() << p.damper, p.friction, p.motor, p.drive;
+  }
   w_NB_B = w_;
+}
+
+FreeHingeSystem::Powers FreeHingeSystem::PowersNow(double t,
+                                                   dynamics::Side side,
+                                                   const Vec3& H_B,
+                                                   const Eigen::VectorXd& x) const {
+  Powers p;
+  for (int a = 0; a < free_count(); ++a) {
+    const int k = free_[static_cast<std::size_t>(a)];
+    const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
+    const double rate = theta_dot_[k];
+    const NonConservativeParts q = NonConservativeTorqueParts(d, rate);
+    p.damper += q.damper * rate;
+    p.friction += q.friction * rate;
+    double motor = q.motor;
+    if (d.motor.kind == Motor::Kind::kServo) {
+      motor += ServoTorque(d.motor, servo_ref_[static_cast<std::size_t>(k)].At(t, side), x[a],
+                           rate);
+    }
+    p.motor += motor * rate;
+  }
+  if (!moving_.empty()) p.drive = DrivePower(t, side, H_B, x);
+  return p;
+}
+
+// The drives' power is dE/dt along the flow minus the free hinges' powers (the work-energy
+// theorem: the constraint torques that hold the prescribed motion do the rest). With
+// u = (w, theta'_f) unknown, v = theta'_p prescribed, M = [A C; C' D] over (u, v) and the
+// momenta pi = (H_B, p_f), E = 1/2 pi' A^-1 pi + 1/2 v' S v + V with S = D - C' A^-1 C.
+// Write x = A^-1 pi, y = A^-1 C v (u = x - y), X = (x, 0), Y = (y, -v) (so (u, v) = X - Y),
+// and g_j(z) = 1/2 z' (dM/dtheta_j) z, which is model::KineticEnergyGradient at velocities z.
+// Then dE/dt = P_free + P_drive with
+//   P_drive = sum_b [(g_b(Y) - g_b(X)) v_b + (S v)_b v'_b]           (explicit time)
+//           + y_w . H_B' + sum_f y_f p_f'                                (dE/dpi = x = u + y)
+//           - sum_f theta'_f (g_f(X) - g_f(X - Y) - g_f(Y))              (dE/dtheta_f at fixed pi)
+// over moving prescribed hinges b and free hinges f; H_B' = H_B x w, p_f' the flow's.
+// Checked against a difference quotient of E along the flow (free_hinge_system_test.cpp).
+double FreeHingeSystem::DrivePower(double t,
+                                   dynamics::Side side,
+                                   const Vec3& H_B,
+                                   const Eigen::VectorXd& x) const {
+  const int m = free_count();
+  const int u = 3 + m;
+  const int q = static_cast<int>(moving_.size());
+  A_ = M_.topLeftCorner(u, u);
+  const Eigen::LLT<Eigen::MatrixXd> llt(A_);
+  Eigen::VectorXd pi(u);
+  pi.head<3>() = H_B;
+  pi.tail(m) = x.segment(m, m);
+  Eigen::VectorXd v(q);
+  for (int b = 0; b < q; ++b) v[b] = theta_dot_[moving_[static_cast<std::size_t>(b)]];
+  const Eigen::VectorXd xa = llt.solve(pi);
+  const Eigen::VectorXd ya = llt.solve(M_.block(0, u, u, q) * v);
+  const Eigen::VectorXd Sv = M_.block(u, u, q, q) * v - M_.block(0, u, u, q).transpose() * ya;
+  // g over (free, moving) at the velocities z (w = z.head<3>(), free rates z.tail(m), the
+  // moving prescribed hinges at v_sign v).
+  std::vector<int> wrt(free_.begin(), free_.end());
+  wrt.insert(wrt.end(), moving_.begin(), moving_.end());
+  auto half_form = [&](const Eigen::VectorXd& z, double v_sign, Eigen::VectorXd& g) {
+    drive_rates_.setZero(tree_.size());
+    for (int a = 0; a < m; ++a) drive_rates_[free_[static_cast<std::size_t>(a)]] = z[3 + a];
+    for (int b = 0; b < q; ++b) drive_rates_[moving_[static_cast<std::size_t>(b)]] = v_sign * v[b];
+    model::ComputeVelocity(body_, tree_, pose_, z.head<3>(), drive_rates_, drive_vel_);
+    model::KineticEnergyGradient(tree_, pose_, drive_vel_, wrt, g);
+  };
+  half_form(xa, 0.0, drive_gx_);
+  half_form(ya, -1.0, drive_gy_);
+  Eigen::VectorXd g_uv;  // at the actual velocities (u, v) = X - Y
+  half_form(xa - ya, 1.0, g_uv);
+  double power = 0.0;
+  for (int b = 0; b < q; ++b) {
+    const int k = moving_[static_cast<std::size_t>(b)];
+    const double accel = prescribed_[static_cast<std::size_t>(k)].At(t, side).acceleration;
+    power += (drive_gy_[m + b] - drive_gx_[m + b]) * v[b] + Sv[b] * accel;
+  }
+  power += ya.head<3>().dot(H_B.cross(w_));
+  for (int a = 0; a < m; ++a) {
+    const int k = free_[static_cast<std::size_t>(a)];
+    const double rate = theta_dot_[k];
+    const double p_dot = g_uv[a] + Torque(k, t, side, x[a], rate);
+    power += ya[3 + a] * p_dot - rate * (drive_gx_[a] - g_uv[a] - drive_gy_[a]);
+  }
+  return power;
 }
 
 double FreeHingeSystem::Torque(
@@ -318,6 +406,7 @@ FreeHingeSystem::Snapshot FreeHingeSystem::Snap(double t,
     }
     s.power += q * theta_dot_[k];
   }
+  s.powers = PowersNow(t, side, H_B, x);
   return s;
 }
 

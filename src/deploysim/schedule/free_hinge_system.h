@@ -78,6 +78,18 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
                                    dynamics::Side side = dynamics::Side::kRight) const override;
   bool IsRigidOn(double t0, double t1) const override;
 
+  /// The power [W] of each source of work on the system at one state: the dampers,
+  /// friction and motors (servos included) of the free hinges, and the drives of the
+  /// moving prescribed hinges (dT/dt at fixed H_B and x: what the prescribed motion puts
+  /// in). Along the flow dE/dt is their sum (E = T + V).
+  struct Powers {
+    double damper = 0.0, friction = 0.0, motor = 0.0, drive = 0.0;
+    double sum() const { return damper + friction + motor + drive; }
+  };
+  /// The entries of the work accumulators a shape state may carry after (theta_f, p_f):
+  /// Evaluate gives their rates, the Powers in this order, and they do not act back.
+  static constexpr int kLedgerTerms = 4;
+
   /// Everything at one state (outputs, events, impulses).
   struct Snapshot {
     math::Vec3 w_NB_B = math::Vec3::Zero();   ///< [rad/s]
@@ -87,8 +99,10 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
     math::Vec3 h_rel_B = math::Vec3::Zero();  ///< [kg m^2/s] = B theta'
     double kinetic_energy = 0.0;              ///< [J] 1/2 v^T M v
     double spring_energy = 0.0;               ///< [J] sum of the free hinges' springs V
-    /// [W] sum over free hinges of NonConservativeTorque theta': dE/dt along the flow.
+    /// [W] sum over free hinges of NonConservativeTorque theta' (servos included): dE/dt
+    /// along the flow while no prescribed hinge moves.
     double power = 0.0;
+    Powers powers;  ///< [W] by source, the prescribed drives' included
   };
   Snapshot Snap(double t,
                 const math::Vec3& H_B,
@@ -126,6 +140,12 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   void Solve(const math::Vec3& H_B, const Eigen::VectorXd& x) const;
   /// M_ over cols_ at pose_ (kept while neither the angles nor cols_ change).
   void UpdateMassMatrix() const;
+  /// The Powers at the state of the last Setup and Solve (x: its theta_f, p_f).
+  Powers PowersNow(double t, dynamics::Side side, const math::Vec3& H_B,
+                   const Eigen::VectorXd& x) const;
+  /// The prescribed drives' power: dT/dt at fixed (H_B, p_f), after Setup and Solve.
+  double DrivePower(double t, dynamics::Side side, const math::Vec3& H_B,
+                    const Eigen::VectorXd& x) const;
 
   model::HingedBody body_;
   model::PanelTree tree_;
@@ -143,6 +163,8 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   mutable std::vector<int> cols_, moving_;
   mutable Eigen::MatrixXd M_, A_;
   mutable Eigen::VectorXd rhs_, sol_, grad_, rates_;
+  mutable model::TreeVelocity drive_vel_;
+  mutable Eigen::VectorXd drive_rates_, drive_gx_, drive_gy_;
   // What pose_, M_ and the last inertia sample were computed from: while every hinge is
   // locked (or at rest) the outputs and events of a rigid phase ask for the same
   // configuration again and again, and the tree's kinematics need not be redone. Keyed

@@ -73,21 +73,27 @@ double DriveTorque(const FreeDrive& d, double theta, double theta_dot) {
 }
 
 double NonConservativeTorque(const FreeDrive& d, double theta_dot) {
-  double q = -d.damping * theta_dot;
+  const NonConservativeParts q = NonConservativeTorqueParts(d, theta_dot);
+  return q.damper + q.motor + q.friction;
+}
+
+NonConservativeParts NonConservativeTorqueParts(const FreeDrive& d, double theta_dot) {
+  NonConservativeParts q;
+  q.damper = -d.damping * theta_dot;
   switch (d.motor.kind) {
     case Motor::Kind::kNone:
       break;
     case Motor::Kind::kConstant:
-      q += d.motor.torque;
+      q.motor = d.motor.torque;
       break;
     case Motor::Kind::kTorqueSpeed:
-      q += d.motor.stall_torque * (1.0 - theta_dot / d.motor.no_load_speed);
+      q.motor = d.motor.stall_torque * (1.0 - theta_dot / d.motor.no_load_speed);
       break;
     case Motor::Kind::kServo:
       break;  // time-dependent: ServoTorque, added by the caller
   }
   if (d.friction.torque > 0.0) {
-    q -= d.friction.torque * std::tanh(theta_dot / d.friction.regularization_speed);
+    q.friction = -d.friction.torque * std::tanh(theta_dot / d.friction.regularization_speed);
   }
   return q;
 }

@@ -55,6 +55,14 @@ double ServoTorque(const Motor& motor, const HingeKinematics& ref, double theta,
 /// dE/dt = sum_k NonConservativeTorque_k theta'_k along the flow (E = T + V).
 double NonConservativeTorque(const FreeDrive& drive, double theta_dot);
 
+/// NonConservativeTorque by its source [N m] (their sum), for the energy ledger.
+struct NonConservativeParts {
+  double damper = 0.0;
+  double friction = 0.0;
+  double motor = 0.0;  ///< a servo's torque is added by the caller (ServoTorque)
+};
+NonConservativeParts NonConservativeTorqueParts(const FreeDrive& drive, double theta_dot);
+
 /// The spring's stored energy V(theta) = 1/2 k (theta - rest)^2 - preload (theta - rest) [J].
 double SpringEnergy(const FreeDrive& drive, double theta);
 
