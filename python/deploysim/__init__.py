@@ -121,6 +121,9 @@ class SimulationResult:
       euler_313          (N, 3)    [rad] precession, nutation, spin relative to h_N
       spin_axis_angle    (N,)      [rad] initial body spin axis vs h_N
       hinge_angles       (N, P)    [rad]; hinge_rates (N, P) [rad/s]
+      work_damper , work_friction , work_motor , work_drive , work_impacts (N,) [J] the
+                         energy ledger: work done on the system since the start by each
+                         source; energy_total = energy_total[0] + their sum
     Events:
       flips              (F,)      [s] located flips (/events/flip_time)
       predicted_flips    (F',)     [s] closed-form flips of the rigid stages
@@ -128,7 +131,7 @@ class SimulationResult:
       events             dict of columns: the hinge event table (/events/hinge/*): time [s],
                          panel, panel_name, kind, angle [rad], rate_before, rate_after
                          [rad/s], impulse [N m s], w_jump_B (E, 3) [rad/s],
-                         energy_dissipated [J]
+                         energy_dissipated [J], drive_work [J]
       latch_times        (P,) or (0,) [s] per panel, NaN if it never locked
       danger_windows     dict t_begin, t_end [s]
     Analysis:

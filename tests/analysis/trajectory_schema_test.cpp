@@ -36,6 +36,11 @@ Trajectory Samples(std::size_t n, std::size_t panels) {
     t.spin_axis_angle.push_back(x / 10);
     t.hinge_angles.push_back(Eigen::VectorXd::Constant(static_cast<Eigen::Index>(panels), x));
     t.hinge_rates.push_back(Eigen::VectorXd::Constant(static_cast<Eigen::Index>(panels), -x));
+    t.work_damper.push_back(-x);
+    t.work_friction.push_back(-x / 2);
+    t.work_motor.push_back(x / 3);
+    t.work_drive.push_back(x / 4);
+    t.work_impacts.push_back(-x / 5);
   }
   return t;
 }

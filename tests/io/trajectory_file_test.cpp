@@ -95,6 +95,10 @@ MissionResult SyntheticResult(schedule::Mode mode) {
     t.energy_spring.push_back(u(rng));
     t.euler_313.push_back(vec());
     t.spin_axis_angle.push_back(u(rng));
+    for (auto* w : {&t.work_damper, &t.work_friction, &t.work_motor, &t.work_drive,
+                    &t.work_impacts}) {
+      w->push_back(u(rng));
+    }
     if (mode == schedule::Mode::kGeometry) {
       t.hinge_angles.push_back(Eigen::Vector2d(u(rng), u(rng)));
       t.hinge_rates.push_back(Eigen::Vector2d(u(rng), u(rng)));
@@ -229,28 +233,16 @@ bool HaveH5dump() { return std::system("h5dump --version > /dev/null 2>&1") == 0
 
 class TrajectoryFileTest : public testing::TempDirTest {};
 
-/// Samples [from, to) of t.
+/// Samples [from, to) of t, column by column as the schema lists them.
 analysis::Trajectory Slice(const analysis::Trajectory& t, std::size_t from, std::size_t to) {
-  analysis::Trajectory b;
-  auto cut = [&](auto& out, const auto& in) {
-    if (!in.empty())
-      out.assign(in.begin() + static_cast<long>(from), in.begin() + static_cast<long>(to));
-  };
-  cut(b.time, t.time);
-  cut(b.H_B, t.H_B);
-  cut(b.w_NB_B, t.w_NB_B);
-  cut(b.q_NB, t.q_NB);
-  cut(b.J_B, t.J_B);
-  cut(b.principal_moments, t.principal_moments);
-  cut(b.h_rel_B, t.h_rel_B);
-  cut(b.h_N, t.h_N);
-  cut(b.energy, t.energy);
-  cut(b.energy_rigid, t.energy_rigid);
-  cut(b.energy_spring, t.energy_spring);
-  cut(b.hinge_rates, t.hinge_rates);
-  cut(b.euler_313, t.euler_313);
-  cut(b.spin_axis_angle, t.spin_axis_angle);
-  cut(b.hinge_angles, t.hinge_angles);
+  const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard();
+  analysis::Trajectory b, one;
+  for (std::size_t k = from; k < to; ++k) {
+    for (const analysis::TrajectoryColumn& c : schema.columns()) {
+      if (c.storage) c.storage->keep(one, t, k);
+    }
+    schema.Append(b, one);
+  }
   return b;
 }
 
@@ -595,6 +587,11 @@ TEST_F(TrajectoryFileTest, EveryDatasetHasUnits) {
       {"/energy_rigid", "J"},
       {"/euler_313", "rad"},
       {"/spin_axis_angle", "rad"},
+      {"/work_damper", "J"},
+      {"/work_friction", "J"},
+      {"/work_motor", "J"},
+      {"/work_drive", "J"},
+      {"/work_impacts", "J"},
       {"/hinge_angles", "rad"},
       {"/hinge_rates", "rad/s"},
       {"/energy_spring", "J"},
@@ -791,9 +788,9 @@ TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
   ASSERT_TRUE(std::getline(in, line));
   const std::vector<std::string> header = Split(line);
   // The columns before the free-hinge outputs keep their positions; energy_spring, energy_total and
-  // the hinge rates follow.
+  // the hinge rates follow, then the five energy-ledger columns.
   const std::size_t old_columns = 1 + 3 + 3 + 4 + 6 + 3 + 3 + 3 + 1 + 1 + 3 + 1 + kPanels;
-  const std::size_t columns = old_columns + 2 + kPanels;
+  const std::size_t columns = old_columns + 2 + kPanels + 5;
   ASSERT_EQ(header.size(), columns) << line;
   EXPECT_EQ(header[0], "time [s]");
   EXPECT_EQ(header[1], "H_B_x [kg m^2/s]");
@@ -806,7 +803,9 @@ TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
   EXPECT_EQ(header[old_columns], "energy_spring [J]");
   EXPECT_EQ(header[old_columns + 1], "energy_total [J]");
   EXPECT_EQ(header[old_columns + 2], "hinge_rate_0 [rad/s]");
-  EXPECT_EQ(header[columns - 1], "hinge_rate_1 [rad/s]");
+  EXPECT_EQ(header[columns - 6], "hinge_rate_1 [rad/s]");
+  EXPECT_EQ(header[columns - 5], "work_damper [J]");
+  EXPECT_EQ(header[columns - 1], "work_impacts [J]");
   for (const std::string& h : header) {
     EXPECT_NE(h.find(" ["), std::string::npos) << "no unit: " << h;
   }
@@ -827,7 +826,9 @@ TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
     EXPECT_EQ(value(old_columns), t.energy_spring[k]);
     EXPECT_EQ(value(old_columns + 1), t.energy[k] + t.energy_spring[k]);
     EXPECT_EQ(value(old_columns + 2), t.hinge_rates[k][0]);
-    EXPECT_EQ(value(columns - 1), t.hinge_rates[k][1]);
+    EXPECT_EQ(value(columns - 6), t.hinge_rates[k][1]);
+    EXPECT_EQ(value(columns - 5), t.work_damper[k]);
+    EXPECT_EQ(value(columns - 1), t.work_impacts[k]);
     ++k;
   }
   EXPECT_EQ(k, t.size());

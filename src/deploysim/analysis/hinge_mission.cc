@@ -122,6 +122,7 @@ class HingeRun {
   FreeHingeSystem sys_;
   const Eigen::VectorXd plans_rate0_;  // initial.hinge_rates (empty: all at rest)
   integrators::State y_;  // H_B, q_NB at t_
+  WorkLedger work_;       // the work done on the system from t0 to t_
   // The last shape state the event functions and their rates asked about (several ask
   // about each step's end): its snapshot and, once asked for, dJ_B/dt.
   mutable integrators::ShapeState memo_state_;
@@ -231,6 +232,7 @@ RunSample HingeRun::SampleOf(double t,
   o.theta = snap.theta;
   o.theta_dot = snap.theta_dot;
   o.spring = SpringEnergyAll(plans_, snap.theta);
+  o.work = work_;
   return o;
 }
 
@@ -412,16 +414,37 @@ SegmentEnd HingeRun::FreeSegment(double t_next) {
     const double rate = s_.dot(y.H_B.cross(w)) / M_;
     return AxisPoint{y.t, s_.dot(y.H_B) / M_, rate, rate};
   };
+  // The shape state carries the work of the free hinges' sources and of the prescribed
+  // drives over this segment (FreeHingeSystem::kLedgerTerms accumulators, from 0).
+  constexpr int kTerms = FreeHingeSystem::kLedgerTerms;
+  const Eigen::Index nx = x_.size();
+  auto work_at = [this, nx](const integrators::ShapeState& y) {
+    WorkLedger w = work_;
+    w.damper += y.x[nx];
+    w.friction += y.x[nx + 1];
+    w.motor += y.x[nx + 2];
+    w.drive += y.x[nx + 3];
+    return w;
+  };
   integrators::ShapeState ys;
   ys.t = t_;
   ys.H_B = y_.H_B;
   ys.q_NB = y_.q_NB;
-  ys.x = x_;
+  ys.x.resize(nx + kTerms);
+  ys.x << x_, Eigen::VectorXd::Zero(kTerms);
   AxisPoint prev = point(ys);
   const integrators::ShapeIntegrationResult r = integrators::IntegrateShape(
       shape_method_, settings_, sys_, ys, t_next, grid_, &next_out_, events,
-      [this](const integrators::ShapeState& y) {
-        rec_.Sample(SampleOf(y.t, y.H_B, y.q_NB, y.x, dynamics::Side::kRight));
+      [&](const integrators::ShapeState& y) {
+        RunSample o = SampleOf(y.t, y.H_B, y.q_NB, y.x, dynamics::Side::kRight);
+        o.work = work_at(y);
+        // On a prescribed rate jump at the segment's end the sample holds the state after
+        // it: the drive's impulsive work there counts.
+        if (y.t >= t_next && t_next < t1_) {
+          o.work.drive +=
+              o.kinetic - SampleOf(y.t, y.H_B, y.q_NB, y.x, dynamics::Side::kLeft).kinetic;
+        }
+        rec_.Sample(o);
       },
       [&](const integrators::ShapeState& y) {
         rec_.Progress(y.t);
@@ -447,7 +470,8 @@ SegmentEnd HingeRun::FreeSegment(double t_next) {
   y_.t = t_;
   y_.H_B = r.final_state.H_B;
   y_.q_NB = r.final_state.q_NB;
-  x_ = r.final_state.x;
+  work_ = work_at(r.final_state);
+  x_ = r.final_state.x.head(nx);
   if (!r.stopped_at_event) return SegmentEnd::kReached;
   OnHingeEvent(tags[static_cast<std::size_t>(r.events.back().index)], r.stuck);
   return SegmentEnd::kHingeEvent;
@@ -489,6 +513,8 @@ void HingeRun::OnHingeEvent(const EventTag& tag, bool stuck) {
   ev.w_jump_B = imp.w_jump_B;
   ev.energy_dissipated = imp.energy_dissipated;
   ev.drive_work = imp.drive_work;
+  work_.impacts -= imp.energy_dissipated;
+  work_.drive += imp.drive_work;
   out_.hinge_events.push_back(ev);
   if (!lock) return;
   rec_.ClosePhase(before);
@@ -527,6 +553,9 @@ SegmentEnd HingeRun::RigidSegment(double t_next) {
   events.push_back(extremum);
   const std::vector<EventTag> tags = {
       {EventTag::What::kFlip}, {EventTag::What::kCross45}, {EventTag::What::kExtremum}};
+  // With no hinge free the prescribed drives are the only source of work: theirs is the
+  // change of the kinetic energy (the locked springs hold theirs).
+  const double kinetic0 = Current(dynamics::Side::kRight).kinetic;
   const integrators::IntegrationResult r = integrators::Integrate(
       *rigid_stepper_, settings_, sys_, y_, t_next, times, events,
       [this](const integrators::State& y) { rec_.Progress(y.t); },
@@ -534,7 +563,9 @@ SegmentEnd HingeRun::RigidSegment(double t_next) {
         // At a prescribed rate jump (a window's end on an output time) the sample holds
         // the state after it, as every output does; the run's end holds its final state.
         const dynamics::Side side = y.t >= t1_ ? dynamics::Side::kLeft : dynamics::Side::kRight;
-        rec_.Sample(SampleOf(y.t, y.H_B, y.q_NB, Eigen::VectorXd(), side));
+        RunSample o = SampleOf(y.t, y.H_B, y.q_NB, Eigen::VectorXd(), side);
+        o.work.drive += o.kinetic - kinetic0;
+        rec_.Sample(o);
       });
   next_out_ = out_end;
   AddStats(r.stats);
@@ -554,6 +585,7 @@ SegmentEnd HingeRun::RigidSegment(double t_next) {
   t_ = t_next;
   y_ = r.final_state;
   y_.t = t_;
+  work_.drive += Current(dynamics::Side::kLeft).kinetic - kinetic0;
   rec_.SpinAxisCos(Cos(y_.H_B));
   return SegmentEnd::kReached;
 }
@@ -574,7 +606,10 @@ MissionResult HingeRun::Run() {
     if (end == SegmentEnd::kHingeEvent) continue;
     // A prescribed window boundary: a phase boundary.
     if (t_ < t1_ && std::find(windows_.begin(), windows_.end(), t_) != windows_.end()) {
-      rec_.ClosePhase(Current(dynamics::Side::kLeft));
+      const RunSample before = Current(dynamics::Side::kLeft);
+      rec_.ClosePhase(before);
+      // A prescribed rate may jump here: the drive's impulsive work.
+      work_.drive += Current(dynamics::Side::kRight).kinetic - before.kinetic;
       rec_.OpenPhase(Describe(t_), Current(dynamics::Side::kRight));
     }
   }
@@ -591,6 +626,7 @@ MissionResult HingeRun::Run() {
   out_.final_state = y_;
   out_.final_J_B = final_sample.J_B;
   out_.energy_final = final_sample.kinetic + final_sample.spring;
+  out_.work = work_;
   out_.stats = stats_;
   out_.termination = termination_;
   out_.message = message_;

@@ -223,6 +223,7 @@ class StageRun {
   double t0_, t1_;
   integrators::State y0_;
   dynamics::InertiaSample s0_;
+  double kinetic0_;  // [J] at t0
   math::Vec3 s_;
   double M0_;  // |H_B(t0)|
   RunRecorder rec_;
@@ -254,6 +255,7 @@ StageRun::StageRun(const schedule::Profile& profile,
       t1_(profile.t_end()),
       y0_(InitialState(profile, sched)),
       s0_(sched.Evaluate(t0_)),
+      kinetic0_(dynamics::TotalKineticEnergy(s0_, y0_.H_B)),
       s_(spin_axis_B ? *spin_axis_B : InitialSpinAxis(s0_.J_B, y0_.H_B)),
       M0_(y0_.H_B.norm()),
       rec_(s_, y0_.q_NB * y0_.H_B, sink, progress, t0_, t1_),
@@ -288,6 +290,9 @@ RunSample StageRun::SampleOf(const integrators::State& s,
     o.theta = sched_.HingeAngles(t);
     o.theta_dot = sched_.HingeRates(t);
   }
+  // The stage laws' drives are the only source of work: theirs is the kinetic energy's
+  // change.
+  o.work.drive = o.kinetic - kinetic0_;
   return o;
 }
 
@@ -419,8 +424,9 @@ MissionResult StageRun::Run() {
   out.final_state = run.final_state;
   const dynamics::InertiaSample s1 = sched_.Evaluate(run.final_state.t, dynamics::Side::kLeft);
   out.final_J_B = s1.J_B;
-  out.energy_initial = dynamics::TotalKineticEnergy(s0_, y0_.H_B);
+  out.energy_initial = kinetic0_;
   out.energy_final = dynamics::TotalKineticEnergy(s1, run.final_state.H_B);
+  out.work.drive = out.energy_final - out.energy_initial;
   for (const integrators::Event& e : run.events) {
     if (e.index == 1) {
       rec_.Crossing45(e.t);

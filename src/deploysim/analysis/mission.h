@@ -22,6 +22,17 @@ class DeploymentSchedule;
 
 namespace deploysim::analysis {
 
+/// Where the energy went: the work done on the system since the run's start [J], by
+/// source, so that E(t) = E(t0) + sum() (E = T + V, docs/design.md 2.7, "Energy ledger").
+struct WorkLedger {
+  double damper = 0.0;    ///< the free hinges' dampers (<= 0)
+  double friction = 0.0;  ///< their friction (<= 0)
+  double motor = 0.0;     ///< their motors and servos
+  double drive = 0.0;     ///< the drives that hold prescribed motions (and stage laws)
+  double impacts = 0.0;   ///< latches, jams and stop impacts: minus what they dissipate
+  double sum() const { return damper + friction + motor + drive + impacts; }
+};
+
 /// The sampled trajectory (docs/design.md 5): one entry per output time. Its columns (units,
 /// shapes, file and CSV names) are listed once, in trajectory_schema.h.
 struct Trajectory {
@@ -43,6 +54,9 @@ struct Trajectory {
   std::vector<double> spin_axis_angle;        ///< [rad] initial body spin axis vs h_N
   std::vector<Eigen::VectorXd> hinge_angles;  ///< [rad] geometry mode only (else empty)
   std::vector<Eigen::VectorXd> hinge_rates;   ///< [rad/s] geometry mode only (else empty)
+  /// [J] the WorkLedger's entries at each sample (empty when read from a file written
+  /// before them).
+  std::vector<double> work_damper, work_friction, work_motor, work_drive, work_impacts;
   std::size_t size() const { return time.size(); }
 };
 
@@ -129,6 +143,7 @@ struct MissionResult {
   math::Mat3 final_J_B = math::Mat3::Zero();
   double energy_initial = 0.0;
   double energy_final = 0.0;
+  WorkLedger work;  ///< at the end: energy_final = energy_initial + work.sum()
   /// [rad] the largest angle between the spin axis and h_N over the run,
   /// located exactly (run_recorder.h).
   double max_spin_axis_angle = 0.0;

@@ -105,6 +105,11 @@ void RunRecorder::Sample(const RunSample& s) {
     b.hinge_angles.push_back(s.theta);
     b.hinge_rates.push_back(s.theta_dot);
   }
+  b.work_damper.push_back(s.work.damper);
+  b.work_friction.push_back(s.work.friction);
+  b.work_motor.push_back(s.work.motor);
+  b.work_drive.push_back(s.work.drive);
+  b.work_impacts.push_back(s.work.impacts);
   max_h_N_drift_ = std::max(max_h_N_drift_, (h_N - h_N0_).norm() / M_);
   const bool danger = LocateSpinAxis(principal_, s_).role == AxisRole::kIntermediate;
   if (danger && !in_window_) danger_windows_.push_back({s.t, s.t});

@@ -41,6 +41,7 @@ struct RunSample {
   double kinetic = 0.0;                      ///< [J] total kinetic energy
   double spring = 0.0;                       ///< [J] energy in the free hinges' springs
   Eigen::VectorXd theta, theta_dot;          ///< [rad], [rad/s]; empty in tensor mode
+  WorkLedger work;                           ///< [J] since the run's start
 };
 
 /// What a phase is, for its stage report.

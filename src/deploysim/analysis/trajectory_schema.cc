@@ -134,6 +134,17 @@ TrajectoryColumn HingeOutput(TrajectoryColumn c) {
   return c;
 }
 
+/// A column of the energy ledger (mission.h, WorkLedger): work done on the system since
+/// the start by one source, so that /energy_total = its first value + the columns' sum.
+TrajectoryColumn Ledger(std::vector<double> Trajectory::*member,
+                        const std::string& source,
+                        const std::string& what) {
+  TrajectoryColumn c = Stored(member, "work_" + source, "J",
+                              "energy ledger: work done on the system since the start by " + what);
+  c.ledger_output = true;
+  return c;
+}
+
 /// Per-panel columns: "<prefix>_<panel> [units]" in CSV.
 TrajectoryColumn CsvPrefix(TrajectoryColumn c, std::string prefix) {
   c.csv_prefix = std::move(prefix);
@@ -208,6 +219,15 @@ TrajectorySchema MakeStandard() {
                                         "hinge rate (time derivative of the hinge angle) of "
                                         "each panel, in panel order (geometry mode)")),
                      "hinge_rate"),
+           Ledger(&T::work_damper, "damper", "the free hinges' dampers (<= 0)"),
+           Ledger(&T::work_friction, "friction", "the free hinges' friction (<= 0)"),
+           Ledger(&T::work_motor, "motor", "the free hinges' motors and servos"),
+           Ledger(&T::work_drive, "drive",
+                  "the drives that hold the prescribed hinge motions and stage laws, their "
+                  "impulses at events included"),
+           Ledger(&T::work_impacts, "impacts",
+                  "the impulses at latches, jams and stop impacts: minus the energy they "
+                  "dissipate"),
        }) {
     s.Add(std::move(c));
   }

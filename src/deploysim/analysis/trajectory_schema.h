@@ -58,6 +58,8 @@ struct TrajectoryColumn {
   std::vector<int> csv_indices;
   /// Added to version 2 with the free-hinge outputs: absent from files written before.
   bool free_hinge_output = false;
+  /// Added to version 2 with the energy ledger: absent from files written before.
+  bool ledger_output = false;
   /// Writes the row of sample k of t (Width values) to `row`.
   std::function<void(const Trajectory& t, std::size_t k, double* row)> values;
   /// Stored columns: the member. Null for a derived column (computed by `values` from

@@ -5,7 +5,10 @@
 /// [kg m^2/s = N m s]. With H_B = R_NB^T h_N (h_N constant) the equations are
 ///   solve M(theta) [w; theta'] = [H_B; p] (minus the prescribed hinges' part)
 ///   dR_NB/dt = R_NB [w]x,   dtheta_f/dt = theta'_f,   dp_f/dt = dT/dtheta_f + Q_f.
-/// The shape state is x = (theta_f, p_f) in R^(2m). An implementation (schedule's
+/// The shape state is x = (theta_f, p_f) in R^(2m), optionally followed by accumulators
+/// (quadratures such as the work of each source of energy): entries whose rates Evaluate
+/// gives, which do not act back on the motion and are left out of the step-size control
+/// (their error follows from the motion's). An implementation (schedule's
 /// FreeHingeSystem) is evaluated at every Runge-Kutta stage; it may keep scratch space and
 /// is then used by one run (one thread) at a time.
 

@@ -507,6 +507,7 @@ const analysis::TrajectoryColumn* First(const analysis::TrajectorySchema& schema
 /// in files written before them), the per-panel ones in geometry mode only.
 struct SampleLayout {
   bool hinge_outputs = false;
+  bool ledger = false;  ///< the energy ledger's columns (none in files written before them)
   const analysis::TrajectoryColumn* first_per_panel = nullptr;  ///< null: not geometry mode
   std::size_t panels = 0;
 };
@@ -516,6 +517,9 @@ SampleLayout LayoutOf(const H5::H5File& file, const analysis::TrajectorySchema& 
   const analysis::TrajectoryColumn* marker =
       First(schema, [](const analysis::TrajectoryColumn& c) { return c.free_hinge_output; });
   layout.hinge_outputs = marker != nullptr && file.nameExists(marker->name);
+  const analysis::TrajectoryColumn* ledger =
+      First(schema, [](const analysis::TrajectoryColumn& c) { return c.ledger_output; });
+  layout.ledger = ledger != nullptr && file.nameExists(ledger->name);
   const analysis::TrajectoryColumn* per_panel = First(schema, [](const auto& c) {
     return c.shape == analysis::ColumnShape::kPerPanel && !c.free_hinge_output;
   });
@@ -562,6 +566,7 @@ void ReadSamples(const std::string& path,
   const bool geometry = layout.first_per_panel != nullptr;
   for (const analysis::TrajectoryColumn& c : schema.columns()) {
     if (c.name == "time" || (c.free_hinge_output && !layout.hinge_outputs)) continue;
+    if (c.ledger_output && !layout.ledger) continue;
     if (c.shape == analysis::ColumnShape::kPerPanel && !geometry) continue;
     ReadColumn(path, file, c, n, layout, out);
   }
