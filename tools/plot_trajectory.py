@@ -10,7 +10,8 @@ Writes into OUTDIR (default: next to the file, <stem>_plots/):
                         with the located flips and 45-degree crossings marked
   inertia.png           principal moments of J(t), stages shaded
   energy.png            kinetic, stored (spring) and total energy, and the change of the
-                        total against the energy dissipated at hinge events
+                        total against the energy ledger (the work of each source: dampers,
+                        friction, motors, prescribed drives, latch and stop impacts)
   polhode.png           H_B/|H_B| on the momentum sphere and its three plane
                         projections, with the separatrix of the final inertia
                         (the seed's Figs. 2.3-2.8)
@@ -48,6 +49,17 @@ STOP_COLOR = "0.3"
 EVENT_MARKERS = {"release": "^", "latch": "s", "jam": "X", "rest": "D", "stop": "|"}
 
 
+# The energy ledger's terms (/work_<term>), their labels and colours.
+LEDGER = ("damper", "friction", "motor", "drive", "impacts")
+LEDGER_STYLE = {
+    "damper": ("dampers", "tab:blue"),
+    "friction": ("friction", "tab:brown"),
+    "motor": ("motors", "tab:green"),
+    "drive": ("prescribed drives", "tab:purple"),
+    "impacts": ("latch and stop impacts", "tab:red"),
+}
+
+
 # The per-sample datasets the plots draw (hinge angles and rates where the file has them).
 PLOTTED = ("time", "H_B", "w_NB_B", "J_B", "principal_moments", "spin_axis_angle", "energy",
            "energy_rigid", "energy_spring", "energy_total")
@@ -59,6 +71,9 @@ def read(path):
     run = read_trajectory(path)
     d = {k: run[k] for k in PLOTTED}
     d["hinge_angles"], d["hinge_rates"] = run.get("hinge_angles"), run.get("hinge_rates")
+    # The energy ledger (files written before it have none).
+    ledger = {k: run.get("work_" + k) for k in LEDGER}
+    d["ledger"] = ledger if all(v is not None for v in ledger.values()) else None
     d["flips"] = run.flip_time
     d["panel_names"] = run.panel_names
     d["latch_time"] = run["hinge_latch_time"]
@@ -366,6 +381,47 @@ def plot_energy(d, out):
 
     dE = E - E[0]
     ax2.plot(t, dE, color="k", lw=1.3, label="$E(t) - E(t_0)$")
+    if d["ledger"] is not None:
+        note = plot_ledger(ax2, t, dE, E[0], d["ledger"])
+    else:
+        note = energy_note_without_ledger(ax2, t, dE, E, d)
+    scale = max(np.max(np.abs(E)), 1e-300)
+    lo, hi = np.min(dE), np.max(dE)
+    if hi - lo < 1e-6 * scale:  # rounding noise only: show it as the flat line it is
+        mid = 0.5 * (hi + lo)
+        ax2.set_ylim(mid - 1e-6 * scale, mid + 1e-6 * scale)
+    handles, labels = ax2.get_legend_handles_labels()
+    handles.append(Line2D([], [], ls="none"))
+    labels.append(note)
+    ax2.set_ylabel("change of $E$ [J]")
+    ax2.set_xlabel("time [s]")
+    # Right of the middle: the curves run along the top (0, the event losses) and, once
+    # the hinges are done, along the bottom; the deployment's drop is usually early.
+    ax2.legend(handles, labels, fontsize=7.5, framealpha=0.9, loc="center right")
+    title = ("kinetic, stored (spring) and total energy" if springs
+             else "kinetic energy (no springs)")
+    finish(fig, ax2, os.path.join(out, "energy.png"), title, d)
+
+
+def plot_ledger(ax, t, dE, E0, ledger):
+    """The energy ledger under E - E(t0): each source's cumulative work (those that did
+    any) and their sum, which E - E(t0) follows; the note says how closely."""
+    total = np.zeros_like(dE)
+    for k in LEDGER:
+        w = np.asarray(ledger[k])
+        total = total + w
+        if np.max(np.abs(w)) > 1e-9 * max(abs(E0), 1e-300):
+            name, color = LEDGER_STYLE[k]
+            ax.plot(t, w, color=color, lw=1.0, label=f"work of the {name}")
+    ax.plot(t, total, color="0.6", lw=1.0, ls="--", label="sum of the work (the ledger)")
+    gap = np.max(np.abs(dE - total))
+    return (f"max |E - E(t0) - ledger| = {gap:.2g} J ({gap / max(abs(E0), 1e-300):.2g} of "
+            "E(t0)):\nevery joule accounted for, to the integration's accuracy")
+
+
+def energy_note_without_ledger(ax2, t, dE, E, d):
+    """Files written before the energy ledger: E - E(t0) against the losses at hinge
+    events only."""
     diss = [(e["t"], e["dissipated"]) for e in d["events"] if e["dissipated"] > 0.0]
     if diss:
         times = np.array([x[0] for x in diss])
@@ -388,22 +444,7 @@ def plot_energy(d, out):
         note = f"max |E - E(t0)| = {worst:.2g} J ({rel:.2g} of E(t0))"
         note += (":\nthe work of dampers, friction and motors (not itemized in the file)"
                  if rel > 1e-9 else " (integration error: nothing dissipates)")
-    scale = max(np.max(np.abs(E)), 1e-300)
-    lo, hi = np.min(dE), np.max(dE)
-    if hi - lo < 1e-6 * scale:  # rounding noise only: show it as the flat line it is
-        mid = 0.5 * (hi + lo)
-        ax2.set_ylim(mid - 1e-6 * scale, mid + 1e-6 * scale)
-    handles, labels = ax2.get_legend_handles_labels()
-    handles.append(Line2D([], [], ls="none"))
-    labels.append(note)
-    ax2.set_ylabel("change of $E$ [J]")
-    ax2.set_xlabel("time [s]")
-    # Right of the middle: the curves run along the top (0, the event losses) and, once
-    # the hinges are done, along the bottom; the deployment's drop is usually early.
-    ax2.legend(handles, labels, fontsize=7.5, framealpha=0.9, loc="center right")
-    title = ("kinetic, stored (spring) and total energy" if springs
-             else "kinetic energy (no springs)")
-    finish(fig, ax2, os.path.join(out, "energy.png"), title, d)
+    return note
 
 
 def hinge_activity_window(d):

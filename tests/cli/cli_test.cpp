@@ -159,6 +159,7 @@ TEST(CliTest, HingeProfilesRunThroughEveryCommand) {
   const CliRun analyzed = RunCli("analyze '" + profile + "'", d);
   EXPECT_EQ(analyzed.exit_code, 0) << analyzed.err;
   EXPECT_NE(analyzed.out.find("deployment timeline"), std::string::npos) << analyzed.out;
+  EXPECT_NE(analyzed.out.find("energy ledger: E = T + V from"), std::string::npos) << analyzed.out;
   const fs::path out = d / "out.h5";
   const CliRun simulated = RunCli("simulate '" + profile + "' -o '" + out.string() + "'", d);
   EXPECT_EQ(simulated.exit_code, 0) << simulated.err;

@@ -213,7 +213,8 @@ TEST(ReportTest, StageProfileSummaryIsTheOldTablePlusCaveats) {
       "\n"
       "flips located: 0\n"
       "danger windows (spin axis = intermediate axis): none\n"
-      "invariants: max |h_N(t) - h_N(0)|/|h_N| = 1e-15\n";
+      "invariants: max |h_N(t) - h_N(0)|/|h_N| = 1e-15\n"
+      "energy ledger: E = T + V from 0 to 0 J; work done on the system: none; unaccounted 0 J\n";
   EXPECT_EQ(FormatSummary(StageResult()), expected);
 }
 

@@ -110,6 +110,25 @@ std::string FormatCaveats(const analysis::MissionResult& r) {
 
 }  // namespace
 
+/// The energy ledger at the end (analysis::WorkLedger): E0 -> E1 and where it went, the
+/// sources that did no work left out.
+std::string FormatLedger(const analysis::MissionResult& r) {
+  const analysis::WorkLedger& w = r.work;
+  std::string terms;
+  for (const auto& [name, value] : {std::pair<const char*, double>{"dampers", w.damper},
+                                    {"friction", w.friction},
+                                    {"motors", w.motor},
+                                    {"drives", w.drive},
+                                    {"impacts", w.impacts}}) {
+    if (value != 0.0) terms += fmt::format("{}{} {} J", terms.empty() ? "" : ", ", name, Num(value));
+  }
+  const double gap = r.energy_final - r.energy_initial - w.sum();
+  return fmt::format(
+      "energy ledger: E = T + V from {} to {} J; work done on the system: {}; unaccounted {} "
+      "J\n",
+      Num(r.energy_initial), Num(r.energy_final), terms.empty() ? "none" : terms, Num(gap));
+}
+
 std::string FormatSummary(const analysis::MissionResult& r) {
   std::string o;
   const auto& p = r.profile;
@@ -191,6 +210,7 @@ std::string FormatSummary(const analysis::MissionResult& r) {
     o += "\n";
   }
   o += fmt::format("invariants: max |h_N(t) - h_N(0)|/|h_N| = {}\n", Num(r.max_h_N_drift));
+  o += FormatLedger(r);
   return o;
 }
 
