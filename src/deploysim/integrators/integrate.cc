@@ -42,7 +42,7 @@ void ValidateSettings(const StepperInfo& info, const IntegratorSettings& s) {
     std::ostringstream a;
     a.precision(17);
     a << "integrator " << info.name << ": atol = " << s.tolerances.atol
-      << " (rule: atol > 0 and finite; it is relative to |H_B(0)|)";
+      << " (rule: atol > 0 and finite; relative to |H_B(0)| for momenta, in rad for angles)";
     Require(std::isfinite(s.tolerances.atol) && s.tolerances.atol > 0.0, a.str());
   }
   std::ostringstream m;

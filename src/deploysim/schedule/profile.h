@@ -63,7 +63,8 @@ struct IntegratorSpec {
   std::string method = "rkmk-rkf78";
   double step = 0.0;  ///< [s] fixed step, or initial step of adaptive methods (0: automatic).
   double rtol = 1e-10;
-  double atol = 1e-12;  ///< Relative to |H_B(0)|.
+  /// Momenta: relative to |H_B(0)|; angles (attitude, hinge angles): in rad.
+  double atol = 1e-12;
   double max_step = 1e300;
 };
 
