@@ -53,7 +53,8 @@ const math::Vec3 kSpin(0.01, 0.02, 0.1);  // [rad/s]
 /// out past 45 deg (the spin's centrifugal load adds to the spring) and back.
 schedule::HingePlan Swing() { return testing::SpringHinge(0.2, 30.0); }
 
-schedule::Profile SwingProfile(const schedule::HingePlan& plan, const std::string& method,
+schedule::Profile SwingProfile(const schedule::HingePlan& plan,
+                               const std::string& method,
                                double rtol) {
   schedule::Profile p;
   p.name = "graze";
@@ -90,13 +91,11 @@ std::pair<double, double> SwingPeak() {
   const integrators::UniformGridTimes none(0.0, 12.0, 12.0);
   std::size_t next = 0;
   const integrators::ShapeEventFunction peak{
-      "peak", [&sys](const integrators::ShapeState& s) {
-        return sys.Snap(s.t, s.H_B, s.x).theta_dot[0];
-      },
+      "peak",
+      [&sys](const integrators::ShapeState& s) { return sys.Snap(s.t, s.H_B, s.x).theta_dot[0]; },
       -1, true};
-  const integrators::ShapeIntegrationResult r = integrators::IntegrateShape(
-      "rkmk-rkf78", settings, sys, y, 12.0, none, &next, {peak},
-      {});
+  const integrators::ShapeIntegrationResult r =
+      integrators::IntegrateShape("rkmk-rkf78", settings, sys, y, 12.0, none, &next, {peak}, {});
   EXPECT_TRUE(r.stopped_at_event);
   return {r.final_state.t, r.final_state.x[0]};
 }
@@ -184,17 +183,15 @@ TEST(GrazingEventTest, FlipFunctionRateIsTheDerivative) {
     const math::Vec3 m(2.0 + 0.1 * t, 3.0 - 0.2 * t * t, 4.0 + 0.05 * t);
     return math::Mat3(R * m.asDiagonal() * R.transpose());
   };
-  auto H = [](double t) {
-    return math::Vec3(std::cos(0.7 * t), 0.2 * std::sin(t), 1.0 + 0.1 * t);
-  };
+  auto H = [](double t) { return math::Vec3(std::cos(0.7 * t), 0.2 * std::sin(t), 1.0 + 0.1 * t); };
   const math::Vec3 s = InitialSpinAxis(J(0.0), H(0.0));
   double worst = 0.0;
   for (double t = 0.1; t < 2.0; t += 0.3) {
     const double h = 1e-5;
     const math::Mat3 Jdot = (J(t + h) - J(t - h)) / (2 * h);
     const math::Vec3 Hdot = (H(t + h) - H(t - h)) / (2 * h);
-    const double fd = (FlipFunction(J(t + h), s, H(t + h)) - FlipFunction(J(t - h), s, H(t - h))) /
-                      (2 * h);
+    const double fd =
+        (FlipFunction(J(t + h), s, H(t + h)) - FlipFunction(J(t - h), s, H(t - h))) / (2 * h);
     const double rate = FlipFunctionRate(J(t), Jdot, s, H(t), Hdot);
     worst = std::max(worst, std::abs(rate - fd));
     EXPECT_NEAR(rate, fd, 5e-10) << "t = " << t;  // measured 7.6e-11

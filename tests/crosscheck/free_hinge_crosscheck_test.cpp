@@ -140,13 +140,13 @@ TEST(FreeHingeCrosscheckTest, PanelReleasedWhileMoving) {
 // A dual-spin craft whose rotor (a free hinge on a bearing, no spring) spins at 10 rad/s
 // from the start, with a pendulum nutation damper on the platform.
 TEST(FreeHingeCrosscheckTest, RotorSpinningFromTheStart) {
-  const model::Model m = MakeModel(
-      "dual_spin", 60.0, math::Vec3(0.6, 0.6, 1.2),
-      {MakePanel("rotor", -1, math::Vec3(0, 0, 0.9), math::Vec3::UnitZ(), math::Vec3::Zero(), 40.0,
-                 math::Vec3(0.87, 0.87, 0.6)),
-       MakePanel("damper", -1, math::Vec3(0.3, 0, 0.36), math::Vec3::UnitY(),
-                 math::Vec3(0.3, 0, 0), 2.0, math::Vec3(0.08, 0.08, 0.08))},
-      Eigen::Vector2d(0.0, 0.0));
+  const model::Model m =
+      MakeModel("dual_spin", 60.0, math::Vec3(0.6, 0.6, 1.2),
+                {MakePanel("rotor", -1, math::Vec3(0, 0, 0.9), math::Vec3::UnitZ(),
+                           math::Vec3::Zero(), 40.0, math::Vec3(0.87, 0.87, 0.6)),
+                 MakePanel("damper", -1, math::Vec3(0.3, 0, 0.36), math::Vec3::UnitY(),
+                           math::Vec3(0.3, 0, 0), 2.0, math::Vec3(0.08, 0.08, 0.08))},
+                Eigen::Vector2d(0.0, 0.0));
   schedule::Profile p =
       HingeProfile(m, {Free(0.0, 0.0, 0.0), Free(0.44, 0.0, 0.5)}, math::Vec3(0.05, 0, 0), 100.0);
   p.initial.hinge_rates = Eigen::Vector2d(10.0, 0.0);

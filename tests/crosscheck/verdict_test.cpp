@@ -43,8 +43,7 @@ TEST(CrosscheckVerdict, EachDifferenceBeyondTheToleranceIsADisagreement) {
   EXPECT_NE(Judge(h, 0.0, true, 0.0, 100.0, 1e-4).reason.find("H_B differs"), std::string::npos);
   TrajectoryDifference w = Small();
   w.max_w = 1e-4;  // 2e-4 of w_scale
-  EXPECT_NE(Judge(w, 0.0, true, 0.0, 100.0, 1e-4).reason.find("w_NB_B differs"),
-            std::string::npos);
+  EXPECT_NE(Judge(w, 0.0, true, 0.0, 100.0, 1e-4).reason.find("w_NB_B differs"), std::string::npos);
   // Times: relative to the run's length (100 s: 1e-2 s).
   EXPECT_TRUE(Judge(Small(), 0.009, true, 0.009, 100.0, 1e-4).agree);
   EXPECT_NE(Judge(Small(), 0.02, true, 0.0, 100.0, 1e-4).reason.find("flip time"),

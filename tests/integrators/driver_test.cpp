@@ -255,8 +255,8 @@ TEST(Driver, FindsAZeroPairInsideOneStepFromTheRate) {
   EXPECT_EQ(seen.events[1].direction, -1);
   EXPECT_NEAR(seen.events[0].t, t_in, 1e-12);  // measured 9e-14
   EXPECT_NEAR(seen.events[1].t, t_out, 1e-12);
-  std::printf("zero pair found at %.3g and %.3g s from the closed form\n",
-              seen.events[0].t - t_in, seen.events[1].t - t_out);
+  std::printf("zero pair found at %.3g and %.3g s from the closed form\n", seen.events[0].t - t_in,
+              seen.events[1].t - t_out);
   const auto [rising, step3] = run(Spec{"graze", g, +1, true, true, rate});
   ASSERT_EQ(rising.events.size(), 1u);
   EXPECT_TRUE(rising.stopped_at_event);

@@ -78,9 +78,10 @@ TEST(EnergyLedger, ClosesWithAPrescribedHingeMovingThroughALatch) {
   ASSERT_LT(latch->t, mv.t_end);
   EXPECT_GT(std::abs(latch->drive_work), 1e-3 * latch->energy_dissipated);
   const double gap = LedgerGap(r.trajectory);
-  std::printf("prescribed hinge through a latch: ledger gap %.2e, drive work %.4g J (at the "
-              "latch %.3g J), impacts %.4g J\n",
-              gap, r.work.drive, latch->drive_work, r.work.impacts);
+  std::printf(
+      "prescribed hinge through a latch: ledger gap %.2e, drive work %.4g J (at the "
+      "latch %.3g J), impacts %.4g J\n",
+      gap, r.work.drive, latch->drive_work, r.work.impacts);
   EXPECT_LE(gap, 2.0 * p.integrator.rtol);
   EXPECT_GT(std::abs(r.work.drive), 1e-3);
 }

@@ -95,8 +95,8 @@ MissionResult SyntheticResult(schedule::Mode mode) {
     t.energy_spring.push_back(u(rng));
     t.euler_313.push_back(vec());
     t.spin_axis_angle.push_back(u(rng));
-    for (auto* w : {&t.work_damper, &t.work_friction, &t.work_motor, &t.work_drive,
-                    &t.work_impacts}) {
+    for (auto* w :
+         {&t.work_damper, &t.work_friction, &t.work_motor, &t.work_drive, &t.work_impacts}) {
       w->push_back(u(rng));
     }
     if (mode == schedule::Mode::kGeometry) {

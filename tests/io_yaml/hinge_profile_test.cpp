@@ -266,15 +266,16 @@ hinges:
   ASSERT_EQ(p.initial.hinge_rates.size(), 4);
   EXPECT_DOUBLE_EQ(p.initial.hinge_rates[3], 3600 * kDeg);
   EXPECT_EQ(p.initial.hinge_rates[0], 0.0);
-  std::string path = WriteProfile(
-      EditedText(text, "[0, 0, 0, 3600]", "[0, 0, 3600]"));
-  EXPECT_EQ(ErrorOf(path), path + ": initial.hinge_rates_deg_s: 3 rates for 4 panels (one per "
-                                  "panel, in the model's order)");
+  std::string path = WriteProfile(EditedText(text, "[0, 0, 0, 3600]", "[0, 0, 3600]"));
+  EXPECT_EQ(ErrorOf(path), path +
+                               ": initial.hinge_rates_deg_s: 3 rates for 4 panels (one per "
+                               "panel, in the model's order)");
   path = WriteProfile(EditedText(text, "[0, 0, 0, 3600]", "[10, 0, 0, 3600]"));
   EXPECT_EQ(ErrorOf(path),
-            path + ": initial.hinge_rates_deg_s[0] (wing_plus_x) = 10: only a free hinge "
-                   "released at the start may move at `start` (a prescribed hinge's rate comes "
-                   "from its moves; a locked or held one is at rest)");
+            path +
+                ": initial.hinge_rates_deg_s[0] (wing_plus_x) = 10: only a free hinge "
+                "released at the start may move at `start` (a prescribed hinge's rate comes "
+                "from its moves; a locked or held one is at rest)");
   path = WriteProfile(EditedText(text, "    free: {}", "    free: {release: {at: 5}}"));
   EXPECT_NE(ErrorOf(path).find("initial.hinge_rates_deg_s[3] (rotor) = 3600: only a free hinge"),
             std::string::npos)

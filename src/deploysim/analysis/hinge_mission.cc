@@ -121,15 +121,15 @@ class HingeRun {
   const double t0_, t1_;
   FreeHingeSystem sys_;
   const Eigen::VectorXd plans_rate0_;  // initial.hinge_rates (empty: all at rest)
-  integrators::State y_;  // H_B, q_NB at t_
-  WorkLedger work_;       // the work done on the system from t0 to t_
+  integrators::State y_;               // H_B, q_NB at t_
+  WorkLedger work_;                    // the work done on the system from t0 to t_
   // The last shape state the event functions and their rates asked about (several ask
   // about each step's end): its snapshot and, once asked for, dJ_B/dt.
   mutable integrators::ShapeState memo_state_;
   mutable FreeHingeSystem::Snapshot memo_snap_;
   mutable bool memo_valid_ = false, memo_jdot_valid_ = false;
   mutable Mat3 memo_jdot_ = Mat3::Zero();
-  Eigen::VectorXd x_;     // shape state of the free set
+  Eigen::VectorXd x_;  // shape state of the free set
   double t_;
   Vec3 s_;
   double M_;  // |h_N(t0)|
@@ -548,8 +548,8 @@ SegmentEnd HingeRun::RigidSegment(double t_next) {
                                               const Vec3 w = js.J_inv_B * (y.H_B - js.h_rel_B);
                                               return s.dot(y.H_B.cross(w)) / M;
                                             }};
-  std::vector<integrators::EventFunction> events =
-      RigidSpinAxisEvents(s, [&sys](double t) { return sys.Evaluate(t); }, true);
+  std::vector<integrators::EventFunction> events = RigidSpinAxisEvents(
+      s, [&sys](double t) { return sys.Evaluate(t); }, true);
   events.push_back(extremum);
   const std::vector<EventTag> tags = {
       {EventTag::What::kFlip}, {EventTag::What::kCross45}, {EventTag::What::kExtremum}};

@@ -49,13 +49,14 @@ std::vector<integrators::EventFunction> RigidSpinAxisEvents(
     return math::Vec3(H_B.cross(js.J_inv_B * (H_B - js.h_rel_B)));
   };
   std::vector<integrators::EventFunction> events;
-  events.push_back(
-      {"flip",
-       [inertia, s](const integrators::State& y) { return FlipFunction(inertia(y.t).J_B, s, y.H_B); },
-       [inertia, s, h_dot](const integrators::State& y) {
-         const dynamics::InertiaSample js = inertia(y.t);
-         return FlipFunctionRate(js.J_B, js.Jdot_B, s, y.H_B, h_dot(js, y.H_B));
-       }});
+  events.push_back({"flip",
+                    [inertia, s](const integrators::State& y) {
+                      return FlipFunction(inertia(y.t).J_B, s, y.H_B);
+                    },
+                    [inertia, s, h_dot](const integrators::State& y) {
+                      const dynamics::InertiaSample js = inertia(y.t);
+                      return FlipFunctionRate(js.J_B, js.Jdot_B, s, y.H_B, h_dot(js, y.H_B));
+                    }});
   if (cross45) {
     events.push_back({"spin axis 45 deg",
                       [s](const integrators::State& y) { return SpinAxis45Gap(s, y.H_B); },

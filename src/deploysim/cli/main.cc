@@ -44,8 +44,8 @@ namespace {
 using deploysim::analysis::MissionResult;
 
 constexpr int kExitBadInput = 1;
-constexpr int kExitIncomplete = 3;  // simulate: the integration did not reach the end
-constexpr int kExitDisagree = 4;    // crosscheck: the two models disagree (CrosscheckVerdict)
+constexpr int kExitIncomplete = 3;     // simulate: the integration did not reach the end
+constexpr int kExitDisagree = 4;       // crosscheck: the two models disagree (CrosscheckVerdict)
 constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as shells report it
 
 struct Overrides {
@@ -519,9 +519,9 @@ int RunCrosscheck(CommandLine& cl, const deploysim::schedule::Profile& profile, 
   const xc::CrosscheckResult r =
       NamingFile(cl.profile_path, [&] { return xc::RunCrosscheck(profile, o); });
   xc::WriteCrosscheckFile(cl.out_path, r);
-  const xc::CrosscheckVerdict v = xc::Judge(r.difference, r.max_flip_difference, true, 0.0,
-                                            r.profile.t_end() - r.profile.t_begin(),
-                                            cl.cc_tolerance);
+  const xc::CrosscheckVerdict v =
+      xc::Judge(r.difference, r.max_flip_difference, true, 0.0,
+                r.profile.t_end() - r.profile.t_begin(), cl.cc_tolerance);
   std::cout << xc::FormatCrosscheckTable(r) << "\n"
             << xc::FormatVerdict(v) << "\nwrote " << cl.out_path << "\n";
   if (cl.speed_study) {

@@ -120,7 +120,8 @@ std::string FormatLedger(const analysis::MissionResult& r) {
                                     {"motors", w.motor},
                                     {"drives", w.drive},
                                     {"impacts", w.impacts}}) {
-    if (value != 0.0) terms += fmt::format("{}{} {} J", terms.empty() ? "" : ", ", name, Num(value));
+    if (value != 0.0)
+      terms += fmt::format("{}{} {} J", terms.empty() ? "" : ", ", name, Num(value));
   }
   const double gap = r.energy_final - r.energy_initial - w.sum();
   return fmt::format(

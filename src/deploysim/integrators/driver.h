@@ -201,8 +201,14 @@ class Driver {
 
   /// The sign change of function e over [ta, tb] inside the accepted step [y_, y1]: g
   /// is ga, gb there (exact), gda, gdb on the continuous extension.
-  FoundEvent<S> Locate(std::size_t e, const S& y1, double ta, double tb, double ga, double gb,
-                       double gda, double gdb) {
+  FoundEvent<S> Locate(std::size_t e,
+                       const S& y1,
+                       double ta,
+                       double tb,
+                       double ga,
+                       double gb,
+                       double gda,
+                       double gdb) {
     const EventSpec<S>& fn = events_[e];
     const S y0 = y_;
     const bool refine = fn.refine && !a_.DenseIsExact();
@@ -222,8 +228,8 @@ class Driver {
   /// the extremum of g on the continuous extension, where its rate is 0; if g has crossed
   /// zero there (on a partial step, when the location is refined), the crossing and the
   /// return are events (those of the function's direction).
-  void Grazing(std::size_t e, const S& y1, double g1, double r1,
-               std::vector<FoundEvent<S>>& found) {
+  void Grazing(
+      std::size_t e, const S& y1, double g1, double r1, std::vector<FoundEvent<S>>& found) {
     const EventSpec<S>& fn = events_[e];
     const double t0 = y_.t, t1 = y1.t;
     const double g0 = g_prev_[e], r0 = r_prev_[e];
@@ -374,7 +380,7 @@ class Driver {
   long attempts_ = 0;
   std::vector<double> g_prev_, g_next_;  // g at the ends of the accepted step
   std::vector<double> r_prev_, r_next_;  // their rates (0 without a rate function)
-  std::vector<char> leaving_;  // terminal functions at exactly 0, not yet left
+  std::vector<char> leaving_;            // terminal functions at exactly 0, not yet left
   Outcome<S> out_;
 };
 

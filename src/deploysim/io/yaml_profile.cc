@@ -84,9 +84,8 @@ void RequireConfiguration(const Fields& f, const std::string& key, const model::
 }
 
 schedule::InitialState ReadInitial(const Fields& top, bool hinge_profile, const model::Model& m) {
-  const Fields f = top.Mapping(
-      "initial", {"attitude_wxyz", "angular_velocity", "angular_momentum", "configuration",
-                  "hinge_rates_deg_s"});
+  const Fields f = top.Mapping("initial", {"attitude_wxyz", "angular_velocity", "angular_momentum",
+                                           "configuration", "hinge_rates_deg_s"});
   schedule::InitialState init;
   if (hinge_profile) {
     init.configuration = f.Name("configuration");

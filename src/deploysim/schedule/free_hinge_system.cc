@@ -251,8 +251,8 @@ FreeHingeSystem::Powers FreeHingeSystem::PowersNow(double t,
     p.friction += q.friction * rate;
     double motor = q.motor;
     if (d.motor.kind == Motor::Kind::kServo) {
-      motor += ServoTorque(d.motor, servo_ref_[static_cast<std::size_t>(k)].At(t, side), x[a],
-                           rate);
+      motor +=
+          ServoTorque(d.motor, servo_ref_[static_cast<std::size_t>(k)].At(t, side), x[a], rate);
     }
     p.motor += motor * rate;
   }

@@ -141,10 +141,14 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   /// M_ over cols_ at pose_ (kept while neither the angles nor cols_ change).
   void UpdateMassMatrix() const;
   /// The Powers at the state of the last Setup and Solve (x: its theta_f, p_f).
-  Powers PowersNow(double t, dynamics::Side side, const math::Vec3& H_B,
+  Powers PowersNow(double t,
+                   dynamics::Side side,
+                   const math::Vec3& H_B,
                    const Eigen::VectorXd& x) const;
   /// The prescribed drives' power: dT/dt at fixed (H_B, p_f), after Setup and Solve.
-  double DrivePower(double t, dynamics::Side side, const math::Vec3& H_B,
+  double DrivePower(double t,
+                    dynamics::Side side,
+                    const math::Vec3& H_B,
                     const Eigen::VectorXd& x) const;
 
   model::HingedBody body_;

@@ -519,7 +519,8 @@ void ValidateInitialRates(const Profile& p, const std::string& where) {
   const std::vector<model::Panel>& panels = p.model.hinged.panels;
   if (r.size() != static_cast<Eigen::Index>(panels.size())) {
     Fail(where, "initial.hinge_rates_deg_s: " + std::to_string(r.size()) + " rates for " +
-                    std::to_string(panels.size()) + " panels (one per panel, in the model's order)");
+                    std::to_string(panels.size()) +
+                    " panels (one per panel, in the model's order)");
   }
   for (std::size_t k = 0; k < panels.size(); ++k) {
     const double rate = r[static_cast<Eigen::Index>(k)];
