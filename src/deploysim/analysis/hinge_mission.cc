@@ -24,6 +24,7 @@
 #include <utility>
 
 #include "deploysim/analysis/exact_flow.h"
+#include "deploysim/analysis/linear_stability.h"
 #include "deploysim/analysis/mission.h"
 #include "deploysim/analysis/run_recorder.h"
 #include "deploysim/dynamics/rigid_body.h"
@@ -100,6 +101,8 @@ class HingeRun {
                      dynamics::Side side) const;
   RunSample Current(dynamics::Side side) const { return SampleOf(t_, y_.H_B, y_.q_NB, x_, side); }
   PhaseInfo Describe(double t) const;
+  /// The linear stability of the final phase's steady spin, from its start.
+  SteadySpin FinalSteadySpin();
   bool ReleasesDue();
   double NextChange() const;
   SegmentEnd FreeSegment(double t_next);
@@ -590,6 +593,14 @@ SegmentEnd HingeRun::RigidSegment(double t_next) {
   return SegmentEnd::kReached;
 }
 
+SteadySpin HingeRun::FinalSteadySpin() {
+  const RunSample& ps = rec_.phase_start();
+  const Eigen::VectorXd x = sys_.ShapeState(ps.t, ps.H_B, ps.theta, ps.theta_dot);
+  Eigen::VectorXd y(3 + x.size());
+  y << ps.H_B, x;
+  return LinearizeSteadySpin(FlowOf(sys_, ps.t, 0.5 * (ps.t + t1_)), y);
+}
+
 MissionResult HingeRun::Run() {
   while (true) {
     const bool changed = ReleasesDue();
@@ -630,6 +641,7 @@ MissionResult HingeRun::Run() {
   out_.stats = stats_;
   out_.termination = termination_;
   out_.message = message_;
+  if (termination_ == integrators::Termination::kReachedEnd) rec_.SetSteadySpin(FinalSteadySpin());
   rec_.Finish(out_);
   return std::move(out_);
 }

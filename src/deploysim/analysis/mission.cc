@@ -11,6 +11,7 @@
 
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/analysis/linear_stability.h"
 #include "deploysim/analysis/run_recorder.h"
 #include "deploysim/analysis/trajectory_schema.h"
 #include "deploysim/dynamics/rigid_body.h"
@@ -433,6 +434,16 @@ MissionResult StageRun::Run() {
     } else {
       rec_.CandidateFlip(e.t, sched_.Evaluate(e.t).J_B, e.state.H_B);
     }
+  }
+  if (rec_.has_phase() && run.termination == integrators::Termination::kReachedEnd) {
+    const RunSample& ps = rec_.phase_start();
+    SteadySpin steady;
+    steady.reason = "the inertia changes in the final stage";
+    if (sched_.IsRigidOn(ps.t, t1_)) {
+      const dynamics::InertiaSample js = sched_.Evaluate(ps.t, dynamics::Side::kRight);
+      steady = LinearizeSteadySpin(FlowOf(js.J_B, js.h_rel_B), ps.H_B);
+    }
+    rec_.SetSteadySpin(steady);
   }
   rec_.Finish(out);
   return out;

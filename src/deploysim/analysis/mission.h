@@ -11,6 +11,7 @@
 
 #include "deploysim/analysis/flip_rule.h"
 #include "deploysim/analysis/hinge_events.h"
+#include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/dynamics/inertia_source.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/math/types.h"
@@ -149,6 +150,9 @@ struct MissionResult {
   double max_spin_axis_angle = 0.0;
   /// The last output sample of the run (one entry per array; empty without samples).
   Trajectory last_sample;
+  /// The outcome measured from the motion, with the predictions (motion_outcome.h).
+  /// Outcome-only runs (no samples) have no nutation envelope (trend.valid false).
+  MotionOutcome outcome;
 };
 
 /// Options of a mission run.

@@ -7,12 +7,22 @@
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/analysis/trajectory_schema.h"
 #include "deploysim/math/cubic_hermite.h"
+#include "deploysim/math/number_format.h"
 
 namespace deploysim::analysis {
 
 namespace {
 
 constexpr double kCos45 = 0.70710678118654752440;
+
+/// The principal axis of J_B nearest H_B, signed along it, and its role.
+SpinAxisRole NearestAxis(const math::Mat3& J_B, const math::Vec3& H_B) {
+  return LocateSpinAxis(J_B, H_B.normalized());
+}
+
+double AngleBetween(const math::Vec3& a, const math::Vec3& H_B) {
+  return std::acos(std::clamp(a.dot(H_B) / (a.norm() * H_B.norm()), -1.0, 1.0));
+}
 
 }  // namespace
 
@@ -112,6 +122,11 @@ void RunRecorder::Sample(const RunSample& s) {
   b.work_drive.push_back(s.work.drive);
   b.work_impacts.push_back(s.work.impacts);
   max_h_N_drift_ = std::max(max_h_N_drift_, (h_N - h_N0_).norm() / M_);
+  const double nu = AngleBetween(phase_axis_, s.H_B);
+  envelope_.Add(s.t, nu);
+  if (nutation_samples_++ == 0) nutation_begin_ = nu;
+  nutation_end_ = nu;
+  nutation_max_ = std::max(nutation_max_, nu);
   const bool danger = LocateSpinAxis(principal_, s_).role == AxisRole::kIntermediate;
   if (danger && !in_window_) danger_windows_.push_back({s.t, s.t});
   if (danger) danger_windows_.back().t_end = s.t;
@@ -151,6 +166,12 @@ void RunRecorder::SpinAxisStep(const AxisPoint& a,
 }
 
 void RunRecorder::OpenPhase(const PhaseInfo& info, const RunSample& start) {
+  phase_axis_ = NearestAxis(start.J_B, start.H_B).axis_B;
+  const double rate = HeldNutationRate(start.J_B, start.h_rel_B, start.H_B);
+  constexpr double kTwoPi = 6.283185307179586477;
+  envelope_.Reset(rate > 0.0 ? kTwoPi / rate : (t1_ - t0_) / 64.0);
+  nutation_samples_ = 0;
+  nutation_max_ = 0.0;
   if (!phases_.empty() && phases_.back().start.t == start.t) {
     phases_.back() = {info, start};  // zero-length phase: replaced
     phase_ends_.resize(phases_.size() - 1);
@@ -196,8 +217,93 @@ void RunRecorder::Finish(MissionResult& out) {
                           : ((out.final_state.q_NB * out.final_state.H_B) - h_N0_).norm() / M_;
   out.max_spin_axis_angle = std::acos(std::clamp(min_cos_, -1.0, 1.0));
   out.stages.clear();
-  if (sink_ == nullptr) return;  // an outcome-only run: no stage reports
-  for (std::size_t i = 0; i < phases_.size(); ++i) out.stages.push_back(Report(i, out.flip_times));
+  if (sink_ != nullptr) {  // an outcome-only run: no stage reports
+    for (std::size_t i = 0; i < phases_.size(); ++i) {
+      out.stages.push_back(Report(i, out.flip_times));
+    }
+  }
+  if (!phases_.empty()) out.outcome = Outcome(out);
+}
+
+MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
+  MotionOutcome o;
+  const RunSample& first = phases_.front().start;
+  const RunSample& end = phase_ends_.empty() ? phases_.back().start : phase_ends_.back();
+  o.axis_start = BodyAxisName(s_);
+  o.role_start = LocateSpinAxis(first.J_B, s_).role;
+  const SpinAxisRole final_axis = NearestAxis(end.J_B, end.H_B);
+  o.axis_end = BodyAxisName(final_axis.axis_B);
+  o.role_end = final_axis.role;
+  o.phase_begin = phases_.back().start.t;
+  o.nutation_begin = nutation_begin_;
+  o.nutation_end = nutation_end_;
+  o.nutation_max = nutation_max_;
+  o.trend = FitEnvelope(envelope_.peaks());
+  std::vector<double> flips;
+  for (double t : out.flip_times) {
+    if (t >= o.phase_begin) flips.push_back(t);
+  }
+  o.flips = static_cast<int>(flips.size());
+  if (flips.size() >= 2)
+    o.flip_interval = (flips.back() - flips.front()) / static_cast<double>(flips.size() - 1);
+  o.max_excursion = out.max_spin_axis_angle;
+  o.faults = DeploymentFaults(out.profile, out.hinge_events, end.t);
+  o.linear = steady_;
+  const double nu45 = std::acos(kCos45);
+  if (o.linear.found && o.linear.growth_rate > 0.0 && o.nutation_begin > 0.0 &&
+      o.nutation_begin < nu45) {
+    o.predicted_45_time = o.phase_begin + std::log(nu45 / o.nutation_begin) / o.linear.growth_rate;
+  }
+  const bool moved = AngleBetween(s_, end.H_B) > std::acos(kCos45) &&
+                     AngleBetween(s_, final_axis.axis_B) > std::acos(kCos45);
+  if (out.termination != integrators::Termination::kReachedEnd) {
+    o.outcome = OutcomeClass::kIncomplete;
+  } else if (o.flips >= 2) {
+    o.outcome = OutcomeClass::kFlipping;
+  } else if (moved) {
+    o.outcome = OutcomeClass::kTransition;
+    if (!out.spin_axis_45_crossings.empty()) o.transition_time = out.spin_axis_45_crossings.back();
+  } else if (o.trend.significant()) {
+    o.outcome = o.trend.rate > 0.0 ? OutcomeClass::kGrowing : OutcomeClass::kDecaying;
+  } else {
+    o.outcome = OutcomeClass::kBounded;
+  }
+  o.outcome_name = o.outcome == OutcomeClass::kTransition && o.role_start == AxisRole::kMinor &&
+                           o.role_end == AxisRole::kMajor
+                       ? "flat spin"
+                       : ToString(o.outcome);
+  Predictions(o);
+  o.headline = Headline(o);
+  return o;
+}
+
+void RunRecorder::Predictions(MotionOutcome& o) const {
+  const Phase& ph = phases_.back();
+  const AxisRole role = NearestAxis(ph.start.J_B, ph.start.H_B).role;
+  // The rigid-body rule with the major-axis rule: a minor-axis spin is stable only without
+  // dissipation.
+  if (role == AxisRole::kMajor || (role == AxisRole::kMinor && !ph.info.dissipative)) {
+    o.rigid_rule = "stable";
+  } else if (role != AxisRole::kDegenerate) {
+    o.rigid_rule = "unstable";
+  }
+  if (!o.linear.found || o.rigid_rule.empty()) return;
+  const bool linear_unstable = o.linear.verdict == "unstable";
+  if (linear_unstable == (o.rigid_rule == "unstable")) return;
+  const math::Vec3 h_r = ph.start.h_rel_B;
+  const std::string rule = "the rigid-body rule says " + o.rigid_rule + " for a " + ToString(role) +
+                           "-axis spin" + (ph.info.dissipative ? " with dissipation" : "");
+  std::string why;
+  if (h_r.norm() > 1e-6 * ph.start.H_B.norm()) {
+    why = "a rotor carries " +
+          math::FormatSignificant(100.0 * h_r.norm() / ph.start.H_B.norm(), 3) +
+          " % of the momentum";
+  } else if (ph.info.dissipative) {
+    why = "dissipation";
+  } else {
+    why = "the hinges flex";
+  }
+  o.disagreement = rule + "; the linearization says " + o.linear.verdict + ": " + why;
 }
 
 }  // namespace deploysim::analysis

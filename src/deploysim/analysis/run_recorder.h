@@ -12,7 +12,10 @@
 ///     (the start, segment ends, located extrema) and inside accepted steps;
 ///   - phases (the profile's stages, or the hinge run's phases between changes of the
 ///     free and moving hinges), opened and closed -> one stage report each;
-///   - progress, reported in steps of 1 % of the run.
+///   - progress, reported in steps of 1 % of the run;
+///   - the outcome measured from the motion (motion_outcome.h): the nutation of each
+///     phase about its own spin axis and its envelope, the final axis, the faults, with
+///     the linear prediction the runner hands in for the final phase.
 /// An outcome-only run (a sweep case) passes no sink: no samples, everything else.
 
 #include <Eigen/Core>
@@ -23,6 +26,7 @@
 #include <vector>
 
 #include "deploysim/analysis/mission.h"
+#include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/dynamics/inertia_source.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/math/inertia.h"
@@ -130,9 +134,15 @@ class RunRecorder {
   /// Closes the open phase at `end` (J_B its left limit).
   void ClosePhase(const RunSample& end);
 
+  bool has_phase() const { return !phases_.empty(); }
+  /// The state the final phase started from (valid after the first OpenPhase).
+  const RunSample& phase_start() const { return phases_.back().start; }
+  /// The linear stability of the final phase's steady spin (linear_stability.h).
+  void SetSteadySpin(const SteadySpin& s) { steady_ = s; }
+
   /// Hands the last samples to the sink and fills `out`: the last sample, flip times (sorted),
   /// 45-degree crossings, danger windows, max_h_N_drift (outcome-only runs: from out.final_state),
-  /// max_spin_axis_angle and one stage report per phase.
+  /// max_spin_axis_angle, one stage report per phase and the outcome.
   void Finish(MissionResult& out);
 
  private:
@@ -143,6 +153,10 @@ class RunRecorder {
   StageReport Report(std::size_t i, const std::vector<double>& flips) const;
   /// Hands the block to the sink (keeping its last sample) and empties it.
   void Flush();
+  /// The outcome of the run (after the flips, crossings and reports are in `out`).
+  MotionOutcome Outcome(const MissionResult& out) const;
+  /// The rigid-body rule's verdict on the final phase and why the linearization differs.
+  void Predictions(MotionOutcome& o) const;
 
   math::Vec3 s_;
   math::Vec3 h_N0_;
@@ -167,6 +181,14 @@ class RunRecorder {
 
   std::vector<Phase> phases_;
   std::vector<RunSample> phase_ends_;
+
+  // The nutation of the open phase about its spin axis (the principal axis of J_B
+  // nearest H_B at its start).
+  math::Vec3 phase_axis_ = math::Vec3::UnitZ();
+  EnvelopeTracker envelope_;
+  int nutation_samples_ = 0;
+  double nutation_begin_ = 0.0, nutation_end_ = 0.0, nutation_max_ = 0.0;
+  SteadySpin steady_;
 };
 
 }  // namespace deploysim::analysis

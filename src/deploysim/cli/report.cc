@@ -16,28 +16,9 @@ namespace {
 
 std::string Num(double v) { return math::FormatSignificant(v, 6); }
 
-// JSON has no nan or inf: null. Finite values as the shortest text that reads back
-// exactly.
-std::string JsonNum(double v) { return std::isfinite(v) ? math::FormatNumber(v) : "null"; }
-
-std::string JsonStr(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      o += '\\';
-      o += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      o += fmt::format("\\u{:04x}", static_cast<int>(c));
-    } else {
-      o += c;
-    }
-  }
-  return o + "\"";
-}
-
 std::string JsonList(const std::vector<double>& v) {
   std::string o = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) o += (i ? ", " : "") + JsonNum(v[i]);
+  for (std::size_t i = 0; i < v.size(); ++i) o += (i ? ", " : "") + math::JsonNumber(v[i]);
   return o + "]";
 }
 
@@ -57,14 +38,14 @@ std::string SampleJson(const analysis::Trajectory& t,
     if (!v.empty()) c.values(t, k, v.data());
     std::string value;
     if (c.shape == analysis::ColumnShape::kScalar) {
-      value = JsonNum(v[0]);
+      value = math::JsonNumber(v[0]);
     } else if (c.shape == analysis::ColumnShape::kMatrix3) {
       value = fmt::format("[{}, {}, {}]", JsonList({v[0], v[1], v[2]}),
                           JsonList({v[3], v[4], v[5]}), JsonList({v[6], v[7], v[8]}));
     } else {
       value = JsonList(v);
     }
-    o += fmt::format("{}{}: {}", o.size() > 1 ? ", " : "", JsonStr(c.name), value);
+    o += fmt::format("{}{}: {}", o.size() > 1 ? ", " : "", math::JsonString(c.name), value);
   }
   return o + "}";
 }
@@ -130,6 +111,44 @@ std::string FormatLedger(const analysis::MissionResult& r) {
       Num(r.energy_initial), Num(r.energy_final), terms.empty() ? "none" : terms, Num(gap));
 }
 
+/// The outcome block: the headline, then what was measured and what was predicted.
+std::string FormatOutcome(const analysis::MissionResult& r) {
+  const analysis::MotionOutcome& o = r.outcome;
+  if (o.headline.empty()) return "";  // a result not made by a run
+  constexpr double kDeg = 57.295779513082320877;
+  std::string t = fmt::format("verdict: {}\n", o.headline);
+  t += fmt::format(
+      "  measured: {} from {} s; spin axis {} ({}) -> {} ({}); nutation {} -> {} deg, largest "
+      "{} deg; largest spin-axis excursion {} deg\n",
+      o.outcome_name, Num(o.phase_begin), o.axis_start, analysis::ToString(o.role_start),
+      o.axis_end, analysis::ToString(o.role_end), Num(o.nutation_begin * kDeg),
+      Num(o.nutation_end * kDeg), Num(o.nutation_max * kDeg), Num(o.max_excursion * kDeg));
+  if (o.trend.valid) {
+    t += fmt::format(
+        "  envelope fit: rate {} +- {} 1/s (time constant {} s) over {} peaks, {}..{} s\n",
+        Num(o.trend.rate), Num(o.trend.rate_sigma), Num(o.trend.time_constant()), o.trend.points,
+        Num(o.trend.t_begin), Num(o.trend.t_end));
+  }
+  if (o.linear.found) {
+    t += fmt::format(
+        "  linear stability of the steady spin: {}; nutation mode rate {} 1/s (time constant "
+        "{} s), frequency {} rad/s",
+        o.linear.verdict, Num(o.linear.growth_rate), Num(1.0 / std::abs(o.linear.growth_rate)),
+        Num(o.linear.frequency));
+    if (std::isfinite(o.linear.quasi_rigid_rate)) {
+      t += fmt::format("; quasi-rigid estimate {} 1/s", Num(o.linear.quasi_rigid_rate));
+    }
+    if (std::isfinite(o.predicted_45_time)) {
+      t += fmt::format("; 45 deg predicted at {} s", Num(o.predicted_45_time));
+    }
+    t += "\n";
+  } else if (!o.linear.reason.empty()) {
+    t += fmt::format("  linear stability: none ({})\n", o.linear.reason);
+  }
+  if (!o.rigid_rule.empty()) t += fmt::format("  rigid-body rule: {}\n", o.rigid_rule);
+  return t + "\n";
+}
+
 std::string FormatSummary(const analysis::MissionResult& r) {
   std::string o;
   const auto& p = r.profile;
@@ -140,6 +159,7 @@ std::string FormatSummary(const analysis::MissionResult& r) {
       fmt::format("integrator {}: {} steps, {} rejected, {} rhs evaluations, {:.3g} s wall; {}\n\n",
                   p.integrator.method, r.stats.steps, r.stats.rejected, r.stats.evaluations,
                   r.wall_seconds, r.message);
+  o += FormatOutcome(r);
   // One row per stage; in a hinge profile one row per run of consecutive phases of the
   // same hinges and law (a stop impact starts a new phase: a panel bouncing 100 times on
   // its stop would otherwise fill 100 rows), with the values at the run's end.
@@ -318,15 +338,18 @@ std::string FormatJson(const analysis::MissionResult& r,
                        const analysis::TrajectorySchema& schema) {
   const auto& p = r.profile;
   std::string o = "{\n";
-  o += fmt::format("  \"profile\": {},\n  \"source\": {},\n  \"model\": {},\n", JsonStr(p.name),
-                   JsonStr(p.source), JsonStr(p.model.name));
+  o += fmt::format("  \"profile\": {},\n  \"source\": {},\n  \"model\": {},\n",
+                   math::JsonString(p.name), math::JsonString(p.source),
+                   math::JsonString(p.model.name));
   o += fmt::format("  \"mode\": {},\n  \"coupling\": {},\n  \"integrator\": {},\n",
-                   JsonStr(schedule::ToString(p.mode)), JsonStr(schedule::ToString(p.coupling)),
-                   JsonStr(p.integrator.method));
+                   math::JsonString(schedule::ToString(p.mode)),
+                   math::JsonString(schedule::ToString(p.coupling)),
+                   math::JsonString(p.integrator.method));
   o += fmt::format("  \"termination\": {},\n  \"steps\": {},\n  \"rhs_evaluations\": {},\n",
-                   JsonStr(r.message), r.stats.steps, r.stats.evaluations);
-  o += fmt::format("  \"wall_seconds\": {},\n  \"max_h_N_drift\": {},\n", JsonNum(r.wall_seconds),
-                   JsonNum(r.max_h_N_drift));
+                   math::JsonString(r.message), r.stats.steps, r.stats.evaluations);
+  o += fmt::format("  \"wall_seconds\": {},\n  \"max_h_N_drift\": {},\n",
+                   math::JsonNumber(r.wall_seconds), math::JsonNumber(r.max_h_N_drift));
+  o += "  \"outcome\": " + analysis::OutcomeJson(r.outcome) + ",\n";
   o += fmt::format("  \"flip_times\": {},\n  \"stages\": [\n", JsonList(r.flip_times));
   for (std::size_t i = 0; i < r.stages.size(); ++i) {
     const auto& s = r.stages[i];
@@ -336,19 +359,21 @@ std::string FormatJson(const analysis::MissionResult& r,
         "\"regime\": {}, \"one_minus_k2\": {}, \"separatrix_distance\": {}, "
         "\"flip_half_period\": {}, \"predicted_flips\": {}, \"observed_flips\": {}, "
         "\"max_flip_time_difference\": {}, \"caveat\": {}, \"rigid_body_only\": {}}}{}\n",
-        s.index, JsonStr(s.name), JsonStr(s.law), JsonNum(s.t_begin), JsonNum(s.t_end),
-        s.rigid ? "true" : "false", JsonNum(s.moments_end[0]), JsonNum(s.moments_end[1]),
-        JsonNum(s.moments_end[2]), JsonStr(analysis::ToString(s.spin_axis_end)),
-        s.rigid ? JsonStr(s.regime) : "null", s.rigid ? JsonNum(s.one_minus_k2) : "null",
-        JsonNum(s.separatrix_distance), JsonNum(s.predicted_flip_half_period),
+        s.index, math::JsonString(s.name), math::JsonString(s.law), math::JsonNumber(s.t_begin),
+        math::JsonNumber(s.t_end), s.rigid ? "true" : "false", math::JsonNumber(s.moments_end[0]),
+        math::JsonNumber(s.moments_end[1]), math::JsonNumber(s.moments_end[2]),
+        math::JsonString(analysis::ToString(s.spin_axis_end)),
+        s.rigid ? math::JsonString(s.regime) : "null",
+        s.rigid ? math::JsonNumber(s.one_minus_k2) : "null",
+        math::JsonNumber(s.separatrix_distance), math::JsonNumber(s.predicted_flip_half_period),
         JsonList(s.predicted_flips), JsonList(s.observed_flips),
-        JsonNum(s.max_flip_time_difference), JsonStr(s.caveat),
+        math::JsonNumber(s.max_flip_time_difference), math::JsonString(s.caveat),
         s.rigid_body_only ? "true" : "false", i + 1 < r.stages.size() ? "," : "");
   }
   o += "  ],\n  \"danger_windows\": [";
   for (std::size_t i = 0; i < r.danger_windows.size(); ++i) {
-    o += fmt::format("{}[{}, {}]", i ? ", " : "", JsonNum(r.danger_windows[i].t_begin),
-                     JsonNum(r.danger_windows[i].t_end));
+    o += fmt::format("{}[{}, {}]", i ? ", " : "", math::JsonNumber(r.danger_windows[i].t_begin),
+                     math::JsonNumber(r.danger_windows[i].t_end));
   }
   o += "]";
   // Hinge profiles only; empty lists otherwise. SI units, as in the HDF5 file.
@@ -359,16 +384,18 @@ std::string FormatJson(const analysis::MissionResult& r,
         "{}\n    {{\"t\": {}, \"panel\": {}, \"panel_name\": {}, \"kind\": {}, \"angle\": {}, "
         "\"rate_before\": {}, \"rate_after\": {}, \"impulse\": {}, \"w_jump_B\": [{}, {}, {}], "
         "\"energy_dissipated\": {}}}",
-        i ? "," : "", JsonNum(e.t), e.panel, JsonStr(PanelName(r, e.panel)),
-        JsonStr(analysis::ToString(e.kind)), JsonNum(e.angle), JsonNum(e.rate_before),
-        JsonNum(e.rate_after), JsonNum(e.impulse), JsonNum(e.w_jump_B[0]), JsonNum(e.w_jump_B[1]),
-        JsonNum(e.w_jump_B[2]), JsonNum(e.energy_dissipated));
+        i ? "," : "", math::JsonNumber(e.t), e.panel, math::JsonString(PanelName(r, e.panel)),
+        math::JsonString(analysis::ToString(e.kind)), math::JsonNumber(e.angle),
+        math::JsonNumber(e.rate_before), math::JsonNumber(e.rate_after),
+        math::JsonNumber(e.impulse), math::JsonNumber(e.w_jump_B[0]),
+        math::JsonNumber(e.w_jump_B[1]), math::JsonNumber(e.w_jump_B[2]),
+        math::JsonNumber(e.energy_dissipated));
   }
   o += r.hinge_events.empty() ? "]" : "\n  ]";
   o += ",\n  \"latch_times\": {";
   for (std::size_t k = 0; k < r.latch_times.size(); ++k) {
-    o += fmt::format("{}{}: {}", k ? ", " : "", JsonStr(PanelName(r, static_cast<int>(k))),
-                     JsonNum(r.latch_times[k]));
+    o += fmt::format("{}{}: {}", k ? ", " : "", math::JsonString(PanelName(r, static_cast<int>(k))),
+                     math::JsonNumber(r.latch_times[k]));
   }
   o += "}";
   o += fmt::format(",\n  \"spin_axis_45_crossings\": {}", JsonList(r.spin_axis_45_crossings));
@@ -378,9 +405,10 @@ std::string FormatJson(const analysis::MissionResult& r,
         ",\n  \"coupling_comparison\": {{\"max_w_difference_deploying\": {}, \"w_scale\": {}, "
         "\"deployment_end\": {}, \"attitude_offset_at_deployment_end\": {}, "
         "\"max_attitude_difference_after\": {}, \"max_H_B_difference_after\": {}}}",
-        JsonNum(c->max_w_difference_deploying), JsonNum(c->w_scale), JsonNum(c->deployment_end),
-        JsonNum(c->attitude_offset_at_deployment_end), JsonNum(c->max_attitude_difference_after),
-        JsonNum(c->max_H_B_difference_after));
+        math::JsonNumber(c->max_w_difference_deploying), math::JsonNumber(c->w_scale),
+        math::JsonNumber(c->deployment_end), math::JsonNumber(c->attitude_offset_at_deployment_end),
+        math::JsonNumber(c->max_attitude_difference_after),
+        math::JsonNumber(c->max_H_B_difference_after));
   }
   o += "\n}\n";
   return o;

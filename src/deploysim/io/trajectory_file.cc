@@ -288,6 +288,7 @@ void WriteAnalysis(Hdf5Writer& w, const analysis::MissionResult& r, bool geometr
   w.Attribute("/", "termination_message", r.message);
   w.Attribute("/", "statistics", StatisticsText(r.stats));
   w.Attribute("/", "max_h_N_drift", FormatNumber(r.max_h_N_drift));
+  if (!r.outcome.headline.empty()) w.Attribute("/", "outcome", analysis::OutcomeJson(r.outcome));
 }
 
 // ---- reading ----

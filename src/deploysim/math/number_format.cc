@@ -19,4 +19,23 @@ std::string FormatSignificant(double x, int digits) {
   return buf;
 }
 
+std::string JsonNumber(double x) { return std::isfinite(x) ? FormatNumber(x) : "null"; }
+
+std::string JsonString(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      o += '\\';
+      o += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
+      o += buf;
+    } else {
+      o += c;
+    }
+  }
+  return o + "\"";
+}
+
 }  // namespace deploysim::math

@@ -17,4 +17,10 @@ std::string FormatNumber(double x);
 /// "nan", "inf", "-inf" for non-finite values.
 std::string FormatSignificant(double x, int digits = 3);
 
+/// A JSON number: FormatNumber, or null for NaN and infinities (JSON has neither).
+std::string JsonNumber(double x);
+
+/// A JSON string literal: quotes, backslashes and control characters escaped.
+std::string JsonString(const std::string& s);
+
 }  // namespace deploysim::math

@@ -1,0 +1,358 @@
+#include "deploysim/analysis/motion_outcome.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "deploysim/math/number_format.h"
+#include "deploysim/schedule/profile.h"
+
+namespace deploysim::analysis {
+
+namespace {
+
+constexpr double kDegPerRad = 57.295779513082320877;
+
+std::string Deg(double rad) { return math::FormatSignificant(rad * kDegPerRad, 3) + " deg"; }
+std::string Sec(double s) { return math::FormatSignificant(s, 4) + " s"; }
+
+/// "+z (minor axis)".
+std::string AxisText(const std::string& axis, AxisRole role) {
+  return axis + " (" + ToString(role) + " axis)";
+}
+
+}  // namespace
+
+void EnvelopeTracker::Reset(double window) {
+  window_ = window;
+  open_ = need_right_ = have_prev_ = false;
+  peaks_.clear();
+}
+
+void EnvelopeTracker::Add(double t, double nu) {
+  const EnvelopePeak p{t, nu};
+  if (need_right_) {
+    right_ = p;
+    have_right_ = true;
+    need_right_ = false;
+  }
+  const bool starts = !open_ || t >= window_end_;
+  if (open_ && starts) Emit();
+  if (starts || nu > best_.nu) {
+    if (!open_) window_end_ = t;
+    while (window_end_ <= t) window_end_ += window_;
+    open_ = true;
+    best_ = p;
+    left_ = prev_;
+    have_left_ = have_prev_;
+    have_right_ = false;
+    need_right_ = true;
+  }
+  prev_ = p;
+  have_prev_ = true;
+}
+
+void EnvelopeTracker::Emit() {
+  EnvelopePeak p = best_;
+  if (have_left_ && have_right_ && best_.nu > left_.nu && best_.nu >= right_.nu) {
+    // The vertex of the parabola through the three samples (uneven spacing allowed).
+    const double h0 = best_.t - left_.t, h1 = right_.t - best_.t;
+    const double d0 = (best_.nu - left_.nu) / h0, d1 = (right_.nu - best_.nu) / h1;
+    const double c = (d1 - d0) / (h0 + h1);            // half the second derivative
+    const double s = (d0 * h1 + d1 * h0) / (h0 + h1);  // slope at best_.t
+    if (c < 0.0) {
+      const double dt = -s / (2.0 * c);
+      if (std::abs(dt) <= std::max(h0, h1)) p = {best_.t + dt, best_.nu + s * dt + c * dt * dt};
+    }
+  }
+  peaks_.push_back(p);
+}
+
+bool ExponentialFit::significant() const {
+  return valid && std::abs(rate) > 3.0 * rate_sigma &&
+         std::abs(rate) * (t_end - t_begin) > std::log(1.05);
+}
+
+double ExponentialFit::time_constant() const {
+  return rate != 0.0 ? 1.0 / std::abs(rate) : std::numeric_limits<double>::infinity();
+}
+
+ExponentialFit FitEnvelope(const std::vector<EnvelopePeak>& peaks, double floor, double ceiling) {
+  // The longest stretch of consecutive peaks inside the band.
+  std::size_t best_begin = 0, best_end = 0;
+  for (std::size_t i = 0; i < peaks.size();) {
+    if (!(peaks[i].nu >= floor && peaks[i].nu <= ceiling)) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j < peaks.size() && peaks[j].nu >= floor && peaks[j].nu <= ceiling) ++j;
+    if (j - i > best_end - best_begin) best_begin = i, best_end = j;
+    i = j;
+  }
+  best_begin += (best_end - best_begin) / 4;  // the sink's own transient
+  ExponentialFit f;
+  const std::size_t n = best_end - best_begin;
+  if (n < 4) return f;
+  double st = 0.0, sy = 0.0;
+  for (std::size_t i = best_begin; i < best_end; ++i) {
+    st += peaks[i].t;
+    sy += std::log(peaks[i].nu);
+  }
+  const double count = static_cast<double>(n);
+  const double tm = st / count, ym = sy / count;
+  double stt = 0.0, sty = 0.0;
+  for (std::size_t i = best_begin; i < best_end; ++i) {
+    stt += (peaks[i].t - tm) * (peaks[i].t - tm);
+    sty += (peaks[i].t - tm) * (std::log(peaks[i].nu) - ym);
+  }
+  if (!(stt > 0.0)) return f;
+  f.rate = sty / stt;
+  double ss = 0.0;
+  for (std::size_t i = best_begin; i < best_end; ++i) {
+    const double r = std::log(peaks[i].nu) - ym - f.rate * (peaks[i].t - tm);
+    ss += r * r;
+  }
+  f.rate_sigma = std::sqrt(ss / (count - 2.0) / stt);
+  f.t_begin = peaks[best_begin].t;
+  f.t_end = peaks[best_end - 1].t;
+  f.nu_begin = std::exp(ym + f.rate * (f.t_begin - tm));
+  f.nu_end = std::exp(ym + f.rate * (f.t_end - tm));
+  f.points = static_cast<int>(n);
+  f.valid = true;
+  return f;
+}
+
+std::string ToString(OutcomeClass c) {
+  switch (c) {
+    case OutcomeClass::kIncomplete:
+      return "incomplete";
+    case OutcomeClass::kFlipping:
+      return "flipping";
+    case OutcomeClass::kTransition:
+      return "transition";
+    case OutcomeClass::kGrowing:
+      return "growing";
+    case OutcomeClass::kDecaying:
+      return "decaying";
+    case OutcomeClass::kBounded:
+      return "bounded";
+  }
+  return "?";
+}
+
+std::string ToString(DeploymentFault::Kind k) {
+  switch (k) {
+    case DeploymentFault::Kind::kJam:
+      return "jam";
+    case DeploymentFault::Kind::kNeverLatched:
+      return "never latched";
+    case DeploymentFault::Kind::kRestsShort:
+      return "rests short of latch";
+    case DeploymentFault::Kind::kNeverReleased:
+      return "never released";
+  }
+  return "?";
+}
+
+std::string BodyAxisName(const math::Vec3& a) {
+  Eigen::Index i = 0;
+  a.cwiseAbs().maxCoeff(&i);
+  return std::string(a[i] >= 0.0 ? "+" : "-") + "xyz"[i];
+}
+
+std::vector<DeploymentFault> DeploymentFaults(const schedule::Profile& profile,
+                                              const std::vector<HingeEvent>& events,
+                                              double t_end) {
+  std::vector<DeploymentFault> faults;
+  for (std::size_t k = 0; k < profile.hinges.size(); ++k) {
+    const schedule::HingePlan& plan = profile.hinges[k];
+    if (plan.kind != schedule::HingePlan::Kind::kFree) continue;
+    DeploymentFault f;
+    f.panel = static_cast<int>(k);
+    f.panel_name = profile.model.hinged.panels[k].name;
+    f.latch_angle = plan.drive.latch.enabled ? plan.drive.latch.angle : f.latch_angle;
+    bool released = false, latched = false;
+    const HingeEvent* jam = nullptr;
+    const HingeEvent* rest = nullptr;
+    for (const HingeEvent& e : events) {
+      if (e.panel != f.panel) continue;
+      released |= e.kind == HingeEvent::Kind::kRelease;
+      latched |= e.kind == HingeEvent::Kind::kLatch;
+      if (e.kind == HingeEvent::Kind::kJam) jam = &e;
+      if (e.kind == HingeEvent::Kind::kRest) rest = &e;
+    }
+    const schedule::Release& r = plan.drive.release;
+    const bool due = r.kind != schedule::Release::Kind::kAtTime || r.time < t_end;
+    if (!released && due && r.kind != schedule::Release::Kind::kAtStart) {
+      f.kind = DeploymentFault::Kind::kNeverReleased;
+    } else if (jam != nullptr) {
+      f.kind = DeploymentFault::Kind::kJam;
+      f.t = jam->t;
+      f.angle = jam->angle;
+    } else if (plan.drive.latch.enabled && released && !latched) {
+      f.kind = rest != nullptr ? DeploymentFault::Kind::kRestsShort
+                               : DeploymentFault::Kind::kNeverLatched;
+      if (rest != nullptr) f.t = rest->t, f.angle = rest->angle;
+    } else {
+      continue;
+    }
+    faults.push_back(f);
+  }
+  return faults;
+}
+
+std::string Headline(const MotionOutcome& o) {
+  std::string h;
+  for (const DeploymentFault& f : o.faults) {
+    h += "panel " + f.panel_name + " ";
+    switch (f.kind) {
+      case DeploymentFault::Kind::kJam:
+        h += "JAMMED at " + Sec(f.t) + " at " + Deg(f.angle) + " (latch at " + Deg(f.latch_angle) +
+             ")";
+        break;
+      case DeploymentFault::Kind::kNeverLatched:
+        h += "NEVER LATCHED";
+        break;
+      case DeploymentFault::Kind::kRestsShort:
+        h += "NEVER LATCHED: it rests on a stop at " + Deg(f.angle) + " from " + Sec(f.t) +
+             " (latch at " + Deg(f.latch_angle) + ")";
+        break;
+      case DeploymentFault::Kind::kNeverReleased:
+        h += "NEVER RELEASED";
+        break;
+    }
+    h += "; ";
+  }
+  const std::string start = AxisText(o.axis_start, o.role_start);
+  const ExponentialFit& f = o.trend;
+  switch (o.outcome) {
+    case OutcomeClass::kIncomplete:
+      h += "the run stopped before its end";
+      break;
+    case OutcomeClass::kFlipping:
+      h += "flips every " + Sec(o.flip_interval) + " about " + start + ", " +
+           std::to_string(o.flips) + " flips from " + Sec(o.phase_begin);
+      break;
+    case OutcomeClass::kTransition:
+      h += o.outcome_name + ": the spin moves from " + start + " to " +
+           AxisText(o.axis_end, o.role_end) +
+           (std::isfinite(o.transition_time) ? ", 45 deg away at " + Sec(o.transition_time)
+                                             : std::string());
+      if (std::isfinite(o.predicted_45_time)) {
+        h += " (the linear growth, time constant " + Sec(1.0 / o.linear.growth_rate) +
+             ", predicts " + Sec(o.predicted_45_time) + ")";
+      }
+      break;
+    case OutcomeClass::kGrowing:
+      h += "unstable: the nutation about " + start + " grows from " + Deg(o.nutation_begin) +
+           " to " + Deg(o.nutation_end) + ", time constant " + Sec(f.time_constant());
+      break;
+    case OutcomeClass::kDecaying:
+      h += "stable: the nutation about " + start + " decays from " + Deg(o.nutation_begin) +
+           " to " + Deg(o.nutation_end) + ", time constant " + Sec(f.time_constant());
+      break;
+    case OutcomeClass::kBounded:
+      h += "steady spin about " + start + ", nutation bounded by " + Deg(o.nutation_max);
+      break;
+  }
+  if (!o.disagreement.empty()) h += " (" + o.disagreement + ")";
+  h += ".";
+  h[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(h[0])));
+  return h;
+}
+
+namespace {
+
+/// A JSON object, member by member.
+class JsonObject {
+ public:
+  JsonObject& Raw(const std::string& key, const std::string& value) {
+    text_ += (text_.size() > 1 ? ", " : "") + math::JsonString(key) + ": " + value;
+    return *this;
+  }
+  JsonObject& Num(const std::string& key, double v) { return Raw(key, math::JsonNumber(v)); }
+  JsonObject& Str(const std::string& key, const std::string& v) {
+    return Raw(key, math::JsonString(v));
+  }
+  JsonObject& Bool(const std::string& key, bool v) { return Raw(key, v ? "true" : "false"); }
+  std::string Text() const { return text_ + "}"; }
+
+ private:
+  std::string text_ = "{";
+};
+
+std::string FitJson(const ExponentialFit& f) {
+  return JsonObject()
+      .Bool("valid", f.valid)
+      .Num("rate", f.rate)
+      .Num("rate_sigma", f.rate_sigma)
+      .Num("time_constant", f.time_constant())
+      .Num("t_begin", f.t_begin)
+      .Num("t_end", f.t_end)
+      .Num("nu_begin", f.nu_begin)
+      .Num("nu_end", f.nu_end)
+      .Num("points", f.points)
+      .Text();
+}
+
+std::string LinearJson(const SteadySpin& s) {
+  std::string modes = "[";
+  for (std::size_t i = 0; i < s.modes.size(); ++i) {
+    modes += (i ? ", [" : "[") + math::JsonNumber(s.modes[i].lambda.real()) + ", " +
+             math::JsonNumber(s.modes[i].lambda.imag()) + ", " +
+             math::JsonNumber(s.modes[i].momentum_share) + "]";
+  }
+  return JsonObject()
+      .Bool("found", s.found)
+      .Str("reason", s.reason)
+      .Str("verdict", s.verdict)
+      .Num("growth_rate", s.growth_rate)
+      .Num("frequency", s.frequency)
+      .Num("max_real", s.max_real)
+      .Num("quasi_rigid_rate", s.quasi_rigid_rate)
+      .Num("rigid_frequency", s.rigid_frequency)
+      .Raw("modes", modes + "]")
+      .Text();
+}
+
+}  // namespace
+
+std::string OutcomeJson(const MotionOutcome& o) {
+  std::string faults = "[";
+  for (std::size_t i = 0; i < o.faults.size(); ++i) {
+    const DeploymentFault& d = o.faults[i];
+    faults += (i ? ", " : "") + JsonObject()
+                                    .Str("kind", ToString(d.kind))
+                                    .Num("panel", d.panel)
+                                    .Str("panel_name", d.panel_name)
+                                    .Num("t", d.t)
+                                    .Num("angle", d.angle)
+                                    .Num("latch_angle", d.latch_angle)
+                                    .Text();
+  }
+  return JsonObject()
+      .Str("class", ToString(o.outcome))
+      .Str("name", o.outcome_name)
+      .Str("headline", o.headline)
+      .Str("axis_start", o.axis_start)
+      .Str("role_start", ToString(o.role_start))
+      .Str("axis_end", o.axis_end)
+      .Str("role_end", ToString(o.role_end))
+      .Num("phase_begin", o.phase_begin)
+      .Num("nutation_begin", o.nutation_begin)
+      .Num("nutation_end", o.nutation_end)
+      .Num("nutation_max", o.nutation_max)
+      .Raw("trend", FitJson(o.trend))
+      .Num("flips", o.flips)
+      .Num("flip_interval", o.flip_interval)
+      .Num("transition_time", o.transition_time)
+      .Num("predicted_45_time", o.predicted_45_time)
+      .Num("max_excursion", o.max_excursion)
+      .Raw("faults", faults + "]")
+      .Raw("linear", LinearJson(o.linear))
+      .Str("rigid_rule", o.rigid_rule)
+      .Str("disagreement", o.disagreement)
+      .Text();
+}
+
+}  // namespace deploysim::analysis

@@ -1,0 +1,166 @@
+#pragma once
+
+/// The outcome of a run, measured from the motion (docs/design.md 2.8, "The verdict"): one
+/// record that `analyze` (table and JSON), the HDF5 file (/outcome), the report's headline,
+/// the viewer and the sweep read, so that they cannot disagree.
+///
+/// What it measures, on the output samples of the final phase (after the last release,
+/// latch or stage change) unless said otherwise:
+///  - the nutation nu(t): the angle between H_B and the body axis the phase spins about
+///    (the principal axis of J_B nearest H_B at the phase's start), and its envelope: the
+///    local maxima of nu, each refined by the parabola through its three samples;
+///  - the envelope's trend: ln(nu_peak) = a + sigma t fitted by least squares over the
+///    peaks in the small-nutation band (kFitFloor..kFitCeiling, where the motion is
+///    linear; the first quarter of the band's longest stretch is left out: the sink's own
+///    transient), with the slope's standard error. sigma > 0 grows, < 0 decays, and a
+///    slope within 3 standard errors of 0 or changing nu by less than 5 % over the fit is
+///    "bounded";
+///  - the flips (the flip rule, flip_rule.h) and their mean interval;
+///  - a transition: the run ends spinning about another body axis than it started about
+///    (H_B nearer another principal axis of J_B, and more than 45 deg from the initial
+///    spin axis), at the time of its last 45-degree crossing; minor -> major is a flat
+///    spin;
+///  - the largest excursion (the largest angle between the initial spin axis and h_N);
+///  - the deployment's faults: a jam, a latch that never happens (and whether the panel
+///    rests on a stop short of it), a release that never comes.
+/// Beside the measurement, the predictions (linear_stability.h): the linear stability of
+/// the final phase's steady spin, the quasi-rigid estimate, and the rigid-body rule (minor
+/// or major axis stable, intermediate unstable), with the reason where the rule and the
+/// linearization disagree (a rotor, dissipation).
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "deploysim/analysis/flip_rule.h"
+#include "deploysim/analysis/hinge_events.h"
+#include "deploysim/analysis/linear_stability.h"
+#include "deploysim/math/types.h"
+
+namespace deploysim::schedule {
+struct Profile;
+}  // namespace deploysim::schedule
+
+namespace deploysim::analysis {
+
+/// [rad] the small-nutation band of the envelope fit: where the linear rate holds to
+/// ~nu^2 (1e-3 at 1.8 deg), above the rounding floor.
+inline constexpr double kFitFloor = 1e-7;
+inline constexpr double kFitCeiling = 0.0314159265358979;  // 1.8 deg
+
+/// A point of the nutation's envelope.
+struct EnvelopePeak {
+  double t = 0.0;   ///< [s]
+  double nu = 0.0;  ///< [rad]
+};
+
+/// The envelope of a sampled nutation, fed one sample at a time: the largest sample of
+/// each window of the given length (about one nutation period), refined by the parabola
+/// through it and its neighbours when it is a local maximum. A nutation that grows or
+/// decays without oscillating (an axisymmetric body) gives the window ends.
+class EnvelopeTracker {
+ public:
+  /// Starts over with windows of `window` seconds (> 0).
+  void Reset(double window);
+  void Add(double t, double nu);
+  const std::vector<EnvelopePeak>& peaks() const { return peaks_; }
+
+ private:
+  void Emit();
+  double window_ = 1.0, window_end_ = 0.0;
+  bool open_ = false, need_right_ = false, have_prev_ = false;
+  EnvelopePeak prev_, best_, left_, right_;
+  bool have_left_ = false, have_right_ = false;
+  std::vector<EnvelopePeak> peaks_;
+};
+
+/// An exponential fit of an envelope: nu ~ exp(rate t).
+struct ExponentialFit {
+  bool valid = false;                   ///< at least 4 peaks in the band
+  double rate = 0.0;                    ///< [1/s]
+  double rate_sigma = 0.0;              ///< [1/s] standard error of the slope
+  double t_begin = 0.0, t_end = 0.0;    ///< [s] the fitted stretch
+  double nu_begin = 0.0, nu_end = 0.0;  ///< [rad] the fit's values there
+  int points = 0;
+  /// Growing or decaying beyond doubt (|rate| > 3 rate_sigma and nu changing by more
+  /// than 5 % over the fit); otherwise bounded.
+  bool significant() const;
+  /// [s] 1 / |rate| (+inf when 0).
+  double time_constant() const;
+};
+
+/// The fit over `peaks` within [floor, ceiling] (see the file comment).
+ExponentialFit FitEnvelope(const std::vector<EnvelopePeak>& peaks,
+                           double floor = kFitFloor,
+                           double ceiling = kFitCeiling);
+
+/// The outcome classes, most severe first.
+enum class OutcomeClass {
+  kIncomplete,  ///< the run did not reach its end
+  kFlipping,    ///< periodic flips (spin about the intermediate axis)
+  kTransition,  ///< ends spinning about another axis (minor -> major: a flat spin)
+  kGrowing,     ///< nutation growing (an unstable spin not yet gone)
+  kDecaying,    ///< nutation decaying (an asymptotically stable spin)
+  kBounded,     ///< nutation bounded (a steady spin)
+};
+/// "incomplete", "flipping", "flat spin" (minor -> major) or "transition", "growing",
+/// "decaying", "bounded".
+std::string ToString(OutcomeClass c);
+
+/// A deployment fault.
+struct DeploymentFault {
+  enum class Kind { kJam, kNeverLatched, kRestsShort, kNeverReleased };
+  Kind kind = Kind::kJam;
+  int panel = 0;
+  std::string panel_name;
+  double t = std::numeric_limits<double>::quiet_NaN();            ///< [s] NaN: never
+  double angle = std::numeric_limits<double>::quiet_NaN();        ///< [rad] where it stopped
+  double latch_angle = std::numeric_limits<double>::quiet_NaN();  ///< [rad]
+};
+/// "jam", "never latched", "rests short of latch", "never released".
+std::string ToString(DeploymentFault::Kind k);
+
+struct MotionOutcome {
+  OutcomeClass outcome = OutcomeClass::kBounded;
+  std::string outcome_name;  ///< ToString(outcome), "flat spin" for minor -> major
+  /// The body axis the run spins about at the start and at the end: "+x" ... "-z" (the
+  /// body axis nearest the principal axis nearest H_B), and its role in J_B there.
+  std::string axis_start, axis_end;
+  AxisRole role_start = AxisRole::kDegenerate, role_end = AxisRole::kDegenerate;
+  double phase_begin = 0.0;  ///< [s] start of the final phase (the fits' window)
+  double nutation_begin = 0.0, nutation_end = 0.0, nutation_max = 0.0;  ///< [rad] the phase's
+  ExponentialFit trend;  ///< of the final phase's envelope
+  int flips = 0;         ///< in the final phase
+  double flip_interval = std::numeric_limits<double>::quiet_NaN();    ///< [s] mean
+  double transition_time = std::numeric_limits<double>::quiet_NaN();  ///< [s]
+  double max_excursion = 0.0;  ///< [rad] largest angle between the initial spin axis and h_N
+  std::vector<DeploymentFault> faults;
+  // The predictions for the final phase's steady spin.
+  SteadySpin linear;  ///< linear.found false: none (linear.reason)
+  /// [s] when the nutation would reach 45 deg growing at linear.growth_rate from
+  /// nutation_begin (NaN: not growing): the time to a flat spin or a tumble predicted
+  /// from the small motion, beside the measured transition_time.
+  double predicted_45_time = std::numeric_limits<double>::quiet_NaN();
+  std::string rigid_rule;    ///< "stable" / "unstable" / "" (degenerate axis)
+  std::string disagreement;  ///< why the rigid-body rule and the linearization differ
+  std::string headline;      ///< one sentence: faults first, then the motion
+};
+
+/// The faults of a hinge profile's run (none for a stage profile).
+std::vector<DeploymentFault> DeploymentFaults(const schedule::Profile& profile,
+                                              const std::vector<HingeEvent>& events,
+                                              double t_end);
+
+/// "+x", "+y", "+z", "-x", "-y", "-z": the body axis nearest the unit vector a.
+std::string BodyAxisName(const math::Vec3& a);
+
+/// The one-sentence headline of an outcome (faults first, then the motion, then the
+/// prediction where it disagrees with the rigid-body rule).
+std::string Headline(const MotionOutcome& o);
+
+/// The outcome as one JSON object (SI units, angles in rad, NaN and infinities as null):
+/// the record `analyze --json` prints as "outcome" and the HDF5 file stores as the root
+/// attribute `outcome` (docs/file_formats.md, "Outcome").
+std::string OutcomeJson(const MotionOutcome& o);
+
+}  // namespace deploysim::analysis
