@@ -23,6 +23,7 @@ naming the file and the dataset. Text is decoded to str here, once.
 
 Needs Debian's python3-h5py and python3-numpy (run with /usr/bin/python3).
 """
+import json
 import os
 
 import numpy as np
@@ -190,6 +191,13 @@ class Trajectory:
                 k, v = part.split("=", 1)
                 out[k.strip()] = v.strip()
         return out
+
+    @property
+    def outcome(self):
+        """The run's outcome record (the @outcome attribute, JSON: the "outcome" of
+        `deploysim analyze --json`), or None for a file written before it."""
+        text = self.attrs.get("outcome")
+        return json.loads(text) if text else None
 
     @property
     def time(self):

@@ -338,6 +338,11 @@ def _read_trajectory(path, model_path):
         run["stages"] = [dict(name=s["name"], t0=float(s["t_begin"]), t1=float(s["t_end"]),
                               role=s["spin_axis_role"]) for s in tr.stages]
         run["danger"] = [[a, b] for a, b in tr.danger_windows]
+        # The run's outcome record (the verdict analyze and the report print), if any.
+        o = tr.outcome
+        run["outcome"] = None if o is None else dict(
+            headline=o["headline"], name=o["name"], cls=o["class"],
+            phase_begin=o["phase_begin"], transition_time=o["transition_time"])
         # Stop impacts come in bursts: not marked.
         run["events"] = [dict(t=float(e["time"]), kind=e["kind"], panel=e["panel_name"])
                          for e in tr.hinge_events if e["kind"] != "stop"]

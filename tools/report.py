@@ -252,6 +252,11 @@ def h5_value(h, pointer):
     """The value at a data-h5 pointer: a Python number, str or list of numbers."""
     if pointer.startswith("@"):
         name, _, key = pointer[1:].partition("#")
+        if key and h.attr(name).startswith("{"):  # a JSON record: @outcome#linear.verdict
+            v = json.loads(h.attr(name))
+            for k in key.split("."):
+                v = v[k]
+            return v
         v = h.attr_fields(name)[key] if key else h.attr(name)
         for kind in (int, float):
             try:
@@ -445,7 +450,11 @@ def role_text(role):
 
 
 def verdict(c, h, ctx):
-    """The summary's one sentence: when the spin axis becomes intermediate, the flips."""
+    """The summary's one sentence: the run's outcome record (its headline: faults first,
+    then what the motion did); for a file written before it, when the spin axis becomes
+    intermediate and the flips."""
+    if h.outcome:
+        return c.h5("@outcome#headline", tag="span", cls=None, shown=esc(h.outcome["headline"]))
     stages = ctx["stages"]
     last = len(stages) - 1
     parts = []
@@ -497,6 +506,27 @@ def verdict(c, h, ctx):
     return v[0].upper() + v[1:]
 
 
+def outcome_item(c, o):
+    """The summary's line on the predictions for the final phase's steady spin: the linear
+    stability from the run's own equations, and the rigid-body rule where it differs."""
+    lin = o["linear"]
+    if not lin["found"]:
+        return ("Linear stability of the final spin: none ("
+                + c.h5("@outcome#linear.reason", tag="span", cls=None) + ").")
+    s = ("Linear stability of the final spin (from the run's own equations): "
+         + c.h5("@outcome#linear.verdict", tag="span", cls=None))
+    if lin["growth_rate"]:
+        s += (", nutation " + ("growing" if lin["growth_rate"] > 0 else "decaying")
+              + " with time constant "
+              + c.h5("@outcome#linear.time_constant", tag="span", cls=None, unit="s",
+                     suffix="\u00a0s"))
+    s += "."
+    if o["disagreement"]:
+        s += " " + c.h5("@outcome#disagreement", tag="span", cls=None,
+                        shown=esc(o["disagreement"][0].upper() + o["disagreement"][1:])) + "."
+    return s
+
+
 def deployment_item(c, h, ctx):
     """The summary's line on the hinge events: their count, the energy, the locks."""
     ev = ctx["events"]
@@ -535,11 +565,13 @@ def section_summary(c, h, ctx):
             + c.h5(hp("stages/max_flip_time_difference", worst_i), tag="span", cls=None,
                    unit="s", digits=2, suffix="\u00a0s") + " (section 3).")
     fs = stages[last]
+    if h.outcome:
+        items.append(outcome_item(c, h.outcome))
     items.append(f"Final stage \u201c{esc(fs['name'])}\u201d: spin axis "
                  + c.h5(hp("stages/spin_axis_role", last), tag="span", cls=None)
                  + "; " + esc(fs["caveat"] or "no caveat") + "."
                  + (f' <span class="warn">{RIGID_CAVEAT_MARK} Only a perfectly rigid body would '
-                    'keep this spin.</span>' if fs["rigid_body_only"] else ""))
+                    'keep this spin.</span>' if fs["rigid_body_only"] and not h.outcome else ""))
     if ctx["events"]:
         items.append(deployment_item(c, h, ctx))
     if ctx["comparison"]:

@@ -93,6 +93,7 @@ def build_data(run, title=None):
         poses=dict(t=pose_t, data=pose, stride=10 * len(names)),
         spinAxisB=_r(run["spin_axis_B"], 6), extent=L, stages=run["stages"],
         danger=run["danger"], events=run["events"], attrs=run["attrs"],
+        outcome=run.get("outcome"),
         spacing=2.6 * L if n_sides > 1 else 0.0)
 
 

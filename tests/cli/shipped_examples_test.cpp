@@ -1,9 +1,11 @@
-// The shipped free-hinge examples (issue 9) tell the stories their comments and the README
-// tell, with the numbers they quote: the spring-driven deployment of the main job
+// The shipped free-hinge examples tell the stories their comments and the README tell, with
+// the numbers they quote: the spring-driven deployment of the main job
 // (deployment_profiles/smallsat_spring_deploy.yaml), the major-axis rule
-// (minor_axis_flat_spin.yaml) and dual-spin stability (dual_spin_rotor.yaml against
-// dual_spin_locked.yaml). A change to a profile that changes its story fails here, so
-// that its comments are updated with it.
+// (minor_axis_flat_spin.yaml), dual-spin stability (dual_spin_rotor.yaml against
+// dual_spin_locked.yaml) and a jammed wing (smallsat_jammed_wing.yaml). Each run's outcome
+// record (motion_outcome.h), the verdict every output prints, is checked against the
+// motion it measures. A change to a profile that changes its story fails here, so that its
+// comments are updated with it.
 
 #include <gtest/gtest.h>
 
@@ -15,6 +17,7 @@
 #include "deploysim/analysis/flip_rule.h"
 #include "deploysim/analysis/hinge_events.h"
 #include "deploysim/analysis/mission.h"
+#include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/io/yaml_loader.h"
 
 namespace deploysim {
@@ -90,8 +93,16 @@ TEST(ShippedExamplesTest, SpringDeploymentLatchesGently) {
   // The second wing is released 2 s after the first latches: swings of 4.2 and 4.9 s.
   EXPECT_NEAR(latches[0].t - 60.0, 4.2, kQuotedTenth);
   EXPECT_NEAR(latches[1].t - (latches[0].t + 2.0), 4.9, kQuotedTenth);
-  // Deployed, y is the intermediate axis: 4 flips in 600 s.
+  // Deployed, y is the intermediate axis: 4 flips in 600 s, every 129.6 s; the verdict says so.
   EXPECT_EQ(r.flip_times.size(), 4u);
+  const analysis::MotionOutcome& o = r.outcome;
+  EXPECT_EQ(o.outcome, analysis::OutcomeClass::kFlipping);
+  EXPECT_EQ(o.flips, 4);
+  EXPECT_NEAR(o.flip_interval, 129.6, kQuotedTenth);
+  EXPECT_EQ(o.role_phase, analysis::AxisRole::kIntermediate);
+  EXPECT_EQ(o.linear.verdict, "unstable");
+  EXPECT_EQ(o.headline.rfind("Flips every 129.6 s about +y (intermediate axis)", 0), 0u)
+      << o.headline;
 }
 
 // The major-axis rule: rigid (damper caged) for 60 s, the nutation stays at 0.70-0.71 deg;
@@ -120,6 +131,23 @@ TEST(ShippedExamplesTest, MinorAxisSpinnerGoesFlat) {
   EXPECT_NEAR(FinalDOverMajor(r), 0.993, 0.0005);
   EXPECT_NEAR(r.energy_initial, 10.1, kQuotedTenth);
   EXPECT_NEAR(r.energy_final, 2.6, kQuotedTenth);
+  // The verdict is the motion's: a flat spin (minor -> major) at 211.8 s, which the
+  // linearization of the uncaged craft (time constant 35.43 s, the envelope's fit 35.27 s)
+  // predicts at 207.5 s from the 0.70-degree nutation.
+  const analysis::MotionOutcome& o = r.outcome;
+  EXPECT_EQ(o.outcome, analysis::OutcomeClass::kTransition);
+  EXPECT_EQ(o.outcome_name, "flat spin");
+  EXPECT_EQ(o.role_start, analysis::AxisRole::kMinor);
+  EXPECT_EQ(o.role_end, analysis::AxisRole::kMajor);
+  EXPECT_NEAR(o.transition_time, 211.8, kQuotedTenth);
+  EXPECT_NEAR(o.predicted_45_time, 207.5, kQuotedTenth);
+  EXPECT_EQ(o.linear.verdict, "unstable");
+  EXPECT_NEAR(1.0 / o.linear.growth_rate, 35.43, kQuotedTime);
+  ASSERT_TRUE(o.trend.valid);
+  EXPECT_NEAR(o.trend.time_constant(), 35.27, kQuotedTime);
+  EXPECT_EQ(
+      o.headline.rfind("Flat spin: the spin moves from +z (minor axis) to -y (major axis)", 0), 0u)
+      << o.headline;
 }
 
 // Dual spin: with the rotor held at 10 rad/s and the damper on the despun platform, the
@@ -135,6 +163,18 @@ TEST(ShippedExamplesTest, DualSpinRotorStabilizesAndLockedRotorGoesFlat) {
   EXPECT_NEAR(MaxSpinAxisAngle(s, 300.0, 400.0), 0.12, kQuotedAngle);
   EXPECT_NEAR(MaxSpinAxisAngle(s, 600.0, 700.0), 0.008, 0.0005);
   EXPECT_NEAR(s.spin_axis_angle.back() / kDeg, 0.0005, 0.00005);
+  // The verdict: stable, decaying with the envelope's time constant 110.1 s (the
+  // linearization: 110.0 s), where the rigid-body rule says unstable because of the rotor.
+  const analysis::MotionOutcome& so = spinning.outcome;
+  EXPECT_EQ(so.outcome, analysis::OutcomeClass::kDecaying);
+  ASSERT_TRUE(so.trend.valid);
+  EXPECT_NEAR(so.trend.time_constant(), 110.1, kQuotedTenth);
+  EXPECT_EQ(so.linear.verdict, "asymptotically stable");
+  EXPECT_NEAR(-1.0 / so.linear.growth_rate, 110.0, kQuotedTenth);
+  EXPECT_EQ(so.rigid_rule, "unstable");
+  EXPECT_NE(so.disagreement.find("rotor"), std::string::npos) << so.disagreement;
+  EXPECT_EQ(so.headline.rfind("Stable: the nutation about +z (minor axis) decays", 0), 0u)
+      << so.headline;
 
   const analysis::MissionResult locked = RunShipped("dual_spin_locked");
   // The same momentum at the start.
@@ -148,6 +188,32 @@ TEST(ShippedExamplesTest, DualSpinRotorStabilizesAndLockedRotorGoesFlat) {
             analysis::AxisRole::kMajor);
   EXPECT_NEAR(locked.energy_initial, 134.3, kQuotedTenth);
   EXPECT_NEAR(locked.energy_final, 38.3, kQuotedTenth);
+  // The verdict: unstable, a flat spin at 448.4 s; the linearization (time constant 141.0
+  // s) predicts it at 450.7 s.
+  const analysis::MotionOutcome& lo = locked.outcome;
+  EXPECT_EQ(lo.outcome_name, "flat spin");
+  EXPECT_NEAR(lo.transition_time, 448.4, kQuotedTenth);
+  EXPECT_EQ(lo.linear.verdict, "unstable");
+  EXPECT_NEAR(1.0 / lo.linear.growth_rate, 141.0, kQuotedTenth);
+  EXPECT_NEAR(lo.predicted_45_time, 450.7, kQuotedTenth);
+}
+
+// A wing that jams: the verdict names the jam first, with its time and angle, then the
+// motion (the craft, one wing out, flips about its intermediate axis).
+TEST(ShippedExamplesTest, JammedWingIsTheVerdictsFirstWord) {
+  const analysis::MissionResult r = RunShipped("smallsat_jammed_wing");
+  const analysis::MotionOutcome& o = r.outcome;
+  ASSERT_EQ(o.faults.size(), 1u);
+  EXPECT_EQ(o.faults[0].kind, analysis::DeploymentFault::Kind::kJam);
+  EXPECT_EQ(o.faults[0].panel_name, "wing_minus_x");
+  EXPECT_NEAR(o.faults[0].t, 69.22, kQuotedTime);
+  EXPECT_NEAR(o.faults[0].angle / kDeg, 36.0, kQuotedAngle);
+  EXPECT_EQ(o.outcome, analysis::OutcomeClass::kFlipping);
+  EXPECT_EQ(o.headline.rfind("Panel wing_minus_x JAMMED at 69.22 s at 36 deg (latch at 0 deg); "
+                             "flips every 186 s",
+                             0),
+            0u)
+      << o.headline;
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT

@@ -98,12 +98,18 @@ def text_of(v):
 
 def h5_get(f, pointer):
     """The value at a data-h5 pointer of tools/report.py, read with h5py: a root attribute
-    (@name, or the field key= of a "k=v, k=v" attribute: @name#key) as its text; a
+    (@name, the field key= of a "k=v, k=v" attribute: @name#key, or a member of a JSON
+    attribute: @outcome#linear.verdict) as its text or value; a
     dataset's element (/path#i or /path#i,k) or whole dataset (/path) as a number, str or
     list."""
     if pointer.startswith("@"):
         name, _, key = pointer[1:].partition("#")
         v = text_of(f.attrs[name])
+        if key and v.startswith("{"):  # a JSON record (@outcome#linear.verdict)
+            v = json.loads(v)
+            for k in key.split("."):
+                v = v[k]
+            return v
         if key:
             v = dict(part.strip().split("=", 1) for part in v.split(","))[key]
         return v
@@ -459,11 +465,17 @@ class ReportTest(unittest.TestCase):
         verdict = page.evaluate("document.querySelector('.summary .verdict').textContent")
         verdict = verdict.replace("\u00a0", " ")
         print(f"spring verdict: {verdict}", file=sys.stderr)
-        self.assertRegex(verdict, r"intermediate axis at 67\.6 s.*first flip at 139\.0 s; "
-                                  r"4 flips in 600 s")
+        self.assertEqual(verdict, self.headline("spring"))
+        self.assertRegex(verdict, r"Flips every 129\.6 s about \+y \(intermediate axis\), "
+                                  r"4 flips from 71\.08 s")
         body = self.reports["spring"].read_text(encoding="utf-8")
         self.assertIn("coupled exactly", body)
         self.assertIn("holds only for a perfectly rigid body", body.replace("\n", " "))
+
+    def headline(self, name):
+        """The headline of the run's outcome record in its trajectory file."""
+        with h5py.File(self.h5[name], "r") as f:
+            return json.loads(text_of(f.attrs["outcome"]))["headline"]
 
     def test_stage_profile_report(self):
         seen = self.check_numbers("three_stage", self.other)
@@ -473,8 +485,9 @@ class ReportTest(unittest.TestCase):
         verdict = page.evaluate("document.querySelector('.summary .verdict').textContent")
         verdict = verdict.replace("\u00a0", " ")
         print(f"three_stage verdict: {verdict}", file=sys.stderr)
-        self.assertRegex(verdict, r"intermediate axis at 140\.1 s.*first flip at 181\.9 s; "
-                                  r"6 flips in 600 s")
+        self.assertEqual(verdict, self.headline("three_stage"))
+        self.assertRegex(verdict, r"Flips every 72\.76 s about \+y \(intermediate axis\), "
+                                  r"6 flips from 160 s")
 
     def test_other_kinds_of_profile(self):
         # A tensor model (no panels), an energy sink with no flip and a panel that never

@@ -101,8 +101,9 @@ class HingeRun {
                      dynamics::Side side) const;
   RunSample Current(dynamics::Side side) const { return SampleOf(t_, y_.H_B, y_.q_NB, x_, side); }
   PhaseInfo Describe(double t) const;
-  /// The linear stability of the final phase's steady spin, from its start.
-  SteadySpin FinalSteadySpin();
+  /// Opens a phase at the current time from `start`, with the linear stability of its
+  /// steady spin (linear_stability.h) found from there.
+  void OpenPhase(const RunSample& start);
   bool ReleasesDue();
   double NextChange() const;
   SegmentEnd FreeSegment(double t_next);
@@ -534,7 +535,7 @@ void HingeRun::OnHingeEvent(const EventTag& tag, bool stuck) {
       }
     }
   }
-  rec_.OpenPhase(Describe(t_), Current(dynamics::Side::kRight));
+  OpenPhase(Current(dynamics::Side::kRight));
 }
 
 // No free hinge: locked and prescribed hinges, the rigid-body path. The spin-axis
@@ -593,12 +594,12 @@ SegmentEnd HingeRun::RigidSegment(double t_next) {
   return SegmentEnd::kReached;
 }
 
-SteadySpin HingeRun::FinalSteadySpin() {
-  const RunSample& ps = rec_.phase_start();
-  const Eigen::VectorXd x = sys_.ShapeState(ps.t, ps.H_B, ps.theta, ps.theta_dot);
+void HingeRun::OpenPhase(const RunSample& start) {
+  rec_.OpenPhase(Describe(t_), start);
+  const Eigen::VectorXd x = sys_.ShapeState(start.t, start.H_B, start.theta, start.theta_dot);
   Eigen::VectorXd y(3 + x.size());
-  y << ps.H_B, x;
-  return LinearizeSteadySpin(FlowOf(sys_, ps.t, 0.5 * (ps.t + t1_)), y);
+  y << start.H_B, x;
+  rec_.SetSteadySpin(LinearizeSteadySpin(FlowOf(sys_, start.t, 0.5 * (start.t + t1_)), y));
 }
 
 MissionResult HingeRun::Run() {
@@ -607,7 +608,7 @@ MissionResult HingeRun::Run() {
     if (!started_ || changed) {
       const RunSample start = Current(dynamics::Side::kRight);
       if (!started_) out_.energy_initial = start.kinetic + start.spring;
-      rec_.OpenPhase(Describe(t_), start);
+      OpenPhase(start);
       started_ = true;
     }
     if (!(t_ < t1_)) break;
@@ -621,7 +622,7 @@ MissionResult HingeRun::Run() {
       rec_.ClosePhase(before);
       // A prescribed rate may jump here: the drive's impulsive work.
       work_.drive += Current(dynamics::Side::kRight).kinetic - before.kinetic;
-      rec_.OpenPhase(Describe(t_), Current(dynamics::Side::kRight));
+      OpenPhase(Current(dynamics::Side::kRight));
     }
   }
   // A run that stopped early: the remaining times get its last state.
@@ -641,7 +642,6 @@ MissionResult HingeRun::Run() {
   out_.stats = stats_;
   out_.termination = termination_;
   out_.message = message_;
-  if (termination_ == integrators::Termination::kReachedEnd) rec_.SetSteadySpin(FinalSteadySpin());
   rec_.Finish(out_);
   return std::move(out_);
 }

@@ -204,6 +204,11 @@ SteadySpin LinearizeSteadySpin(const ReducedFlow& flow, const VectorXd& y_guess)
   }
   std::vector<int> cyclic = flow.cyclic;
   VectorXd y = StartingPoint(flow, y_guess);
+  if (flow.rhs_later &&
+      (flow.rhs_later(y) - flow.rhs(y)).norm() > 1e-9 * (flow.rhs(y).norm() + M)) {
+    out.reason = "the phase is not steady: a prescribed motion or a motor changes it in time";
+    return out;
+  }
   if (cyclic.empty() && m > 0) {
     const MatrixXd A = Jacobian(flow, y, Scales(m, M));
     for (int a = 0; a < m; ++a) {

@@ -313,7 +313,12 @@ void StageRun::OnBoundary(const integrators::State& s, double t) {
     info.law = st.is_hold() ? "hold" : schedule::ToString(st.law);
     info.rigid = stage_rigid_[open_stage_];
     const integrators::State& start = t == t0_ ? y0_ : s;
-    rec_.OpenPhase(info, SampleOf(start, t, sched_.Evaluate(t, dynamics::Side::kRight)));
+    const dynamics::InertiaSample js = sched_.Evaluate(t, dynamics::Side::kRight);
+    rec_.OpenPhase(info, SampleOf(start, t, js));
+    SteadySpin steady;
+    steady.reason = "the inertia changes in this stage";
+    if (info.rigid) steady = LinearizeSteadySpin(FlowOf(js.J_B, js.h_rel_B), start.H_B);
+    rec_.SetSteadySpin(steady);
   }
 }
 
@@ -434,16 +439,6 @@ MissionResult StageRun::Run() {
     } else {
       rec_.CandidateFlip(e.t, sched_.Evaluate(e.t).J_B, e.state.H_B);
     }
-  }
-  if (rec_.has_phase() && run.termination == integrators::Termination::kReachedEnd) {
-    const RunSample& ps = rec_.phase_start();
-    SteadySpin steady;
-    steady.reason = "the inertia changes in the final stage";
-    if (sched_.IsRigidOn(ps.t, t1_)) {
-      const dynamics::InertiaSample js = sched_.Evaluate(ps.t, dynamics::Side::kRight);
-      steady = LinearizeSteadySpin(FlowOf(js.J_B, js.h_rel_B), ps.H_B);
-    }
-    rec_.SetSteadySpin(steady);
   }
   rec_.Finish(out);
   return out;

@@ -134,6 +134,8 @@ std::string ToString(OutcomeClass c) {
       return "growing";
     case OutcomeClass::kDecaying:
       return "decaying";
+    case OutcomeClass::kTumbling:
+      return "tumbling";
     case OutcomeClass::kBounded:
       return "bounded";
   }
@@ -223,7 +225,7 @@ std::string Headline(const MotionOutcome& o) {
     }
     h += "; ";
   }
-  const std::string start = AxisText(o.axis_start, o.role_start);
+  const std::string start = AxisText(o.axis_start, o.role_phase);
   const ExponentialFit& f = o.trend;
   switch (o.outcome) {
     case OutcomeClass::kIncomplete:
@@ -250,6 +252,10 @@ std::string Headline(const MotionOutcome& o) {
     case OutcomeClass::kDecaying:
       h += "stable: the nutation about " + start + " decays from " + Deg(o.nutation_begin) +
            " to " + Deg(o.nutation_end) + ", time constant " + Sec(f.time_constant());
+      break;
+    case OutcomeClass::kTumbling:
+      h += "no steady spin about " + start + ": it swings up to " + Deg(o.nutation_max) +
+           " from the angular momentum";
       break;
     case OutcomeClass::kBounded:
       h += "steady spin about " + start + ", nutation bounded by " + Deg(o.nutation_max);
@@ -307,6 +313,8 @@ std::string LinearJson(const SteadySpin& s) {
       .Str("reason", s.reason)
       .Str("verdict", s.verdict)
       .Num("growth_rate", s.growth_rate)
+      .Num("time_constant", s.growth_rate != 0.0 ? 1.0 / std::abs(s.growth_rate)
+                                                 : std::numeric_limits<double>::infinity())
       .Num("frequency", s.frequency)
       .Num("max_real", s.max_real)
       .Num("quasi_rigid_rate", s.quasi_rigid_rate)
@@ -338,6 +346,7 @@ std::string OutcomeJson(const MotionOutcome& o) {
       .Str("role_start", ToString(o.role_start))
       .Str("axis_end", o.axis_end)
       .Str("role_end", ToString(o.role_end))
+      .Str("role_phase", ToString(o.role_phase))
       .Num("phase_begin", o.phase_begin)
       .Num("nutation_begin", o.nutation_begin)
       .Num("nutation_end", o.nutation_end)

@@ -101,10 +101,11 @@ enum class OutcomeClass {
   kTransition,  ///< ends spinning about another axis (minor -> major: a flat spin)
   kGrowing,     ///< nutation growing (an unstable spin not yet gone)
   kDecaying,    ///< nutation decaying (an asymptotically stable spin)
+  kTumbling,    ///< no steady spin: the spin axis swings 45 deg or more from h_N
   kBounded,     ///< nutation bounded (a steady spin)
 };
-/// "incomplete", "flipping", "flat spin" (minor -> major) or "transition", "growing",
-/// "decaying", "bounded".
+/// "incomplete", "flipping", "transition", "growing", "decaying", "tumbling", "bounded"
+/// (MotionOutcome::outcome_name says "flat spin" for a minor -> major transition).
 std::string ToString(OutcomeClass c);
 
 /// A deployment fault.
@@ -127,6 +128,9 @@ struct MotionOutcome {
   /// body axis nearest the principal axis nearest H_B), and its role in J_B there.
   std::string axis_start, axis_end;
   AxisRole role_start = AxisRole::kDegenerate, role_end = AxisRole::kDegenerate;
+  /// The role of the run's spin axis at the start of the final phase (a deployment may
+  /// have turned a minor axis into the intermediate one).
+  AxisRole role_phase = AxisRole::kDegenerate;
   double phase_begin = 0.0;  ///< [s] start of the final phase (the fits' window)
   double nutation_begin = 0.0, nutation_end = 0.0, nutation_max = 0.0;  ///< [rad] the phase's
   ExponentialFit trend;  ///< of the final phase's envelope

@@ -167,9 +167,13 @@ void RunRecorder::SpinAxisStep(const AxisPoint& a,
 
 void RunRecorder::OpenPhase(const PhaseInfo& info, const RunSample& start) {
   phase_axis_ = NearestAxis(start.J_B, start.H_B).axis_B;
+  // Windows of one nutation period, at most 1/64 of the run (a nutation that hardly turns
+  // in the body, as near a dual-spin stability boundary, still gives an envelope).
   const double rate = HeldNutationRate(start.J_B, start.h_rel_B, start.H_B);
   constexpr double kTwoPi = 6.283185307179586477;
-  envelope_.Reset(rate > 0.0 ? kTwoPi / rate : (t1_ - t0_) / 64.0);
+  const double longest = (t1_ - t0_) / 64.0;
+  envelope_.Reset(rate * longest > kTwoPi ? kTwoPi / rate : longest);
+  steady_ = SteadySpin();
   nutation_samples_ = 0;
   nutation_max_ = 0.0;
   if (!phases_.empty() && phases_.back().start.t == start.t) {
@@ -178,6 +182,11 @@ void RunRecorder::OpenPhase(const PhaseInfo& info, const RunSample& start) {
     return;
   }
   phases_.push_back({info, start});
+}
+
+void RunRecorder::SetSteadySpin(const SteadySpin& s) {
+  steady_ = s;
+  if (s.found) phase_axis_ = s.y.head<3>().normalized();
 }
 
 void RunRecorder::ClosePhase(const RunSample& end) { phase_ends_.push_back(end); }
@@ -231,6 +240,7 @@ MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
   const RunSample& end = phase_ends_.empty() ? phases_.back().start : phase_ends_.back();
   o.axis_start = BodyAxisName(s_);
   o.role_start = LocateSpinAxis(first.J_B, s_).role;
+  o.role_phase = LocateSpinAxis(phases_.back().start.J_B, s_).role;
   const SpinAxisRole final_axis = NearestAxis(end.J_B, end.H_B);
   o.axis_end = BodyAxisName(final_axis.axis_B);
   o.role_end = final_axis.role;
@@ -265,10 +275,12 @@ MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
     if (!out.spin_axis_45_crossings.empty()) o.transition_time = out.spin_axis_45_crossings.back();
   } else if (o.trend.significant()) {
     o.outcome = o.trend.rate > 0.0 ? OutcomeClass::kGrowing : OutcomeClass::kDecaying;
+  } else if (o.nutation_max >= nu45) {
+    o.outcome = OutcomeClass::kTumbling;
   } else {
     o.outcome = OutcomeClass::kBounded;
   }
-  o.outcome_name = o.outcome == OutcomeClass::kTransition && o.role_start == AxisRole::kMinor &&
+  o.outcome_name = o.outcome == OutcomeClass::kTransition && o.role_phase == AxisRole::kMinor &&
                            o.role_end == AxisRole::kMajor
                        ? "flat spin"
                        : ToString(o.outcome);

@@ -134,11 +134,10 @@ class RunRecorder {
   /// Closes the open phase at `end` (J_B its left limit).
   void ClosePhase(const RunSample& end);
 
-  bool has_phase() const { return !phases_.empty(); }
-  /// The state the final phase started from (valid after the first OpenPhase).
-  const RunSample& phase_start() const { return phases_.back().start; }
-  /// The linear stability of the final phase's steady spin (linear_stability.h).
-  void SetSteadySpin(const SteadySpin& s) { steady_ = s; }
+  /// The linear stability of the open phase's steady spin (linear_stability.h), given
+  /// right after OpenPhase: the phase's nutation is then measured from the steady spin's
+  /// axis (the direction of H_B there) instead of the nearest principal axis.
+  void SetSteadySpin(const SteadySpin& s);
 
   /// Hands the last samples to the sink and fills `out`: the last sample, flip times (sorted),
   /// 45-degree crossings, danger windows, max_h_N_drift (outcome-only runs: from out.final_state),
