@@ -3,7 +3,7 @@
 
 Usage: /usr/bin/python3 tools/plot_stability_map.py RESULTS.h5 [-o MAP.png]
            [--x COLUMN] [--y COLUMN] [--fix COLUMN=VALUE ...] [--absolute]
-           [--map auto|flips|hinges] [--shock-limit DEG_S]
+           [--map auto|flips|hinges|tumble] [--shock-limit DEG_S]
 
 Panels over two swept grid parameters (default: the sweep's first two grid axes, x the
 first, y the second). With Monte Carlo samples, every cell aggregates its samples.
@@ -29,6 +29,13 @@ Hinge map (sweeps over hinge profiles, the default for them; --map hinges):
      half tumble). The share of samples that tumble is written in each cell where it
      varies over the map (up to 150 cells), and the panel states how many cases tumble
      and how many of those that do not were not fully deployed.
+Tumble map (--map tumble; sweeps with the outcome columns):
+  1  the outcome measured from the motion (the verdict `deploysim analyze` prints: flat
+     spin, growing, decaying, flipping, ...; with samples: the most common);
+  2  time to tumble: from the final phase's start (the deployment's end) to the spin axis
+     45 deg from h_N, measured where the run gets there and predicted from the
+     linearization's growth rate where it does not (hatched): a map that is not cut off
+     at the simulated horizon (median over the samples; blue: the spin does not grow).
 Other grid axes are held at their first value unless --fix COLUMN=VALUE picks another
 (the nearest grid value). Units as stored in the file are converted for reading:
 rad/s -> rpm (spin rates) or deg/s (shocks), rad -> deg, and a deploy_duration_scale axis
@@ -198,6 +205,50 @@ def period_panel(fig, ax, xe, ye, period, stable_mask, title, samples, what):
     ax.set_title(title)
 
 
+# Outcome name -> colour, most severe first (docs/file_formats.md, "The outcome").
+OUTCOME_COLOURS = {"incomplete": "0.55", "flipping": "#67001f", "flat spin": TUMBLING,
+                   "transition": "#f46d43", "growing": "#fdae61", "tumbling": "#762a83",
+                   "decaying": "#74add1", "bounded": STABLE}
+
+
+def tumble_panels(col, cells, xe, ye, samples):
+    """The tumble map: the outcome per cell and the time to tumble."""
+    fig, axes = plt.subplots(1, 2, figsize=(14.5, 6.0), constrained_layout=True)
+    names = list(OUTCOME_COLOURS)
+    outcome = np.array([names.index(text(v)) if text(v) in names else 0 for v in col["outcome"]])
+    ax = axes[0]
+    mode = cells.map(lambda s: np.bincount(outcome[s], minlength=len(names)).argmax())
+    ax.pcolormesh(xe, ye, mode, cmap=ListedColormap(list(OUTCOME_COLOURS.values())),
+                  vmin=-0.5, vmax=len(names) - 0.5, shading="flat")
+    present = [names[int(i)] for i in np.unique(mode[np.isfinite(mode)])]
+    ax.legend(handles=[Patch(color=OUTCOME_COLOURS[n], label=n) for n in present],
+              loc="upper right", fontsize=8, framealpha=0.85)
+    ax.set_title("outcome measured from the motion"
+                 + (" (most common of the samples)" if samples > 1 else ""))
+    ax = axes[1]
+    ttt = col["time_to_tumble"]
+    measured = col["time_to_tumble_measured"] > 0
+    grows = np.isfinite(ttt)
+    share = cells.map(lambda s: grows[s].mean())
+    median = cells.map(median_where(ttt, grows))
+    period_panel(fig, ax, xe, ye, np.where(share >= 0.5, median, np.nan), share < 0.5,
+                 "time to tumble (spin axis 45 deg from h_N), from the deployment's end:\n"
+                 "measured, or predicted from the linear growth where hatched; blue: no growth",
+                 samples, "time to tumble")
+    predicted = cells.map(lambda s: float((~measured[s] & grows[s]).mean()))
+    hatch = np.ma.masked_where(~((predicted >= 0.5) & (share >= 0.5)), np.ones_like(predicted))
+    handles = []
+    if hatch.count():
+        ax.pcolor(xe, ye, hatch, hatch="//", facecolor="none", edgecolor="0.35", lw=0)
+        handles.append(Patch(facecolor="white", edgecolor="0.35", hatch="//",
+                             label="predicted (not reached in the run)"))
+    if (share < 0.5).any():
+        handles.append(Patch(color=STABLE, label="does not grow (linearization)"))
+    if handles:
+        ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.85)
+    return fig, axes
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("results")
@@ -208,8 +259,9 @@ def main():
                     help="value of another grid column (in the file's SI units)")
     ap.add_argument("--absolute", action="store_true",
                     help="time of the first flip from t = 0 instead of from the deployment end")
-    ap.add_argument("--map", choices=("auto", "flips", "hinges"), default="auto",
-                    help="flip map or hinge map (default: hinges for sweeps of hinge profiles)")
+    ap.add_argument("--map", choices=("auto", "flips", "hinges", "tumble"), default="auto",
+                    help="flip map, hinge map or tumble map (time to tumble; default: hinges "
+                         "for sweeps of hinge profiles, else flips)")
     ap.add_argument("--shock-limit", type=float, metavar="DEG_S",
                     help="latch shock limit to draw [deg/s] (default: the sweep's own)")
     args = ap.parse_args()
@@ -230,6 +282,9 @@ def main():
     kind = args.map if args.map != "auto" else ("hinges" if hinge_columns else "flips")
     if kind == "hinges" and not hinge_columns:
         sys.exit(f"{args.results}: --map hinges needs a sweep of a hinge profile (no latch columns)")
+    if kind == "tumble" and "time_to_tumble" not in col:
+        sys.exit(f"{args.results}: --map tumble needs the outcome columns (time_to_tumble): "
+                 "a results file of this deploysim version")
 
     # Select the cases: other grid axes fixed.
     keep = np.ones(len(col["case_index"]), dtype=bool)
@@ -278,7 +333,9 @@ def main():
 
     have_prediction = "will_flip" in col
     tumble_angle = float(attrs.get("tumble_angle", "0.3490658503988659") or 0.3490658503988659)
-    if kind == "flips":
+    if kind == "tumble":
+        fig, axes = tumble_panels(col, cells, xe, ye, samples)
+    elif kind == "flips":
         panels = 3 if have_prediction else 2
         fig, axes = plt.subplots(1, panels, figsize=(6.6 * panels, 5.6), constrained_layout=True)
         # 1: flip / no flip within the simulated time.

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "analysis/hinge_fixtures.h"
+#include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/quaternion.h"
 #include "temp_dir_test.h"
@@ -884,6 +885,31 @@ TEST(TrajectorySchemaDocs, FileFormatsListsEveryColumnWithShapeAndUnits) {
     const std::string row = "| `/" + c.name + "` | " + shape + " | " + c.units + " |";
     EXPECT_NE(text.str().find(row), std::string::npos) << row;
   }
+}
+
+// docs/file_formats.md ("The outcome") explains every member of the outcome record, the
+// nested ones included.
+TEST(TrajectorySchemaDocs, FileFormatsExplainsEveryMemberOfTheOutcome) {
+  std::ifstream in(std::string(DEPLOYSIM_SOURCE_DIR) + "/docs/file_formats.md");
+  ASSERT_TRUE(in);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::size_t begin = text.str().find("### The outcome");
+  ASSERT_NE(begin, std::string::npos);
+  const std::string section = text.str().substr(begin, text.str().find("\n## ", begin) - begin);
+  analysis::MotionOutcome o;
+  o.faults.emplace_back();
+  const std::string json = analysis::OutcomeJson(o);
+  int members = 0;
+  for (std::size_t at = json.find('"'); at != std::string::npos;
+       at = json.find('"', json.find('"', at + 1) + 1)) {
+    const std::size_t end = json.find('"', at + 1);
+    if (json.compare(end + 1, 1, ":") != 0) continue;  // a value, not a name
+    const std::string name = json.substr(at + 1, end - at - 1);
+    EXPECT_NE(section.find("`" + name + "`"), std::string::npos) << name;
+    ++members;
+  }
+  EXPECT_GT(members, 40);
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT

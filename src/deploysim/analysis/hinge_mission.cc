@@ -414,9 +414,9 @@ SegmentEnd HingeRun::FreeSegment(double t_next) {
   std::vector<EventTag> tags;
   FreeEvents(events, tags);
   auto point = [this](const integrators::ShapeState& y) {
-    const Vec3 w = sys_.Snap(y.t, y.H_B, y.x).w_NB_B;
-    const double rate = s_.dot(y.H_B.cross(w)) / M_;
-    return AxisPoint{y.t, s_.dot(y.H_B) / M_, rate, rate};
+    const Vec3 Hdot = y.H_B.cross(sys_.Snap(y.t, y.H_B, y.x).w_NB_B);
+    const double rate = s_.dot(Hdot) / M_;
+    return AxisPoint{y.t, s_.dot(y.H_B) / M_, rate, rate, y.H_B, Hdot, Hdot};
   };
   // The shape state carries the work of the free hinges' sources and of the prescribed
   // drives over this segment (FreeHingeSystem::kLedgerTerms accumulators, from 0).
@@ -552,17 +552,30 @@ SegmentEnd HingeRun::RigidSegment(double t_next) {
                                               const Vec3 w = js.J_inv_B * (y.H_B - js.h_rel_B);
                                               return s.dot(y.H_B.cross(w)) / M;
                                             }};
-  std::vector<integrators::EventFunction> events = RigidSpinAxisEvents(
-      s, [&sys](double t) { return sys.Evaluate(t); }, true);
+  std::vector<integrators::EventFunction> events =
+      RigidSpinAxisEvents(s, [&sys](double t) { return sys.Evaluate(t); });
   events.push_back(extremum);
   const std::vector<EventTag> tags = {
       {EventTag::What::kFlip}, {EventTag::What::kCross45}, {EventTag::What::kExtremum}};
   // With no hinge free the prescribed drives are the only source of work: theirs is the
   // change of the kinetic energy (the locked springs hold theirs).
   const double kinetic0 = Current(dynamics::Side::kRight).kinetic;
+  // An outcome-only run measures the nutation along the steps (run_recorder.h).
+  auto point = [&sys](const integrators::State& y) {
+    const dynamics::InertiaSample js = sys.Evaluate(y.t);
+    const Vec3 Hdot = y.H_B.cross(js.J_inv_B * (y.H_B - js.h_rel_B));
+    return AxisPoint{y.t, 0.0, 0.0, 0.0, y.H_B, Hdot, Hdot};
+  };
+  AxisPoint prev = rec_.sampling() ? AxisPoint() : point(y_);
   const integrators::IntegrationResult r = integrators::Integrate(
       *rigid_stepper_, settings_, sys_, y_, t_next, times, events,
-      [this](const integrators::State& y) { rec_.Progress(y.t); },
+      [&](const integrators::State& y) {
+        rec_.Progress(y.t);
+        if (rec_.sampling()) return;
+        const AxisPoint p = point(y);
+        rec_.NutationStep(prev, p);
+        prev = p;
+      },
       [&](const integrators::State& y) {
         // At a prescribed rate jump (a window's end on an output time) the sample holds
         // the state after it, as every output does; the run's end holds its final state.

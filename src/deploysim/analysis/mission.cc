@@ -356,10 +356,17 @@ AxisPoint StageRun::PointOf(const integrators::State& y) {
   AxisPoint p;
   p.t = y.t;
   p.f = s_.dot(y.H_B) / M0_;
-  p.rate_start = Rate(y.H_B, cache_.At(y.t));
-  p.rate_end = std::binary_search(breakpoints_.begin(), breakpoints_.end(), y.t)
-                   ? Rate(y.H_B, sched_.Evaluate(y.t, dynamics::Side::kLeft))
-                   : p.rate_start;
+  p.H_B = y.H_B;
+  const dynamics::InertiaSample& right = cache_.At(y.t);
+  p.rate_start = Rate(y.H_B, right);
+  p.Hdot_start = y.H_B.cross(right.J_inv_B * (y.H_B - right.h_rel_B));
+  p.rate_end = p.rate_start;
+  p.Hdot_end = p.Hdot_start;
+  if (std::binary_search(breakpoints_.begin(), breakpoints_.end(), y.t)) {
+    const dynamics::InertiaSample left = sched_.Evaluate(y.t, dynamics::Side::kLeft);
+    p.rate_end = Rate(y.H_B, left);
+    p.Hdot_end = y.H_B.cross(left.J_inv_B * (y.H_B - left.h_rel_B));
+  }
   return p;
 }
 
@@ -404,8 +411,8 @@ MissionResult StageRun::Run() {
   // The output grid plus the stage boundaries not on it, computed on demand.
   const integrators::UniformGridTimes full(t0_, t1_, profile_.output.dt);
   const WindowTimes grid(full, 0, rec_.sampling() ? full.size() : 0);
-  // An outcome-only run reports no stages: it needs no samples at their boundaries.
-  for (double b : rec_.sampling() ? boundaries_ : std::vector<double>{}) {
+  // The stage boundaries open and close the phases (an outcome-only run has no grid).
+  for (double b : boundaries_) {
     const std::size_t i = CountTimes(grid, b, false);
     if (!(i < grid.size() && grid.at(i) == b)) extra_.push_back(b);
   }
@@ -414,9 +421,8 @@ MissionResult StageRun::Run() {
   CachedSchedule& cache = cache_;
   const auto stepper = MakeStepper(profile_.integrator.method);
   last_sample_ = y0_;
-  // An outcome-only run locates no 45-degree crossings (RunOptions::sample_trajectory).
-  const std::vector<integrators::EventFunction> events = RigidSpinAxisEvents(
-      s_, [&cache](double t) { return cache.At(t); }, rec_.sampling());
+  const std::vector<integrators::EventFunction> events =
+      RigidSpinAxisEvents(s_, [&cache](double t) { return cache.At(t); });
   const integrators::IntegrationResult run = integrators::Integrate(
       *stepper, SettingsOf(profile_), sched_, y0_, t1_, times, events,
       [this](const integrators::State& y) { OnStep(y); },

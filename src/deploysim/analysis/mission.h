@@ -158,10 +158,10 @@ struct MissionResult {
 /// Options of a mission run.
 struct RunOptions {
   /// false: the outcome-only run of a sweep case: no output samples (the sink receives
-  /// nothing; danger windows are not computed, max_h_N_drift is the end's), no stage
-  /// reports, and stage profiles locate no 45-degree crossings (a sweep reads none of
-  /// them; they cost ~15 % of a stage case); the rest (flips, events, the largest
-  /// spin-axis angle, the final state) is the full run's.
+  /// nothing; danger windows are not computed, max_h_N_drift is the end's) and no stage
+  /// reports; the outcome's nutation envelope is then made of the largest nutation inside
+  /// the accepted steps (run_recorder.h) instead of the samples'. The rest (flips, 45-degree
+  /// crossings, events, the largest spin-axis angle, the final state) is the full run's.
   bool sample_trajectory = true;
   /// Hinge profiles: events (latches, stops, jams, flips, 45-degree crossings) located on
   /// the dense output and finished on partial steps (true), or on the dense output alone
@@ -183,6 +183,12 @@ class SampleSink {
   virtual ~SampleSink() = default;
   /// The next samples, in time order (block.size() >= 1; hinge_angles as in Trajectory).
   virtual void Append(const Trajectory& block) = 0;
+};
+
+/// A sink that keeps nothing (a run read for its tables or outcome, not its samples).
+class NullSink final : public SampleSink {
+ public:
+  void Append(const Trajectory& /*block*/) override {}
 };
 
 /// Samples per block passed to a SampleSink.

@@ -51,6 +51,11 @@ void EnvelopeTracker::Add(double t, double nu) {
   have_prev_ = true;
 }
 
+void EnvelopeTracker::AddPeak(double t, double nu) {
+  Add(t, nu);
+  have_left_ = have_right_ = need_right_ = false;
+}
+
 void EnvelopeTracker::Emit() {
   EnvelopePeak p = best_;
   if (have_left_ && have_right_ && best_.nu > left_.nu && best_.nu >= right_.nu) {
@@ -140,6 +145,12 @@ std::string ToString(OutcomeClass c) {
       return "bounded";
   }
   return "?";
+}
+
+std::string OutcomeName(OutcomeClass c, AxisRole phase, AxisRole end) {
+  return c == OutcomeClass::kTransition && phase == AxisRole::kMinor && end == AxisRole::kMajor
+             ? "flat spin"
+             : ToString(c);
 }
 
 std::string ToString(DeploymentFault::Kind k) {
@@ -356,6 +367,8 @@ std::string OutcomeJson(const MotionOutcome& o) {
       .Num("flip_interval", o.flip_interval)
       .Num("transition_time", o.transition_time)
       .Num("predicted_45_time", o.predicted_45_time)
+      .Num("time_to_tumble", o.time_to_tumble)
+      .Raw("time_to_tumble_measured", o.time_to_tumble_measured ? "true" : "false")
       .Num("max_excursion", o.max_excursion)
       .Raw("faults", faults + "]")
       .Raw("linear", LinearJson(o.linear))

@@ -63,6 +63,9 @@ class EnvelopeTracker {
   /// Starts over with windows of `window` seconds (> 0).
   void Reset(double window);
   void Add(double t, double nu);
+  /// A located local maximum (not refined): the envelope of an outcome-only run, whose
+  /// peaks come from the steps' interpolants. Not to be mixed with Add in one window.
+  void AddPeak(double t, double nu);
   const std::vector<EnvelopePeak>& peaks() const { return peaks_; }
 
  private:
@@ -105,8 +108,11 @@ enum class OutcomeClass {
   kBounded,     ///< nutation bounded (a steady spin)
 };
 /// "incomplete", "flipping", "transition", "growing", "decaying", "tumbling", "bounded"
-/// (MotionOutcome::outcome_name says "flat spin" for a minor -> major transition).
+/// (OutcomeName says "flat spin" for a minor -> major transition).
 std::string ToString(OutcomeClass c);
+/// The outcome's name: ToString(c), "flat spin" for a transition from a minor-axis spin
+/// (at the final phase's start) to the major axis.
+std::string OutcomeName(OutcomeClass c, AxisRole phase, AxisRole end);
 
 /// A deployment fault.
 struct DeploymentFault {
@@ -145,6 +151,12 @@ struct MotionOutcome {
   /// nutation_begin (NaN: not growing): the time to a flat spin or a tumble predicted
   /// from the small motion, beside the measured transition_time.
   double predicted_45_time = std::numeric_limits<double>::quiet_NaN();
+  /// [s] the time to tumble: from the final phase's start to the spin axis's first
+  /// passage 45 deg from h_N, measured when the run gets there (time_to_tumble_measured),
+  /// else predicted (predicted_45_time - phase_begin); +inf when the linearization says
+  /// the steady spin does not grow; NaN when neither says.
+  double time_to_tumble = std::numeric_limits<double>::quiet_NaN();
+  bool time_to_tumble_measured = false;
   std::string rigid_rule;    ///< "stable" / "unstable" / "" (degenerate axis)
   std::string disagreement;  ///< why the rigid-body rule and the linearization differ
   std::string headline;      ///< one sentence: faults first, then the motion

@@ -51,9 +51,7 @@ double SpinAxis45GapRate(const math::Vec3& spin_axis_B,
 }
 
 std::vector<integrators::EventFunction> RigidSpinAxisEvents(
-    const math::Vec3& spin_axis_B,
-    const std::function<dynamics::InertiaSample(double)>& inertia,
-    bool cross45) {
+    const math::Vec3& spin_axis_B, const std::function<dynamics::InertiaSample(double)>& inertia) {
   const math::Vec3 s = spin_axis_B;
   auto h_dot = [](const dynamics::InertiaSample& js, const math::Vec3& H_B) {
     return math::Vec3(H_B.cross(js.J_inv_B * (H_B - js.h_rel_B)));
@@ -67,13 +65,11 @@ std::vector<integrators::EventFunction> RigidSpinAxisEvents(
                       const dynamics::InertiaSample js = inertia(y.t);
                       return FlipFunctionRate(js.J_B, js.Jdot_B, s, y.H_B, h_dot(js, y.H_B));
                     }});
-  if (cross45) {
-    events.push_back({"spin axis 45 deg",
-                      [s](const integrators::State& y) { return SpinAxis45Gap(s, y.H_B); },
-                      [inertia, s, h_dot](const integrators::State& y) {
-                        return SpinAxis45GapRate(s, y.H_B, h_dot(inertia(y.t), y.H_B));
-                      }});
-  }
+  events.push_back({"spin axis 45 deg",
+                    [s](const integrators::State& y) { return SpinAxis45Gap(s, y.H_B); },
+                    [inertia, s, h_dot](const integrators::State& y) {
+                      return SpinAxis45GapRate(s, y.H_B, h_dot(inertia(y.t), y.H_B));
+                    }});
   return events;
 }
 
@@ -124,9 +120,7 @@ void RunRecorder::Sample(const RunSample& s) {
   max_h_N_drift_ = std::max(max_h_N_drift_, (h_N - h_N0_).norm() / M_);
   const double nu = AngleBetween(phase_axis_, s.H_B);
   envelope_.Add(s.t, nu);
-  if (nutation_samples_++ == 0) nutation_begin_ = nu;
-  nutation_end_ = nu;
-  nutation_max_ = std::max(nutation_max_, nu);
+  NutationValue(nu);
   const bool danger = LocateSpinAxis(principal_, s_).role == AxisRole::kIntermediate;
   if (danger && !in_window_) danger_windows_.push_back({s.t, s.t});
   if (danger) danger_windows_.back().t_end = s.t;
@@ -163,6 +157,48 @@ void RunRecorder::SpinAxisStep(const AxisPoint& a,
                     ? exact_minimum()
                     : math::CubicHermiteMinimum(a.t, a.f, a.rate_start, b.t, b.f, b.rate_end));
   }
+  if (!sampling()) NutationStep(a, b);
+}
+
+void RunRecorder::NutationValue(double nu) {
+  if (nutation_samples_++ == 0) nutation_begin_ = nu;
+  nutation_end_ = nu;
+  nutation_max_ = std::max(nutation_max_, nu);
+}
+
+// The largest nutation inside a step about the phase's axis e, from a cubic Hermite
+// interpolant (H' = H x w seen in B): below 45 deg of g = -sin^2 nu = -|e x H|^2 / |H|^2,
+// g' = -2 (e x H).(e x H') / |H|^2 (free of the cancellation in cos nu at small nu);
+// beyond, of g = cos nu = e.H / |H|, g' = e.H' / |H|. A peak of nu is a minimum of g.
+void RunRecorder::NutationStep(const AxisPoint& a, const AxisPoint& b) {
+  const double nu_b = AngleBetween(phase_axis_, b.H_B);
+  const double nu45 = std::acos(kCos45);
+  const bool small = nu_b < nu45 && AngleBetween(phase_axis_, a.H_B) < nu45;
+  const math::Vec3& e = phase_axis_;
+  auto g = [&e, small](const math::Vec3& H, const math::Vec3& Hdot, double& rate) {
+    if (!small) {
+      rate = e.dot(Hdot) / H.norm();
+      return e.dot(H) / H.norm();
+    }
+    const math::Vec3 eh = e.cross(H);
+    const double h2 = H.squaredNorm();
+    rate = -2.0 * eh.dot(e.cross(Hdot)) / h2;
+    return -eh.squaredNorm() / h2;
+  };
+  double ra = 0.0, rb = 0.0;
+  const double ga = g(a.H_B, a.Hdot_start, ra);
+  const double gb = g(b.H_B, b.Hdot_end, rb);
+  if (ra < 0.0 && rb > 0.0) {
+    const math::HermitePoint m = math::CubicHermiteMinimumAt(a.t, ga, ra, b.t, gb, rb);
+    const double nu = small ? std::asin(std::sqrt(std::clamp(-m.value, 0.0, 1.0)))
+                            : std::acos(std::clamp(m.value, -1.0, 1.0));
+    envelope_.AddPeak(m.t, nu);
+    nutation_max_ = std::max(nutation_max_, nu);
+  }
+  // The step's end too: a nutation that grows or decays with no local maximum (an
+  // oscillation smaller than the trend) has its windows' ends as the envelope.
+  envelope_.AddPeak(b.t, nu_b);
+  NutationValue(nu_b);
 }
 
 void RunRecorder::OpenPhase(const PhaseInfo& info, const RunSample& start) {
@@ -174,19 +210,27 @@ void RunRecorder::OpenPhase(const PhaseInfo& info, const RunSample& start) {
   const double longest = (t1_ - t0_) / 64.0;
   envelope_.Reset(rate * longest > kTwoPi ? kTwoPi / rate : longest);
   steady_ = SteadySpin();
-  nutation_samples_ = 0;
-  nutation_max_ = 0.0;
   if (!phases_.empty() && phases_.back().start.t == start.t) {
     phases_.back() = {info, start};  // zero-length phase: replaced
     phase_ends_.resize(phases_.size() - 1);
-    return;
+  } else {
+    phases_.push_back({info, start});
   }
-  phases_.push_back({info, start});
+  StartNutation();
 }
 
 void RunRecorder::SetSteadySpin(const SteadySpin& s) {
   steady_ = s;
   if (s.found) phase_axis_ = s.y.head<3>().normalized();
+  StartNutation();
+}
+
+// The open phase's nutation starts at the phase's start (a sample there, if any, repeats
+// it), so that a run with samples and one without begin alike.
+void RunRecorder::StartNutation() {
+  nutation_samples_ = 0;
+  nutation_max_ = 0.0;
+  NutationValue(AngleBetween(phase_axis_, phases_.back().start.H_B));
 }
 
 void RunRecorder::ClosePhase(const RunSample& end) { phase_ends_.push_back(end); }
@@ -280,13 +324,26 @@ MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
   } else {
     o.outcome = OutcomeClass::kBounded;
   }
-  o.outcome_name = o.outcome == OutcomeClass::kTransition && o.role_phase == AxisRole::kMinor &&
-                           o.role_end == AxisRole::kMajor
-                       ? "flat spin"
-                       : ToString(o.outcome);
+  o.outcome_name = OutcomeName(o.outcome, o.role_phase, o.role_end);
+  TimeToTumble(o, out.spin_axis_45_crossings);
   Predictions(o);
   o.headline = Headline(o);
   return o;
+}
+
+void RunRecorder::TimeToTumble(MotionOutcome& o, const std::vector<double>& crossings_45) {
+  double first = std::numeric_limits<double>::infinity();
+  for (double t : crossings_45) {
+    if (t >= o.phase_begin) first = std::min(first, t);
+  }
+  o.time_to_tumble_measured = std::isfinite(first);
+  if (o.time_to_tumble_measured) {
+    o.time_to_tumble = first - o.phase_begin;
+  } else if (std::isfinite(o.predicted_45_time)) {
+    o.time_to_tumble = o.predicted_45_time - o.phase_begin;
+  } else if (o.linear.found && !(o.linear.growth_rate > 0.0)) {
+    o.time_to_tumble = std::numeric_limits<double>::infinity();
+  }
 }
 
 void RunRecorder::Predictions(MotionOutcome& o) const {

@@ -57,12 +57,16 @@ struct PhaseInfo {
 };
 
 /// f = s . H_B / |H_B(0)| at the end of an accepted step, with its rate as the end of
-/// that step (left limit) and as the start of the next (right limit) [1/s].
+/// that step (left limit) and as the start of the next (right limit) [1/s]; H_B and its
+/// rate seen in B (H_B x w_NB_B) likewise, for the nutation of an outcome-only run.
 struct AxisPoint {
   double t = 0.0;
   double f = 0.0;
   double rate_end = 0.0;
   double rate_start = 0.0;
+  math::Vec3 H_B = math::Vec3::Zero();
+  math::Vec3 Hdot_end = math::Vec3::Zero();
+  math::Vec3 Hdot_start = math::Vec3::Zero();
 };
 
 /// The 45-degree rule: cos 45 deg - s . H_B / |H_B|, whose zeros are the times the spin
@@ -74,12 +78,10 @@ double SpinAxis45GapRate(const math::Vec3& spin_axis_B,
                          const math::Vec3& Hdot_B);
 
 /// The spin-axis event functions of a run on the rigid-body path (no free hinge), with
-/// their rates: the flip function (flip_rule.h) and, if `cross45`, the 45-degree gap.
+/// their rates: the flip function (flip_rule.h) and the 45-degree gap.
 /// `inertia(t)`: the inertia sample at t (J_B, its rate, h_rel_B).
 std::vector<integrators::EventFunction> RigidSpinAxisEvents(
-    const math::Vec3& spin_axis_B,
-    const std::function<dynamics::InertiaSample(double)>& inertia,
-    bool cross45);
+    const math::Vec3& spin_axis_B, const std::function<dynamics::InertiaSample(double)>& inertia);
 
 /// A window [begin, end) of an output grid's indices (begin == end: no times).
 class WindowTimes final : public integrators::OutputTimes {
@@ -123,10 +125,16 @@ class RunRecorder {
   void SpinAxisCos(double f) { min_cos_ = std::min(min_cos_, f); }
   /// An accepted step from a to b: f at b, and a minimum of f inside the step when its
   /// rate goes from < 0 to > 0: `exact_minimum()` if given, else the cubic Hermite
-  /// interpolant's.
+  /// interpolant's. An outcome-only run measures the phase's nutation here (no samples):
+  /// at the step's end, and its largest value inside the step from the cubic Hermite
+  /// interpolant of sin^2 nu (free of the cancellation in cos nu at small nu).
   void SpinAxisStep(const AxisPoint& a,
                     const AxisPoint& b,
                     const std::function<double()>& exact_minimum = {});
+
+  /// The nutation part of SpinAxisStep alone (outcome-only runs; for a runner that
+  /// locates the extrema of f as events).
+  void NutationStep(const AxisPoint& a, const AxisPoint& b);
 
   /// Opens a phase at `start` (J_B its right limit). A phase opened at the start time of
   /// the open phase replaces it (zero length).
@@ -155,6 +163,7 @@ class RunRecorder {
   /// The outcome of the run (after the flips, crossings and reports are in `out`).
   MotionOutcome Outcome(const MissionResult& out) const;
   /// The rigid-body rule's verdict on the final phase and why the linearization differs.
+  static void TimeToTumble(MotionOutcome& o, const std::vector<double>& crossings_45);
   void Predictions(MotionOutcome& o) const;
 
   math::Vec3 s_;
@@ -184,6 +193,8 @@ class RunRecorder {
   // The nutation of the open phase about its spin axis (the principal axis of J_B
   // nearest H_B at its start).
   math::Vec3 phase_axis_ = math::Vec3::UnitZ();
+  void NutationValue(double nu);
+  void StartNutation();
   EnvelopeTracker envelope_;
   int nutation_samples_ = 0;
   double nutation_begin_ = 0.0, nutation_end_ = 0.0, nutation_max_ = 0.0;

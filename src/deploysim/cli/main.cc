@@ -181,12 +181,6 @@ auto NamingFile(const std::string& file, F&& f, const std::vector<std::string>& 
   }
 }
 
-// A sink that keeps nothing (analyze prints tables, not samples).
-class DiscardSamples final : public deploysim::analysis::SampleSink {
- public:
-  void Append(const deploysim::analysis::Trajectory& /*block*/) override {}
-};
-
 // Every value the command line sets. One set serves all subcommands: exactly one of them
 // runs, and the options they share (the profile, -o, --csv, -q, the overrides) fill the
 // same fields.
@@ -544,7 +538,7 @@ int RunAnalyze(const CommandLine& cl,
                const deploysim::schedule::Profile& profile,
                bool comparable) {
   // The table needs no trajectory: its samples are dropped as they come (bounded memory).
-  DiscardSamples discard;
+  deploysim::analysis::NullSink discard;
   const MissionResult r = NamingFile(
       cl.profile_path, [&] { return deploysim::analysis::RunMission(profile, discard); });
   std::optional<deploysim::analysis::CouplingComparison> c;

@@ -145,6 +145,17 @@ std::string FormatOutcome(const analysis::MissionResult& r) {
   } else if (!o.linear.reason.empty()) {
     t += fmt::format("  linear stability: none ({})\n", o.linear.reason);
   }
+  if (o.time_to_tumble_measured) {
+    t += fmt::format("  time to tumble (45 deg from h_N): {} s after {} s, measured\n",
+                     Num(o.time_to_tumble), Num(o.phase_begin));
+  } else if (std::isfinite(o.time_to_tumble)) {
+    t += fmt::format(
+        "  time to tumble (45 deg from h_N): {} s after {} s, predicted from the linear rate (not "
+        "reached in the run)\n",
+        Num(o.time_to_tumble), Num(o.phase_begin));
+  } else if (std::isinf(o.time_to_tumble)) {
+    t += "  time to tumble: never (the steady spin does not grow)\n";
+  }
   if (!o.rigid_rule.empty()) t += fmt::format("  rigid-body rule: {}\n", o.rigid_rule);
   return t + "\n";
 }

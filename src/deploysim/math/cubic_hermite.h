@@ -10,4 +10,12 @@ namespace deploysim::math {
 /// p'(t1) = d1 (the ends included). Error O(h^4) of the step h = t1 - t0 (local).
 double CubicHermiteMinimum(double t0, double f0, double d0, double t1, double f1, double d1);
 
+/// The same minimum with where it is.
+struct HermitePoint {
+  double t = 0.0;
+  double value = 0.0;
+};
+HermitePoint CubicHermiteMinimumAt(
+    double t0, double f0, double d0, double t1, double f1, double d1);
+
 }  // namespace deploysim::math

@@ -21,7 +21,8 @@ constexpr std::size_t kMagicStem = 7;  // "DSWPJRN": a journal of any format ver
 constexpr std::size_t kFixedHeaderSize = 8 + 8 + 8 + 4 + 4;
 constexpr std::size_t kMaxBuildIdLength = 4096;
 // Bump when CaseOutcome's record layout or its meaning changes.
-constexpr std::uint64_t kRecordLayoutVersion = 2;  // 2: horizon-independent and hinge outcomes
+// 2: horizon-independent and hinge outcomes; 3: the outcome measured from the motion
+constexpr std::uint64_t kRecordLayoutVersion = 3;
 
 constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ULL;
 constexpr std::uint64_t kFnvPrime = 0x100000001b3ULL;
@@ -88,6 +89,16 @@ void PutOutcome(Writer& w, const CaseOutcome& o) {
   w.Put(o.max_latch_w_jump);
   w.Put(o.max_latch_impulse);
   w.Put(o.energy_dissipated_events);
+  w.Put(o.outcome_class);
+  w.Put(o.outcome_role_phase);
+  w.Put(o.outcome_role_end);
+  w.Put(o.outcome_phase_begin);
+  w.Put(o.nutation_rate);
+  w.Put(o.nutation_rate_sigma);
+  w.Put(o.linear_growth_rate);
+  w.Put(o.transition_time);
+  w.Put(o.time_to_tumble);
+  w.Put(o.time_to_tumble_measured);
   w.Put(o.run_time);
 }
 
@@ -116,6 +127,16 @@ CaseOutcome GetOutcome(Reader& r) {
   o.max_latch_w_jump = r.Get<double>();
   o.max_latch_impulse = r.Get<double>();
   o.energy_dissipated_events = r.Get<double>();
+  o.outcome_class = r.Get<std::int32_t>();
+  o.outcome_role_phase = r.Get<std::int32_t>();
+  o.outcome_role_end = r.Get<std::int32_t>();
+  o.outcome_phase_begin = r.Get<double>();
+  o.nutation_rate = r.Get<double>();
+  o.nutation_rate_sigma = r.Get<double>();
+  o.linear_growth_rate = r.Get<double>();
+  o.transition_time = r.Get<double>();
+  o.time_to_tumble = r.Get<double>();
+  o.time_to_tumble_measured = r.Get<std::int32_t>();
   o.run_time = r.Get<double>();
   return o;
 }

@@ -138,12 +138,6 @@ std::string AxisName(std::int32_t final_axis) {
 
 namespace {
 
-/// Discards the samples of a mission run (none come when sample_trajectory is false).
-class NoSamples final : public analysis::SampleSink {
- public:
-  void Append(const analysis::Trajectory& /*block*/) override {}
-};
-
 /// The final motion's columns of `out` from the end state (a run that reached the end).
 void SetFinal(CaseOutcome& out,
               const math::Mat3& J_B,
@@ -167,6 +161,21 @@ void SetFinal(CaseOutcome& out,
   }
 }
 
+/// The outcome measured from the motion, as fixed-size fields.
+void SetMotionOutcome(const analysis::MotionOutcome& mo, CaseOutcome& out) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  out.outcome_class = static_cast<std::int32_t>(mo.outcome);
+  out.outcome_role_phase = static_cast<std::int32_t>(mo.role_phase);
+  out.outcome_role_end = static_cast<std::int32_t>(mo.role_end);
+  out.outcome_phase_begin = mo.phase_begin;
+  out.nutation_rate = mo.trend.valid ? mo.trend.rate : nan;
+  out.nutation_rate_sigma = mo.trend.valid ? mo.trend.rate_sigma : nan;
+  out.linear_growth_rate = mo.linear.found ? mo.linear.growth_rate : nan;
+  out.transition_time = mo.transition_time;
+  out.time_to_tumble = mo.time_to_tumble;
+  out.time_to_tumble_measured = mo.time_to_tumble_measured ? 1 : 0;
+}
+
 /// The columns every case has, from its outcome-only mission run.
 CaseOutcome CommonOutcome(const Case& c,
                           const analysis::MissionResult& m,
@@ -185,6 +194,7 @@ CaseOutcome CommonOutcome(const Case& c,
   out.energy_initial = m.energy_initial;
   out.energy_final = m.energy_final;
   SetFinal(out, m.final_J_B, m.final_state.H_B, s, settings);
+  SetMotionOutcome(m.outcome, out);
   return out;
 }
 
@@ -248,7 +258,7 @@ FinalPrediction PredictFinal(const math::Mat3& J_B, const math::Vec3& H_B, const
 
 CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings) {
   const auto wall0 = std::chrono::steady_clock::now();
-  NoSamples sink;
+  analysis::NullSink sink;
   analysis::RunOptions options;
   options.sample_trajectory = false;
   if (!c.profile.is_hinge_profile()) {

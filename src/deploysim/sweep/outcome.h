@@ -86,7 +86,19 @@ struct CaseOutcome {
   double max_latch_w_jump = 0.0;
   double max_latch_impulse = 0.0;         ///< [N m s] largest |impulse| over those events.
   double energy_dissipated_events = 0.0;  ///< [J] energy dissipated by all hinge events.
-  double run_time = 0.0;                  ///< [s] wall time of the case (not deterministic).
+  // The outcome measured from the motion (analysis::MotionOutcome), the verdict `analyze`
+  // prints for the same case.
+  std::int32_t outcome_class = 0;       ///< analysis::OutcomeClass as an integer.
+  std::int32_t outcome_role_phase = 0;  ///< analysis::AxisRole at the final phase's start.
+  std::int32_t outcome_role_end = 0;    ///< analysis::AxisRole at the end.
+  double outcome_phase_begin = 0.0;     ///< [s] start of the final phase.
+  double nutation_rate = 0.0;           ///< [1/s] fitted envelope rate (NaN: no fit).
+  double nutation_rate_sigma = 0.0;     ///< [1/s] its standard error (NaN: no fit).
+  double linear_growth_rate = 0.0;      ///< [1/s] the linearization's (NaN: no steady spin).
+  double transition_time = 0.0;         ///< [s] NaN: no transition.
+  double time_to_tumble = 0.0;          ///< [s] MotionOutcome::time_to_tumble.
+  std::int32_t time_to_tumble_measured = 0;
+  double run_time = 0.0;  ///< [s] wall time of the case (not deterministic).
 };
 
 /// Whether the case's final torque-free motion flips, whatever the simulated horizon: a

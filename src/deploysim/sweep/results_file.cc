@@ -9,10 +9,12 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
 #include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/io/atomic_file.h"
 #include "deploysim/io/hdf5_reader.h"
 #include "deploysim/io/hdf5_writer.h"
@@ -142,6 +144,53 @@ std::vector<OutcomeColumn> MotionColumns(bool hinges) {
   };
 }
 
+/// 1 / |rate| (+inf for 0, NaN for NaN).
+double TimeConstant(double rate) {
+  return std::isnan(rate)
+             ? rate
+             : (rate != 0.0 ? 1.0 / std::abs(rate) : std::numeric_limits<double>::infinity());
+}
+
+// The outcome measured from the motion: the verdict `analyze` prints for the case, in the
+// same vocabulary (docs/design.md, "The verdict").
+std::vector<OutcomeColumn> VerdictColumns() {
+  using O = const CaseOutcome&;
+  return {
+      Text("outcome",
+           "measured from the motion: incomplete | flipping | flat spin | transition | growing "
+           "| decaying | tumbling | bounded",
+           [](O o) {
+             return analysis::OutcomeName(static_cast<analysis::OutcomeClass>(o.outcome_class),
+                                          static_cast<analysis::AxisRole>(o.outcome_role_phase),
+                                          static_cast<analysis::AxisRole>(o.outcome_role_end));
+           }),
+      Real("nutation_rate", "1/s",
+           "exponential rate of the final phase's nutation envelope, fitted where the "
+           "nutation is small (> 0 growing; NaN: no fit)",
+           [](O o) { return o.nutation_rate; }),
+      Real("nutation_rate_sigma", "1/s", "standard error of nutation_rate",
+           [](O o) { return o.nutation_rate_sigma; }),
+      Real("nutation_time_constant", "s", "1 / |nutation_rate|",
+           [](O o) { return TimeConstant(o.nutation_rate); }),
+      Real("linear_growth_rate", "1/s",
+           "the nutation mode's rate from the linearization of the final phase's steady spin "
+           "(> 0 unstable; NaN: no steady spin)",
+           [](O o) { return o.linear_growth_rate; }),
+      Real("linear_time_constant", "s", "1 / |linear_growth_rate|",
+           [](O o) { return TimeConstant(o.linear_growth_rate); }),
+      Real("transition_time", "s",
+           "when a transition (e.g. a flat spin) passed 45 deg (NaN: no transition)",
+           [](O o) { return o.transition_time; }),
+      Real("time_to_tumble", "s",
+           "from the final phase's start to the spin axis 45 deg from h_N: measured, else "
+           "predicted from linear_growth_rate (inf: the spin does not grow; NaN: unknown)",
+           [](O o) { return o.time_to_tumble; }),
+      Int("time_to_tumble_measured", "1",
+          "1 if time_to_tumble was measured in the run, 0 if predicted",
+          [](O o) -> std::int64_t { return o.time_to_tumble_measured; }),
+  };
+}
+
 // The deployment's timing, the hinge events (hinge profiles) and the integration.
 std::vector<OutcomeColumn> RunColumns(bool hinges) {
   using O = const CaseOutcome&;
@@ -207,6 +256,7 @@ std::vector<ResultColumn> ResultColumns(const SweepSpec& spec,
   const std::size_t first_outcome = cols.size();
   const bool hinges = spec.base.is_hinge_profile();
   std::vector<OutcomeColumn> outcome_cols = MotionColumns(hinges);
+  for (OutcomeColumn& c : VerdictColumns()) outcome_cols.push_back(std::move(c));
   for (OutcomeColumn& c : RunColumns(hinges)) outcome_cols.push_back(std::move(c));
   for (const OutcomeColumn& c : outcome_cols) {
     cols.push_back(Make(c.name, c.units, c.description, "outcome", c.type));
