@@ -208,7 +208,7 @@ def period_panel(fig, ax, xe, ye, period, stable_mask, title, samples, what):
 # Outcome name -> colour, most severe first (docs/file_formats.md, "The outcome").
 OUTCOME_COLOURS = {"incomplete": "0.55", "flipping": "#67001f", "flat spin": TUMBLING,
                    "transition": "#f46d43", "growing": "#fdae61", "tumbling": "#762a83",
-                   "decaying": "#74add1", "bounded": STABLE}
+                   "decaying": STABLE, "bounded": "#abd9e9"}
 
 
 def tumble_panels(col, cells, xe, ye, samples):
@@ -232,8 +232,8 @@ def tumble_panels(col, cells, xe, ye, samples):
     share = cells.map(lambda s: grows[s].mean())
     median = cells.map(median_where(ttt, grows))
     period_panel(fig, ax, xe, ye, np.where(share >= 0.5, median, np.nan), share < 0.5,
-                 "time to tumble (spin axis 45 deg from h_N), from the deployment's end:\n"
-                 "measured, or predicted from the linear growth where hatched; blue: no growth",
+                 "time to tumble (spin axis 45 deg from h_N) from the last release, latch or\n"
+                 "stage change: measured, or predicted from the linear growth where hatched",
                  samples, "time to tumble")
     predicted = cells.map(lambda s: float((~measured[s] & grows[s]).mean()))
     hatch = np.ma.masked_where(~((predicted >= 0.5) & (share >= 0.5)), np.ones_like(predicted))
@@ -467,9 +467,12 @@ def main():
             ax.set_xscale("log")
         if ylog:
             ax.set_yscale("log")
-        for log, a in ((xlog, ax.xaxis), (ylog, ax.yaxis)):
+        for log, a, e in ((xlog, ax.xaxis, xe), (ylog, ax.yaxis, ye)):
             if log:
-                a.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 3.0, 5.0)))
+                # Fewer ticks per decade over a wide range, so that the labels do not overlap.
+                wide = np.log10(np.max(e) / np.min(e)) > 2.5
+                a.set_major_locator(LogLocator(base=10, subs=(1.0, 3.0) if wide else
+                                               (1.0, 2.0, 3.0, 5.0)))
                 a.set_major_formatter(plain)
                 a.set_minor_formatter(NullFormatter())
     title = f"sweep '{attrs.get('sweep_name', '')}': base profile '{attrs.get('profile_name', '')}'" \

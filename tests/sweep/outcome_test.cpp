@@ -518,6 +518,30 @@ grid:
   }
 }
 
+// A slow spin deployed into an intermediate axis: the tilt the deployment leaves lies
+// mostly along the saddle's stable direction, so the nutation shrinks within the run
+// (1.8 deg to 1.0 deg); the verdict is not "decaying" but bounded within the run, with
+// the linear prediction of the tumble.
+TEST_F(SweepDirTest, ShrinkingNutationAboutAnUnstableSpinIsNoDecay) {
+  const SweepSpec spec = LoadSweep(Write("s.yaml", "name: t\nbase: " + SmallsatProfile() + R"(
+grid:
+  - {parameter: spin_rate_rpm, values: [0.2]}
+)"));
+  const Case c = BuildCase(spec, 0);
+  const analysis::MotionOutcome o = analysis::RunMission(c.profile).outcome;
+  ASSERT_TRUE(o.trend.significant());
+  EXPECT_LT(o.trend.rate, 0.0);
+  EXPECT_EQ(o.linear.verdict, "unstable");
+  EXPECT_EQ(o.outcome, analysis::OutcomeClass::kBounded);
+  EXPECT_EQ(o.headline.rfind("No growth seen yet about +y (intermediate axis)", 0), 0u)
+      << o.headline;
+  EXPECT_NE(o.headline.find("45 deg predicted at"), std::string::npos) << o.headline;
+  const CaseOutcome co = SimulateOutcome(c, spec.outcome);
+  EXPECT_EQ(OutcomeName(co), "bounded");
+  EXPECT_EQ(co.time_to_tumble_measured, 0);
+  EXPECT_NEAR(co.time_to_tumble, o.time_to_tumble, 1e-9 * o.time_to_tumble);
+}
+
 // The shipped sweep's answer on a few of its cases (the whole sweep is for the README).
 TEST(SpringSweepTest, ShockLimitAndTumbleOfTheShippedSweep) {
   const SweepSpec spec =

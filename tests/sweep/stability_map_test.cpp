@@ -1,6 +1,7 @@
 // tools/plot_stability_map.py renders a results file of a small sweep (grid with Monte
 // Carlo samples, a third grid axis held fixed) as a PNG: the flip map of a stage sweep
-// and the hinge map (latch shock with its limit, tumble) of a sweep over a hinge profile.
+// and the hinge map (latch shock with its limit, tumble) of a sweep over a hinge profile,
+// and the tumble map (the outcome, the time to tumble) of both.
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -104,6 +105,10 @@ outcome: {latch_shock_limit_deg_s: 15}
   ASSERT_EQ(
       Shell(run + "'" + Path("limit.png") + "' --shock-limit 40 > '" + Path("log") + "' 2>&1"), 0);
   EXPECT_TRUE(IsPng(Path("limit.png")));
+  // The tumble map: the outcome and the time to tumble.
+  ASSERT_EQ(Shell(run + "'" + Path("tumble.png") + "' --map tumble > '" + Path("log") + "' 2>&1"),
+            0);
+  EXPECT_TRUE(IsPng(Path("tumble.png")));
   // A stage sweep has no latch columns: --map hinges is refused.
   const SweepSpec stage = LoadSweep(Write("t.yaml", "name: t\nbase: " + SmallsatProfile() + R"(
 grid:
@@ -115,6 +120,11 @@ grid:
   EXPECT_NE(Shell("/usr/bin/python3 '" + script + "' '" + Path("stage.h5") + "' --map hinges > '" +
                   Path("log") + "' 2>&1"),
             0);
+  // Its tumble map.
+  ASSERT_EQ(Shell("/usr/bin/python3 '" + script + "' '" + Path("stage.h5") + "' -o '" +
+                  Path("stage_tumble.png") + "' --map tumble > '" + Path("log") + "' 2>&1"),
+            0);
+  EXPECT_TRUE(IsPng(Path("stage_tumble.png")));
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT

@@ -98,6 +98,12 @@ class ViewerTest(unittest.TestCase):
         self.assertLess(size, MAX_PAGE_BYTES)
         info = page.evaluate("window.deploysimInfo")
         self.assertEqual(info["sides"], 1)
+        # The verdict line is the file's outcome record's headline.
+        with h5py.File(self.h5, "r") as f:
+            attr = f.attrs["outcome"]
+            headline = json.loads(attr.decode() if isinstance(attr, bytes) else attr)["headline"]
+        self.assertEqual(page.evaluate("document.getElementById('verdict').textContent"),
+                         "verdict: " + headline)
         self.assertEqual(info["parts"], ["hub", "wing_plus_x", "wing_minus_x"])
         self.assertEqual(info["flips"], [4])
         shots = {}

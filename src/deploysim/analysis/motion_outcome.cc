@@ -123,6 +123,7 @@ ExponentialFit FitEnvelope(const std::vector<EnvelopePeak>& peaks, double floor,
   f.nu_begin = std::exp(ym + f.rate * (f.t_begin - tm));
   f.nu_end = std::exp(ym + f.rate * (f.t_end - tm));
   f.points = static_cast<int>(n);
+  f.ceiling = ceiling;
   f.valid = true;
   return f;
 }
@@ -269,7 +270,16 @@ std::string Headline(const MotionOutcome& o) {
            " from the angular momentum";
       break;
     case OutcomeClass::kBounded:
-      h += "steady spin about " + start + ", nutation bounded by " + Deg(o.nutation_max);
+      if (o.linear.found && o.linear.verdict == "unstable") {
+        h += "no growth seen yet about " + start + ": the nutation stays within " +
+             Deg(o.nutation_max) + " in the run, but the linearization says unstable (time " +
+             "constant " + Sec(1.0 / o.linear.growth_rate) + ")" +
+             (std::isfinite(o.predicted_45_time)
+                  ? ": 45 deg predicted at " + Sec(o.predicted_45_time)
+                  : std::string());
+      } else {
+        h += "steady spin about " + start + ", nutation bounded by " + Deg(o.nutation_max);
+      }
       break;
   }
   if (!o.disagreement.empty()) h += " (" + o.disagreement + ")";
@@ -309,6 +319,7 @@ std::string FitJson(const ExponentialFit& f) {
       .Num("nu_begin", f.nu_begin)
       .Num("nu_end", f.nu_end)
       .Num("points", f.points)
+      .Num("ceiling", f.ceiling)
       .Text();
 }
 

@@ -85,6 +85,10 @@ struct ExponentialFit {
   double t_begin = 0.0, t_end = 0.0;    ///< [s] the fitted stretch
   double nu_begin = 0.0, nu_end = 0.0;  ///< [rad] the fit's values there
   int points = 0;
+  /// [rad] the band's upper end: kFitCeiling (the linear rate), or 45 deg where no peaks
+  /// lie below kFitCeiling (a trend only: the rate of a large nutation is not the linear
+  /// one).
+  double ceiling = 0.0;
   /// Growing or decaying beyond doubt (|rate| > 3 rate_sigma and nu changing by more
   /// than 5 % over the fit); otherwise bounded.
   bool significant() const;

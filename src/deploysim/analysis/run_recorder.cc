@@ -293,6 +293,9 @@ MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
   o.nutation_end = nutation_end_;
   o.nutation_max = nutation_max_;
   o.trend = FitEnvelope(envelope_.peaks());
+  // A phase that starts with a large nutation (a deployment's own kick) has no peaks in
+  // the small band: its trend up to 45 deg still tells growing from bounded.
+  if (!o.trend.valid) o.trend = FitEnvelope(envelope_.peaks(), kFitFloor, std::acos(kCos45));
   std::vector<double> flips;
   for (double t : out.flip_times) {
     if (t >= o.phase_begin) flips.push_back(t);
@@ -317,7 +320,11 @@ MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
   } else if (moved) {
     o.outcome = OutcomeClass::kTransition;
     if (!out.spin_axis_45_crossings.empty()) o.transition_time = out.spin_axis_45_crossings.back();
-  } else if (o.trend.significant()) {
+  } else if (o.trend.significant() &&
+             (o.trend.rate > 0.0 || !(o.linear.found && o.linear.verdict == "unstable"))) {
+    // A nutation that shrinks about an unstable steady spin is on its way along the stable
+    // direction of a saddle (about an intermediate axis): not a decay; bounded within the
+    // run, with the linear prediction beside it in the headline.
     o.outcome = o.trend.rate > 0.0 ? OutcomeClass::kGrowing : OutcomeClass::kDecaying;
   } else if (o.nutation_max >= nu45) {
     o.outcome = OutcomeClass::kTumbling;

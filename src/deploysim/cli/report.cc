@@ -125,7 +125,10 @@ std::string FormatOutcome(const analysis::MissionResult& r) {
       Num(o.nutation_end * kDeg), Num(o.nutation_max * kDeg), Num(o.max_excursion * kDeg));
   if (o.trend.valid) {
     t += fmt::format(
-        "  envelope fit: rate {} +- {} 1/s (time constant {} s) over {} peaks, {}..{} s\n",
+        "  envelope fit{}: rate {} +- {} 1/s (time constant {} s) over {} peaks, {}..{} s\n",
+        o.trend.ceiling > analysis::kFitCeiling ? " (nutation up to 45 deg: the trend, not a "
+                                                  "linear rate)"
+                                                : "",
         Num(o.trend.rate), Num(o.trend.rate_sigma), Num(o.trend.time_constant()), o.trend.points,
         Num(o.trend.t_begin), Num(o.trend.t_end));
   }

@@ -136,6 +136,12 @@ std::string AxisName(std::int32_t final_axis) {
   return final_axis >= 0 && final_axis < 6 ? kNames[final_axis] : "?";
 }
 
+std::string OutcomeName(const CaseOutcome& o) {
+  return analysis::OutcomeName(static_cast<analysis::OutcomeClass>(o.outcome_class),
+                               static_cast<analysis::AxisRole>(o.outcome_role_phase),
+                               static_cast<analysis::AxisRole>(o.outcome_role_end));
+}
+
 namespace {
 
 /// The final motion's columns of `out` from the end state (a run that reached the end).

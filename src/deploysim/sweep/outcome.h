@@ -108,6 +108,9 @@ bool WillFlip(const CaseOutcome& o);
 /// "+x", "+y", "+z", "-x", "-y", "-z".
 std::string AxisName(std::int32_t final_axis);
 
+/// The case's outcome measured from the motion, by name (analysis::OutcomeName).
+std::string OutcomeName(const CaseOutcome& o);
+
 /// Runs one case: its outcome-only mission run. Thread-safe: everything it touches is its own (one
 /// stepper per call). Throws std::invalid_argument for invalid settings.
 CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings);

@@ -14,7 +14,6 @@
 #include <stdexcept>
 
 #include "deploysim/analysis/free_body_solution.h"
-#include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/io/atomic_file.h"
 #include "deploysim/io/hdf5_reader.h"
 #include "deploysim/io/hdf5_writer.h"
@@ -159,11 +158,7 @@ std::vector<OutcomeColumn> VerdictColumns() {
       Text("outcome",
            "measured from the motion: incomplete | flipping | flat spin | transition | growing "
            "| decaying | tumbling | bounded",
-           [](O o) {
-             return analysis::OutcomeName(static_cast<analysis::OutcomeClass>(o.outcome_class),
-                                          static_cast<analysis::AxisRole>(o.outcome_role_phase),
-                                          static_cast<analysis::AxisRole>(o.outcome_role_end));
-           }),
+           [](O o) { return OutcomeName(o); }),
       Real("nutation_rate", "1/s",
            "exponential rate of the final phase's nutation envelope, fitted where the "
            "nutation is small (> 0 growing; NaN: no fit)",

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -264,6 +265,14 @@ void CountOutcomes(const std::vector<CaseOutcome>& outcomes,
     summary.will_flip += WillFlip(outcomes[i]) ? 1 : 0;
     summary.failed += outcomes[i].final_class == MotionClass::kFailed ? 1 : 0;
   }
+  // By outcome, in the classes' order (most severe first; a flat spin before the other
+  // transitions).
+  std::map<std::pair<std::int32_t, std::string>, std::size_t> by;
+  for (const CaseOutcome& o : outcomes) {
+    const std::string name = OutcomeName(o);
+    ++by[{2 * o.outcome_class + (name == "flat spin" ? 0 : 1), name}];
+  }
+  for (const auto& [key, count] : by) summary.outcomes.emplace_back(key.second, count);
 }
 
 /// Writes the results file (and CSV), then removes the journals they replace.
@@ -346,10 +355,14 @@ std::string FormatSummary(const RunSummary& s, const RunOptions& options) {
            " cases finished (journal " + s.journal +
            "); run the same command with --resume to finish the sweep";
   }
+  std::string outcomes;
+  for (const auto& [name, count] : s.outcomes) {
+    outcomes += (outcomes.empty() ? "; outcomes: " : ", ") + std::to_string(count) + " " + name;
+  }
   return std::to_string(s.cases) + " cases: " + std::to_string(s.flipped) + " flipped (" +
          std::to_string(s.will_flip) + " will flip), " + std::to_string(s.tumbling) +
-         " tumbling at the end, " + std::to_string(s.failed) + " failed; wrote " + options.output +
-         (options.csv ? " and " + options.output + ".csv" : "");
+         " tumbling at the end, " + std::to_string(s.failed) + " failed" + outcomes + "; wrote " +
+         options.output + (options.csv ? " and " + options.output + ".csv" : "");
 }
 
 }  // namespace deploysim::sweep

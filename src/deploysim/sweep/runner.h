@@ -21,6 +21,8 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "deploysim/sweep/mpi_session.h"
 #include "deploysim/sweep/outcome.h"
@@ -63,6 +65,8 @@ struct RunSummary {
   std::size_t tumbling = 0;   ///< Cases whose final class is tumbling.
   std::size_t will_flip = 0;  ///< Cases whose final motion flips (whatever the horizon).
   std::size_t failed = 0;     ///< Cases whose integration did not reach the end.
+  /// Cases per outcome measured from the motion (OutcomeName), most severe first.
+  std::vector<std::pair<std::string, std::size_t>> outcomes;
 };
 
 /// Journal path of `rank` for results file `output`.
@@ -85,7 +89,7 @@ RunSummary RunSweep(const SweepSpec& spec, const RunOptions& options);
 CaseOutcome SimulateCase(const SweepSpec& spec, std::size_t i);
 
 /// One line for the user: "N cases: F flipped (W will flip), T tumbling at the end, X
-/// failed; wrote PATH".
+/// failed; outcomes: A flat spin, B growing, ...; wrote PATH".
 std::string FormatSummary(const RunSummary& s, const RunOptions& options);
 
 }  // namespace deploysim::sweep

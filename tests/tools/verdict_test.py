@@ -1,0 +1,63 @@
+#!/usr/bin/python3
+"""Every shipped profile's verdict comes from one outcome record: `deploysim analyze
+--json`'s "outcome", the trajectory file's `outcome` attribute, the mission report's
+verdict sentence (tools/report.py) and the 3D viewer's verdict line (tools/view.py) are
+the same record and the same headline.
+
+Usage: verdict_test.py DEPLOYSIM SOURCE_DIR WORK_DIR
+"""
+import html
+import json
+import pathlib
+import re
+import subprocess
+import sys
+import unittest
+
+DEPLOYSIM, SRC, WORK = None, None, None
+
+
+def run(*args):
+    r = subprocess.run([str(a) for a in args], capture_output=True, text=True)
+    if r.returncode != 0:
+        raise AssertionError(f"{' '.join(map(str, args))}: exit {r.returncode}\n{r.stderr}")
+    return r.stdout
+
+
+class OneRecord(unittest.TestCase):
+    def test_every_shipped_profile(self):
+        sys.path.insert(0, str(SRC / "tools"))
+        import report  # noqa: E402
+        import view  # noqa: E402
+        from deploysim_results import read_trajectory  # noqa: E402
+        from deploysim_scene import read_run  # noqa: E402
+
+        profiles = sorted((SRC / "deployment_profiles").glob("*.yaml"))
+        self.assertGreaterEqual(len(profiles), 12)
+        for p in profiles:
+            with self.subTest(profile=p.name):
+                h5 = WORK / (p.stem + ".h5")
+                run(DEPLOYSIM, "simulate", p, "-q", "-o", h5)
+                analyzed = json.loads(run(DEPLOYSIM, "analyze", p, "--json"))["outcome"]
+                stored = read_trajectory(str(h5)).outcome
+                self.assertEqual(stored, analyzed)
+                headline = analyzed["headline"]
+                self.assertTrue(headline)
+                # The report's verdict sentence, its markup taken off.
+                h = read_trajectory(str(h5))
+                sentence = report.verdict(report.Cells(h), h, {})
+                self.assertIn('data-h5="@outcome#headline"', sentence)
+                self.assertEqual(html.unescape(re.sub(r"<[^>]+>", "", sentence)), headline)
+                # The viewer's page data.
+                data = view.build_data(read_run(str(h5)))
+                self.assertEqual(data["outcome"]["headline"], headline)
+                self.assertEqual(data["outcome"]["name"], analyzed["name"])
+                print(f"{p.stem}: {headline}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    DEPLOYSIM = pathlib.Path(sys.argv[1])
+    SRC = pathlib.Path(sys.argv[2])
+    WORK = pathlib.Path(sys.argv[3])
+    WORK.mkdir(parents=True, exist_ok=True)
+    unittest.main(argv=sys.argv[:1], verbosity=2)
