@@ -98,6 +98,32 @@ struct SpinnerCase {
   double detune;  // the damper's frequency over the nutation frequency
 };
 
+/// A geometry-mode profile of `md` (configuration "neutral") with these hinges, spinning
+/// at w from t = 0 to `until`, on rkmk-rkf78 at rtol 1e-10 with output every `dt`.
+schedule::Profile NeutralProfile(const std::string& name,
+                                 const model::Model& md,
+                                 std::vector<schedule::HingePlan> hinges,
+                                 const Vec3& w,
+                                 double until,
+                                 double dt) {
+  schedule::Profile p;
+  p.name = name;
+  p.source = name + " (test)";
+  p.model = md;
+  p.mode = schedule::Mode::kGeometry;
+  p.coupling = schedule::Coupling::kExact;
+  p.initial.configuration = "neutral";
+  p.initial.w_NB_B = w;
+  p.hinges = std::move(hinges);
+  p.start = 0.0;
+  p.until = until;
+  p.integrator.method = "rkmk-rkf78";
+  p.integrator.rtol = 1e-10;
+  p.integrator.atol = 1e-12;
+  p.output.dt = dt;
+  return p;
+}
+
 /// The profile: the damper free from the start, tuned to `detune` times the rigid
 /// nutation frequency (centrifugal stiffness m w^2 a (r + a) plus its spring), damping
 /// ratio 0.3, nutating by nu0.
@@ -112,22 +138,8 @@ schedule::Profile SpinnerProfile(const SpinnerCase& c, double nu0, double until)
   const double k_cf = c.mass * c.spin * c.spin * a * (r + a);
   schedule::HingePlan h = testing::SpringHinge(std::max(Id * target * target - k_cf, 0.0), 0.0);
   h.drive.damping = 2.0 * 0.3 * std::sqrt(Id * (k_cf + h.drive.spring.stiffness));
-  schedule::Profile p;
-  p.name = "spinner";
-  p.source = "spinner (test)";
-  p.model = md;
-  p.mode = schedule::Mode::kGeometry;
-  p.coupling = schedule::Coupling::kExact;
-  p.initial.configuration = "neutral";
-  p.initial.w_NB_B = Vec3(nu0 * c.spin * Is / It, 0.0, c.spin);
-  p.hinges = {h};
-  p.start = 0.0;
-  p.until = until;
-  p.integrator.method = "rkmk-rkf78";
-  p.integrator.rtol = 1e-10;
-  p.integrator.atol = 1e-12;
-  p.output.dt = 2.0 * M_PI / nutation / 24.0;
-  return p;
+  return NeutralProfile("spinner", md, {h}, Vec3(nu0 * c.spin * Is / It, 0.0, c.spin), until,
+                        2.0 * M_PI / nutation / 24.0);
 }
 
 // On 14 spinners (5 damper sizes: its inertia about its hinge 1.6e-3 to 5.4e-2 of the
@@ -234,23 +246,11 @@ schedule::Profile DualSpinProfile(
   bearing.kind = schedule::HingePlan::Kind::kFree;
   schedule::HingePlan damper = testing::SpringHinge(d.damper_k, 0.0);
   damper.drive.damping = 2.0 * 0.3 * std::sqrt(Id * (k_cf + damper.drive.spring.stiffness));
-  schedule::Profile p;
-  p.name = "dual";
-  p.source = "dual (test)";
-  p.model = md;
-  p.mode = schedule::Mode::kGeometry;
-  p.coupling = schedule::Coupling::kExact;
-  p.initial.configuration = "neutral";
   const double H = I_az * d.w_hub + I_cz * w_c;
-  p.initial.w_NB_B = Vec3(nu0 * H / I_t, 0.0, d.w_hub);
+  schedule::Profile p =
+      NeutralProfile("dual", md, {bearing, damper}, Vec3(nu0 * H / I_t, 0.0, d.w_hub), until,
+                     2.0 * M_PI / std::max(lambda_hub, 0.05) / 24.0);
   p.initial.hinge_rates = Eigen::Vector2d(w_c - d.w_hub, 0.0);
-  p.hinges = {bearing, damper};
-  p.start = 0.0;
-  p.until = until;
-  p.integrator.method = "rkmk-rkf78";
-  p.integrator.rtol = 1e-10;
-  p.integrator.atol = 1e-12;
-  p.output.dt = 2.0 * M_PI / std::max(lambda_hub, 0.05) / 24.0;
   return p;
 }
 

@@ -77,9 +77,12 @@ bool ExponentialFit::significant() const {
          std::abs(rate) * (t_end - t_begin) > std::log(1.05);
 }
 
-double ExponentialFit::time_constant() const {
+double TimeConstant(double rate) {
+  if (std::isnan(rate)) return rate;
   return rate != 0.0 ? 1.0 / std::abs(rate) : std::numeric_limits<double>::infinity();
 }
+
+double ExponentialFit::time_constant() const { return TimeConstant(rate); }
 
 ExponentialFit FitEnvelope(const std::vector<EnvelopePeak>& peaks, double floor, double ceiling) {
   // The longest stretch of consecutive peaks inside the band.
@@ -253,7 +256,7 @@ std::string Headline(const MotionOutcome& o) {
            (std::isfinite(o.transition_time) ? ", 45 deg away at " + Sec(o.transition_time)
                                              : std::string());
       if (std::isfinite(o.predicted_45_time)) {
-        h += " (the linear growth, time constant " + Sec(1.0 / o.linear.growth_rate) +
+        h += " (the linear growth, time constant " + Sec(TimeConstant(o.linear.growth_rate)) +
              ", predicts " + Sec(o.predicted_45_time) + ")";
       }
       break;
@@ -273,7 +276,7 @@ std::string Headline(const MotionOutcome& o) {
       if (o.linear.found && o.linear.verdict == "unstable") {
         h += "no growth seen yet about " + start + ": the nutation stays within " +
              Deg(o.nutation_max) + " in the run, but the linearization says unstable (time " +
-             "constant " + Sec(1.0 / o.linear.growth_rate) + ")" +
+             "constant " + Sec(TimeConstant(o.linear.growth_rate)) + ")" +
              (std::isfinite(o.predicted_45_time)
                   ? ": 45 deg predicted at " + Sec(o.predicted_45_time)
                   : std::string());
@@ -335,8 +338,7 @@ std::string LinearJson(const SteadySpin& s) {
       .Str("reason", s.reason)
       .Str("verdict", s.verdict)
       .Num("growth_rate", s.growth_rate)
-      .Num("time_constant", s.growth_rate != 0.0 ? 1.0 / std::abs(s.growth_rate)
-                                                 : std::numeric_limits<double>::infinity())
+      .Num("time_constant", TimeConstant(s.growth_rate))
       .Num("frequency", s.frequency)
       .Num("max_real", s.max_real)
       .Num("quasi_rigid_rate", s.quasi_rigid_rate)

@@ -1,20 +1,23 @@
 #pragma once
 
-/// The outcome of a run, measured from the motion (docs/design.md 2.8, "The verdict"): one
-/// record that `analyze` (table and JSON), the HDF5 file (/outcome), the report's headline,
-/// the viewer and the sweep read, so that they cannot disagree.
+/// The outcome of a run, measured from the motion (docs/design.md 2.8): one record that
+/// `analyze` (table and JSON), the HDF5 file (root attribute `outcome`), the report's
+/// headline, the viewer and the sweep read, so that they cannot disagree.
 ///
-/// What it measures, on the output samples of the final phase (after the last release,
-/// latch or stage change) unless said otherwise:
-///  - the nutation nu(t): the angle between H_B and the body axis the phase spins about
-///    (the principal axis of J_B nearest H_B at the phase's start), and its envelope: the
-///    local maxima of nu, each refined by the parabola through its three samples;
+/// What it measures, on the final phase (after the last release, latch or stage change)
+/// unless said otherwise:
+///  - the nutation nu(t): the angle between H_B and the axis of the phase's steady spin
+///    (the linearization's; else the principal axis of J_B nearest H_B at the phase's
+///    start), and its envelope: the largest value per window of about one nutation
+///    period, from the output samples (a local maximum refined by the parabola through
+///    its neighbours) or, in an outcome-only run, from the accepted steps (run_recorder.h);
 ///  - the envelope's trend: ln(nu_peak) = a + sigma t fitted by least squares over the
 ///    peaks in the small-nutation band (kFitFloor..kFitCeiling, where the motion is
 ///    linear; the first quarter of the band's longest stretch is left out: the sink's own
 ///    transient), with the slope's standard error. sigma > 0 grows, < 0 decays, and a
 ///    slope within 3 standard errors of 0 or changing nu by less than 5 % over the fit is
-///    "bounded";
+///    "bounded" (with no peaks in the band, the band reaches 45 deg: the trend only; a
+///    shrinking nutation about a spin the linearization calls unstable is "bounded" too);
 ///  - the flips (the flip rule, flip_rule.h) and their mean interval;
 ///  - a transition: the run ends spinning about another body axis than it started about
 ///    (H_B nearer another principal axis of J_B, and more than 45 deg from the initial
@@ -76,6 +79,9 @@ class EnvelopeTracker {
   bool have_left_ = false, have_right_ = false;
   std::vector<EnvelopePeak> peaks_;
 };
+
+/// [s] the time constant 1 / |rate| of an exponential rate (+inf for 0, NaN for NaN).
+double TimeConstant(double rate);
 
 /// An exponential fit of an envelope: nu ~ exp(rate t).
 struct ExponentialFit {

@@ -136,8 +136,8 @@ std::string FormatOutcome(const analysis::MissionResult& r) {
     t += fmt::format(
         "  linear stability of the steady spin: {}; nutation mode rate {} 1/s (time constant "
         "{} s), frequency {} rad/s",
-        o.linear.verdict, Num(o.linear.growth_rate), Num(1.0 / std::abs(o.linear.growth_rate)),
-        Num(o.linear.frequency));
+        o.linear.verdict, Num(o.linear.growth_rate),
+        Num(analysis::TimeConstant(o.linear.growth_rate)), Num(o.linear.frequency));
     if (std::isfinite(o.linear.quasi_rigid_rate)) {
       t += fmt::format("; quasi-rigid estimate {} 1/s", Num(o.linear.quasi_rigid_rate));
     }

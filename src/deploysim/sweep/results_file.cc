@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "deploysim/analysis/free_body_solution.h"
+#include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/io/atomic_file.h"
 #include "deploysim/io/hdf5_reader.h"
 #include "deploysim/io/hdf5_writer.h"
@@ -143,15 +144,8 @@ std::vector<OutcomeColumn> MotionColumns(bool hinges) {
   };
 }
 
-/// 1 / |rate| (+inf for 0, NaN for NaN).
-double TimeConstant(double rate) {
-  return std::isnan(rate)
-             ? rate
-             : (rate != 0.0 ? 1.0 / std::abs(rate) : std::numeric_limits<double>::infinity());
-}
-
 // The outcome measured from the motion: the verdict `analyze` prints for the case, in the
-// same vocabulary (docs/design.md, "The verdict").
+// same vocabulary (docs/design.md 2.8).
 std::vector<OutcomeColumn> VerdictColumns() {
   using O = const CaseOutcome&;
   return {
@@ -166,13 +160,13 @@ std::vector<OutcomeColumn> VerdictColumns() {
       Real("nutation_rate_sigma", "1/s", "standard error of nutation_rate",
            [](O o) { return o.nutation_rate_sigma; }),
       Real("nutation_time_constant", "s", "1 / |nutation_rate|",
-           [](O o) { return TimeConstant(o.nutation_rate); }),
+           [](O o) { return analysis::TimeConstant(o.nutation_rate); }),
       Real("linear_growth_rate", "1/s",
            "the nutation mode's rate from the linearization of the final phase's steady spin "
            "(> 0 unstable; NaN: no steady spin)",
            [](O o) { return o.linear_growth_rate; }),
       Real("linear_time_constant", "s", "1 / |linear_growth_rate|",
-           [](O o) { return TimeConstant(o.linear_growth_rate); }),
+           [](O o) { return analysis::TimeConstant(o.linear_growth_rate); }),
       Real("transition_time", "s",
            "when a transition (e.g. a flat spin) passed 45 deg (NaN: no transition)",
            [](O o) { return o.transition_time; }),
