@@ -507,8 +507,8 @@ def verdict(c, h, ctx):
 
 
 def outcome_item(c, o):
-    """The summary's line on the predictions for the final phase's steady spin: the linear
-    stability from the run's own equations, and the rigid-body rule where it differs."""
+    """The summary's line on the prediction for the final phase's steady spin: its linear
+    stability from the run's own equations."""
     lin = o["linear"]
     if not lin["found"]:
         return ("Linear stability of the final spin: none ("
@@ -520,10 +520,7 @@ def outcome_item(c, o):
               + " with time constant "
               + c.h5("@outcome#linear.time_constant", tag="span", cls=None, unit="s",
                      suffix="\u00a0s"))
-    s += "."
-    if o["disagreement"]:
-        s += " " + c.h5("@outcome#disagreement", tag="span", cls=None,
-                        shown=esc(o["disagreement"][0].upper() + o["disagreement"][1:])) + "."
+    s += "."  # (where the rigid-body rule disagrees, the headline above says why)
     return s
 
 
@@ -569,7 +566,9 @@ def section_summary(c, h, ctx):
         items.append(outcome_item(c, h.outcome))
     items.append(f"Final stage \u201c{esc(fs['name'])}\u201d: spin axis "
                  + c.h5(hp("stages/spin_axis_role", last), tag="span", cls=None)
-                 + "; " + esc(fs["caveat"] or "no caveat") + "."
+                 + ("; the rigid-body rule (a prediction; the verdict above is the motion's): "
+                    if h.outcome else "; ")
+                 + esc(fs["caveat"] or "no caveat") + "."
                  + (f' <span class="warn">{RIGID_CAVEAT_MARK} Only a perfectly rigid body would '
                     'keep this spin.</span>' if fs["rigid_body_only"] and not h.outcome else ""))
     if ctx["events"]:
