@@ -19,6 +19,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -560,9 +561,12 @@ SegmentEnd HingeRun::RigidSegment(double t_next) {
   // With no hinge free the prescribed drives are the only source of work: theirs is the
   // change of the kinetic energy (the locked springs hold theirs).
   const double kinetic0 = Current(dynamics::Side::kRight).kinetic;
-  // An outcome-only run measures the nutation along the steps (run_recorder.h).
-  auto point = [&sys](const integrators::State& y) {
-    const dynamics::InertiaSample js = sys.Evaluate(y.t);
+  // An outcome-only run measures the nutation along the steps (run_recorder.h); with
+  // every hinge locked the inertia is the segment's start's throughout.
+  std::optional<dynamics::InertiaSample> held;
+  if (!rec_.sampling() && Describe(0.5 * (t_ + t_next)).rigid) held = sys.Evaluate(t_);
+  auto point = [&sys, &held](const integrators::State& y) {
+    const dynamics::InertiaSample js = held ? *held : sys.Evaluate(y.t);
     const Vec3 Hdot = y.H_B.cross(js.J_inv_B * (y.H_B - js.h_rel_B));
     return AxisPoint{y.t, 0.0, 0.0, 0.0, y.H_B, Hdot, Hdot};
   };
