@@ -93,7 +93,11 @@ def text(value):
 
 
 def read(path):
-    with h5py.File(path, "r") as f:
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        sys.exit(f"{path}: cannot open as HDF5 ({e.strerror or e})")
+    with f:
         if text(f.attrs.get("kind", "")) != "deploysim sweep results":
             sys.exit(f"{path}: not a deploysim sweep results file")
         attrs = {k: text(v) for k, v in f.attrs.items()}

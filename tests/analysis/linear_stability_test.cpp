@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "analysis/hinge_fixtures.h"
+#include "crosscheck/free_hinge_fixtures.h"
 #include "deploysim/analysis/mission.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/schedule/free_hinge_system.h"
@@ -86,7 +87,7 @@ model::Model SpinnerModel(double m) {
   p.com_offset_B = Vec3(0.3, 0.0, 0.0);
   md.hinged.panels.push_back(p);
   model::Configuration c;
-  c.name = "neutral";
+  c.name = "initial";
   c.hinge_angles = Eigen::VectorXd::Zero(1);
   md.configurations = {c};
   return md;
@@ -98,25 +99,15 @@ struct SpinnerCase {
   double detune;  // the damper's frequency over the nutation frequency
 };
 
-/// A geometry-mode profile of `md` (configuration "neutral") with these hinges, spinning
-/// at w from t = 0 to `until`, on rkmk-rkf78 at rtol 1e-10 with output every `dt`.
-schedule::Profile NeutralProfile(const std::string& name,
-                                 const model::Model& md,
-                                 std::vector<schedule::HingePlan> hinges,
-                                 const Vec3& w,
-                                 double until,
-                                 double dt) {
-  schedule::Profile p;
-  p.name = name;
-  p.source = name + " (test)";
-  p.model = md;
-  p.mode = schedule::Mode::kGeometry;
-  p.coupling = schedule::Coupling::kExact;
-  p.initial.configuration = "neutral";
-  p.initial.w_NB_B = w;
-  p.hinges = std::move(hinges);
-  p.start = 0.0;
-  p.until = until;
+/// The crosscheck fixtures' hinge profile (configuration "initial", from t = 0), on
+/// rkmk-rkf78 at rtol 1e-10 with output every `dt`.
+schedule::Profile RunProfile(const model::Model& md,
+                             std::vector<schedule::HingePlan> hinges,
+                             const Vec3& w,
+                             double until,
+                             double dt) {
+  schedule::Profile p =
+      crosscheck::free_hinge_fixtures::HingeProfile(md, std::move(hinges), w, until);
   p.integrator.method = "rkmk-rkf78";
   p.integrator.rtol = 1e-10;
   p.integrator.atol = 1e-12;
@@ -138,8 +129,8 @@ schedule::Profile SpinnerProfile(const SpinnerCase& c, double nu0, double until)
   const double k_cf = c.mass * c.spin * c.spin * a * (r + a);
   schedule::HingePlan h = testing::SpringHinge(std::max(Id * target * target - k_cf, 0.0), 0.0);
   h.drive.damping = 2.0 * 0.3 * std::sqrt(Id * (k_cf + h.drive.spring.stiffness));
-  return NeutralProfile("spinner", md, {h}, Vec3(nu0 * c.spin * Is / It, 0.0, c.spin), until,
-                        2.0 * M_PI / nutation / 24.0);
+  return RunProfile(md, {h}, Vec3(nu0 * c.spin * Is / It, 0.0, c.spin), until,
+                    2.0 * M_PI / nutation / 24.0);
 }
 
 // On 14 spinners (5 damper sizes: its inertia about its hinge 1.6e-3 to 5.4e-2 of the
@@ -221,7 +212,7 @@ model::Model DualSpinModel(const DualSpin& d) {
   p.com_offset_B = Vec3(0.3, 0.0, 0.0);
   md.hinged.panels = {c, p};
   model::Configuration cf;
-  cf.name = "neutral";
+  cf.name = "initial";
   cf.hinge_angles = Eigen::VectorXd::Zero(2);
   md.configurations = {cf};
   return md;
@@ -247,9 +238,8 @@ schedule::Profile DualSpinProfile(
   schedule::HingePlan damper = testing::SpringHinge(d.damper_k, 0.0);
   damper.drive.damping = 2.0 * 0.3 * std::sqrt(Id * (k_cf + damper.drive.spring.stiffness));
   const double H = I_az * d.w_hub + I_cz * w_c;
-  schedule::Profile p =
-      NeutralProfile("dual", md, {bearing, damper}, Vec3(nu0 * H / I_t, 0.0, d.w_hub), until,
-                     2.0 * M_PI / std::max(lambda_hub, 0.05) / 24.0);
+  schedule::Profile p = RunProfile(md, {bearing, damper}, Vec3(nu0 * H / I_t, 0.0, d.w_hub), until,
+                                   2.0 * M_PI / std::max(lambda_hub, 0.05) / 24.0);
   p.initial.hinge_rates = Eigen::Vector2d(w_c - d.w_hub, 0.0);
   return p;
 }

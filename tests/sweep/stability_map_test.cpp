@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "deploysim/sweep/runner.h"
@@ -120,6 +121,14 @@ grid:
   EXPECT_NE(Shell("/usr/bin/python3 '" + script + "' '" + Path("stage.h5") + "' --map hinges > '" +
                   Path("log") + "' 2>&1"),
             0);
+  // A missing file: one line, no traceback.
+  EXPECT_NE(Shell("/usr/bin/python3 '" + script + "' '" + Path("missing.h5") + "' > '" +
+                  Path("log") + "' 2>&1"),
+            0);
+  std::ifstream log(Path("log"));
+  const std::string said((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(said.find("missing.h5: cannot open as HDF5"), std::string::npos) << said;
+  EXPECT_EQ(said.find("Traceback"), std::string::npos) << said;
   // Its tumble map.
   ASSERT_EQ(Shell("/usr/bin/python3 '" + script + "' '" + Path("stage.h5") + "' -o '" +
                   Path("stage_tumble.png") + "' --map tumble > '" + Path("log") + "' 2>&1"),
