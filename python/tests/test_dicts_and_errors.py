@@ -147,7 +147,7 @@ def test_dict_errors_name_key_value_and_rule():
     d["integrator"]["rtol"] = -1.0
     with pytest.raises(ValueError) as e:
         deploysim.profile_from_dict(d, base_dir=SOURCE_DIR / "deployment_profiles")
-    assert str(e.value) == "<dict>: integrator.rtol = -1: must be in [1e-16, 1)"
+    assert str(e.value) == "<dict>: integrator.rtol = -1: must be in [1e-14, 0.001]"
     d["integrator"]["rtol"] = 1e-10
     d["typo"] = 1
     with pytest.raises(ValueError, match=r"^<dict>: typo = 1: unknown key"):

@@ -68,7 +68,7 @@ schedule::Profile SwingProfile(const schedule::HingePlan& plan,
   p.start = 0.0;
   p.until = 12.0;
   p.integrator.method = method;
-  p.integrator.rtol = rtol;
+  p.integrator.rtol = method == "rkmk4" ? 1e-6 : rtol;  // rkmk4 uses its step
   p.integrator.atol = 1e-13;
   p.integrator.step = method == "rkmk4" ? rtol : 0.0;  // rkmk4: the fixed step
   p.output.dt = 0.5;

@@ -165,7 +165,7 @@ TEST_F(LimitsTest, OptionErrorsAreOneLine) {
       {"sweep " + sw + " --threads abc", "--threads: abc is not an integer"},
       {"sweep " + sw + " --threads 100000", "--threads: 100000 is not an integer in [0, 256]"},
       {"simulate " + wn + o + " --dt 1e-5x", "--dt: 1e-5x is not a number > 0"},
-      {"simulate " + wn + o + " --rtol -1", "--rtol: -1: must be in [1e-16, 1)"},
+      {"simulate " + wn + o + " --rtol -1", "--rtol: -1: must be in [1e-14, 0.001]"},
       {"simulate " + wn + o + " --step -2", "--step: -2: must be >= 0 (0: automatic)"},
       {"simulate " + wn + o + " --atol x", "--atol: x is not a number"},
       {"crosscheck " + wn + o + " --accuracy 5", "--accuracy: 5 is not a number in [1e-16, 0.1]"},

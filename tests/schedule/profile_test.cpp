@@ -256,19 +256,24 @@ TEST(ProfileTest, RejectsInvalidModel) {
 TEST(ProfileTest, RejectsRelativeToleranceOutOfRange) {
   Profile p = ValidTensorProfile();
   p.integrator.rtol = 1.0;
-  ExpectRejected(p, "p.yaml: integrator.rtol = 1: must be in [1e-16, 1)");
-  p.integrator.rtol = 1e-17;
-  ExpectRejected(p, "p.yaml: integrator.rtol = 1e-17: must be in [1e-16, 1)");
+  ExpectRejected(p, "p.yaml: integrator.rtol = 1: must be in [1e-14, 0.001]");
+  p.integrator.rtol = 1e-15;
+  ExpectRejected(p, "p.yaml: integrator.rtol = 1e-15: must be in [1e-14, 0.001]");
   p.integrator.rtol = kNaN;
   ExpectRejected(p, "p.yaml: integrator.rtol = nan: must be finite");
-  p.integrator.rtol = 1e-16;  // the bound itself is allowed
+  p.integrator.rtol = 1e-14;  // the bounds themselves are allowed
+  EXPECT_NO_THROW(ValidateProfile(p));
+  p.integrator.rtol = 1e-3;
   EXPECT_NO_THROW(ValidateProfile(p));
 }
 
 TEST(ProfileTest, RejectsNonPositiveAbsoluteTolerance) {
   Profile p = ValidTensorProfile();
   p.integrator.atol = 0.0;
-  ExpectRejected(p, "p.yaml: integrator.atol = 0: must be > 0");
+  ExpectRejected(p, "p.yaml: integrator.atol = 0: must be in (0, 0.001]");
+  // A tolerance that cannot mean anything: at 1e12 a wing passed its stop by 130 deg.
+  p.integrator.atol = 1e12;
+  ExpectRejected(p, "p.yaml: integrator.atol = 1e+12: must be in (0, 0.001]");
   p.integrator.atol = kInf;
   ExpectRejected(p, "p.yaml: integrator.atol = inf: must be finite");
 }
@@ -306,10 +311,13 @@ TEST(ProfileTest, NamesTheProfileWhenItHasNoSource) {
 
 // The one statement of the integrator ranges (profiles, sweeps and Python use it).
 TEST(IntegratorRulesTest, EachKeyHasOneRange) {
-  EXPECT_EQ(IntegratorRuleViolated("rtol", 1e-16), "");
-  EXPECT_EQ(IntegratorRuleViolated("rtol", 1.0), "must be in [1e-16, 1)");
-  EXPECT_EQ(IntegratorRuleViolated("rtol", 9e-17), "must be in [1e-16, 1)");
-  EXPECT_EQ(IntegratorRuleViolated("atol", 0.0), "must be > 0");
+  EXPECT_EQ(IntegratorRuleViolated("rtol", 1e-14), "");
+  EXPECT_EQ(IntegratorRuleViolated("rtol", 1e-3), "");
+  EXPECT_EQ(IntegratorRuleViolated("rtol", 1.0), "must be in [1e-14, 0.001]");
+  EXPECT_EQ(IntegratorRuleViolated("rtol", 9e-15), "must be in [1e-14, 0.001]");
+  EXPECT_EQ(IntegratorRuleViolated("atol", 0.0), "must be in (0, 0.001]");
+  EXPECT_EQ(IntegratorRuleViolated("atol", 1e-3), "");
+  EXPECT_EQ(IntegratorRuleViolated("atol", 2e-3), "must be in (0, 0.001]");
   EXPECT_EQ(IntegratorRuleViolated("step", 0.0), "");
   EXPECT_EQ(IntegratorRuleViolated("step", -1e-300), "must be >= 0 (0: automatic)");
   EXPECT_EQ(IntegratorRuleViolated("max_step", 0.0), "must be > 0");

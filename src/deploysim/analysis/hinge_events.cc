@@ -14,6 +14,12 @@ std::string ToString(HingeEvent::Kind kind) {
       return "stop";
     case HingeEvent::Kind::kRest:
       return "rest";
+    case HingeEvent::Kind::kLiftOff:
+      return "lift-off";
+    case HingeEvent::Kind::kStick:
+      return "stick";
+    case HingeEvent::Kind::kSlip:
+      return "slip";
   }
   return "unknown";
 }

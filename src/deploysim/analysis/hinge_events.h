@@ -6,6 +6,7 @@
 /// other p_j unchanged) and reported with what a mission analyst needs: the impulse, the
 /// hub's angular-velocity jump (the latch shock) and the energy dissipated.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -19,7 +20,10 @@ struct HingeEvent {
     kLatch,    ///< Plastic impulse at the latch angle, then locked.
     kJam,      ///< Plastic impulse part-way (failure mode, schedule::Latch), then locked.
     kStop,     ///< Impact on a hard stop with restitution: theta'+ = -e theta'-.
-    kRest,     ///< Came to rest on a stop (rebound slower than schedule::kRestSpeed): locked.
+    kRest,     ///< Came to rest on a stop (schedule::Stops): held there.
+    kLiftOff,  ///< Left the stop it rested on: the torque holding it there pulled it away.
+    kStick,    ///< Exact Coulomb friction stopped the hinge and holds it (schedule::Friction).
+    kSlip,     ///< The torque holding a stuck hinge exceeded the friction torque: it moves.
   };
   Kind kind = Kind::kRelease;
   double t = 0.0;            ///< [s]
@@ -38,7 +42,13 @@ struct HingeEvent {
   double drive_work = 0.0;
 };
 
-/// "release", "latch", "jam", "stop", "rest".
+/// Every kind, in declaration order (readers parse the names of ToString against them).
+inline constexpr std::array<HingeEvent::Kind, 8> kHingeEventKinds = {
+    HingeEvent::Kind::kRelease, HingeEvent::Kind::kLatch, HingeEvent::Kind::kJam,
+    HingeEvent::Kind::kStop,    HingeEvent::Kind::kRest,  HingeEvent::Kind::kLiftOff,
+    HingeEvent::Kind::kStick,   HingeEvent::Kind::kSlip};
+
+/// "release", "latch", "jam", "stop", "rest", "lift-off", "stick", "slip".
 std::string ToString(HingeEvent::Kind kind);
 
 }  // namespace deploysim::analysis

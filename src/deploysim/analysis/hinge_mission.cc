@@ -30,6 +30,7 @@
 #include "deploysim/analysis/run_recorder.h"
 #include "deploysim/dynamics/rigid_body.h"
 #include "deploysim/integrators/shape_integrate.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/math/quaternion.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/schedule/free_hinge_system.h"
@@ -56,6 +57,16 @@ double SpringEnergyAll(const std::vector<HingePlan>& plans, const Eigen::VectorX
 
 bool Dissipates(const schedule::FreeDrive& d) { return d.damping > 0.0 || d.friction.torque > 0.0; }
 
+/// Hinge events at one instant beyond which a run stops with an error instead of looping
+/// (a hold released and taken again at once; each repeat raises the hold's margin tenfold,
+/// so a few suffice).
+constexpr int kMaxEventsAtOneInstant = 1000;
+
+/// [rad/s] How far past 0 a slipping hinge's rate goes before its slip ends (then an
+/// impulse sets it to 0 exactly): above the rounding error of a rate (~1e-16 of the
+/// state's rates), far below what any tolerance resolves (kinetic energy ~1e-24 J).
+constexpr double kSlipEndRate = 1e-12;
+
 /// What a located event of a segment is.
 struct EventTag {
   enum class What { kHinge, kFlip, kCross45, kExtremum };
@@ -64,6 +75,21 @@ struct EventTag {
   int a = 0;                                         ///< kHinge: index in the free set.
   double angle = 0.0;                                ///< kHinge: the event's angle [rad].
   double restitution = 0.0;                          ///< kHinge: stops.
+  int side = 0;    ///< kHinge, stops: +1 the max stop, -1 the min stop.
+  int panel = -1;  ///< kHinge, lift-off and slip: the held hinge (not free: a is unused).
+};
+
+/// How a free hinge that is not moving is held, until the torque that holds it (the
+/// FreeHingeSystem's HoldingTorque) exceeds what holds it.
+struct Hold {
+  enum class Kind { kNone, kStop, kStick };
+  Kind kind = Kind::kNone;
+  int side = 0;  ///< kStop: +1 on the max stop, -1 on the min stop.
+  /// [N m] the margin by which the holding torque must exceed what holds the hinge before
+  /// it moves: 1e-9 of the torques at the hold's start, so that at the located release the
+  /// hinge's net acceleration points away (a release located a rounding error early would
+  /// find it pressed back at once). Ten times more at each repeat at one instant.
+  double offset = 0.0;
 };
 
 /// How a segment ended.
@@ -112,6 +138,24 @@ class HingeRun {
   void FreeEvents(std::vector<integrators::ShapeEventFunction>& events,
                   std::vector<EventTag>& tags) const;
   void OnHingeEvent(const EventTag& tag, bool stuck);
+  /// A stop impact of free hinge tag.a at t_ with rebound rate `rebound`: true when the
+  /// panel rests on the stop instead (schedule::Stops, kContactTime).
+  bool RestsOnStop(const EventTag& tag, double rebound);
+  /// Exact Coulomb friction brought free hinge tag.a's rate to 0: it sticks (true) or,
+  /// when friction cannot hold it, slips on the other way (false; x_ changed).
+  bool Sticks(const EventTag& tag, bool stuck);
+  /// Held hinge k leaves its hold (a lift-off or a slip): freed at rate 0.
+  void Unhold(int k, HingeEvent::Kind kind);
+  /// Free hinge k (just freed at rest, friction Coulomb): slips the way the holding torque
+  /// pulls, or sticks when friction holds it (true).
+  bool StartSlip(int k, double lambda);
+  /// How far the torque holding hinge k is past what holds it (> 0: it moves).
+  double HoldMargin(int k, double t, const Vec3& H_B, const Eigen::VectorXd& x) const;
+  bool AnyHeld() const;
+  /// Holds locked hinge k (a rest on a stop: side +-1; friction: 0) from now.
+  void StartHold(int k, Hold::Kind kind, int side);
+  /// Hinge events at one instant: a run whose events repeat at one time without end stops.
+  void CountInstant();
   void AddStats(const integrators::Statistics& s);
   bool Stopped(integrators::Termination t, const std::string& message);
   double Cos(const Vec3& H_B) const { return s_.dot(H_B) / H_B.norm(); }
@@ -140,7 +184,12 @@ class HingeRun {
   double M_;  // |h_N(t0)|
   RunRecorder rec_;
   std::vector<double> release_time_, release_angle_;
-  std::vector<char> done_;       // released and locked again
+  std::vector<char> done_;  // released and locked again for good (latched, jammed)
+  std::vector<Hold> hold_;  // held by a stop or by friction until pulled away
+  std::vector<double> unheld_t_, unheld_offset_;  // the last release from a hold, its offset
+  std::vector<double> last_impact_;               // the time of each hinge's last stop impact
+  double instant_t_ = -std::numeric_limits<double>::infinity();
+  int instant_events_ = 0;
   std::vector<double> windows_;  // prescribed window boundaries: phase boundaries
   integrators::IntegratorSettings settings_;
   std::string shape_method_;
@@ -186,6 +235,10 @@ HingeRun::HingeRun(const schedule::Profile& profile,
       rec_(s_, y_.q_NB * y_.H_B, sink, progress, t0_, t1_),
       release_time_(static_cast<std::size_t>(n_), std::numeric_limits<double>::infinity()),
       done_(static_cast<std::size_t>(n_), 0),
+      hold_(static_cast<std::size_t>(n_)),
+      unheld_t_(static_cast<std::size_t>(n_), std::numeric_limits<double>::quiet_NaN()),
+      unheld_offset_(static_cast<std::size_t>(n_), 0.0),
+      last_impact_(static_cast<std::size_t>(n_), -std::numeric_limits<double>::infinity()),
       windows_(sys_.Breakpoints(t0_, t1_)),
       settings_(SettingsOf(profile)),
       full_grid_(t0_, t1_, profile.output.dt),
@@ -285,7 +338,10 @@ bool HingeRun::ReleasesDue() {
     changed = true;
     // A hinge the profile starts moving (initial.hinge_rates) is released at t0 with it.
     const Eigen::VectorXd& rate0 = plans_rate0_;
-    x_ = sys_.Free(k, t_, y_.H_B, x_, t_ == t0_ && rate0.size() > 0 ? rate0[k] : 0.0);
+    const double rate = t_ == t0_ && rate0.size() > 0 ? rate0[k] : 0.0;
+    const bool coulomb = schedule::IsCoulomb(plans_[i].drive.friction);
+    const double lambda = coulomb && rate == 0.0 ? sys_.HoldingTorque(k, t_, y_.H_B, x_) : 0.0;
+    x_ = sys_.Free(k, t_, y_.H_B, x_, rate);
     release_angle_[i] = before.theta[k];
     release_time_[i] = std::numeric_limits<double>::infinity();
     HingeEvent ev;
@@ -294,8 +350,96 @@ bool HingeRun::ReleasesDue() {
     ev.panel = k;
     ev.angle = before.theta[k];
     out_.hinge_events.push_back(ev);
+    if (coulomb) {
+      if (rate != 0.0) {
+        sys_.SetSlip(k, rate > 0.0 ? 1 : -1);
+      } else {
+        StartSlip(k, lambda);
+      }
+    }
   }
   return changed;
+}
+
+bool HingeRun::StartSlip(int k, double lambda) {
+  const schedule::FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
+  if (std::abs(lambda) > d.friction.torque) {
+    sys_.SetSlip(k, lambda > 0.0 ? -1 : 1);
+    return false;
+  }
+  // Friction holds it where it was released.
+  const double angle = Current(dynamics::Side::kRight).theta[k];
+  x_ = sys_.Lock(k, angle, x_);
+  StartHold(k, Hold::Kind::kStick, 0);
+  HingeEvent ev;
+  ev.kind = HingeEvent::Kind::kStick;
+  ev.t = t_;
+  ev.panel = k;
+  ev.angle = angle;
+  out_.hinge_events.push_back(ev);
+  return true;
+}
+
+void HingeRun::StartHold(int k, Hold::Kind kind, int side) {
+  const std::size_t i = static_cast<std::size_t>(k);
+  const schedule::Friction& f = plans_[i].drive.friction;
+  const double mu = schedule::IsCoulomb(f) ? f.torque : 0.0;
+  Hold h;
+  h.kind = kind;
+  h.side = side;
+  h.offset = 1e-9 * (mu + std::abs(sys_.HoldingTorque(k, t_, y_.H_B, x_)));
+  if (unheld_t_[i] == t_) h.offset = std::max(h.offset, 10.0 * unheld_offset_[i]);
+  hold_[i] = h;
+}
+
+bool HingeRun::AnyHeld() const {
+  for (const Hold& h : hold_) {
+    if (h.kind != Hold::Kind::kNone) return true;
+  }
+  return false;
+}
+
+double HingeRun::HoldMargin(int k, double t, const Vec3& H_B, const Eigen::VectorXd& x) const {
+  const Hold& h = hold_[static_cast<std::size_t>(k)];
+  const schedule::Friction& f = plans_[static_cast<std::size_t>(k)].drive.friction;
+  const double mu = schedule::IsCoulomb(f) ? f.torque : 0.0;
+  const double lambda = sys_.HoldingTorque(k, t, H_B, x);
+  // A stop holds one way (the max stop with lambda <= 0), friction both ways up to mu.
+  const double need = h.kind == Hold::Kind::kStop ? h.side * lambda : std::abs(lambda);
+  return need - mu - h.offset;
+}
+
+void HingeRun::CountInstant() {
+  if (t_ != instant_t_) {
+    instant_t_ = t_;
+    instant_events_ = 0;
+  }
+  if (++instant_events_ > kMaxEventsAtOneInstant) {
+    throw std::runtime_error(where_ +
+                             ": hinge events repeat without end at t = " + math::FormatNumber(t_) +
+                             " s (" + std::to_string(kMaxEventsAtOneInstant) +
+                             " at one instant): the run cannot advance (please report it with "
+                             "the profile)");
+  }
+}
+
+void HingeRun::Unhold(int k, HingeEvent::Kind kind) {
+  const std::size_t i = static_cast<std::size_t>(k);
+  const RunSample before = Current(dynamics::Side::kRight);
+  const double lambda = sys_.HoldingTorque(k, t_, y_.H_B, x_);
+  rec_.ClosePhase(before);
+  HingeEvent ev;
+  ev.kind = kind;
+  ev.t = t_;
+  ev.panel = k;
+  ev.angle = before.theta[k];
+  out_.hinge_events.push_back(ev);
+  unheld_t_[i] = t_;
+  unheld_offset_[i] = hold_[i].offset;
+  hold_[i] = Hold();
+  x_ = sys_.Free(k, t_, y_.H_B, x_, 0.0);
+  if (schedule::IsCoulomb(plans_[i].drive.friction)) sys_.SetSlip(k, lambda > 0.0 ? -1 : 1);
+  OpenPhase(Current(dynamics::Side::kRight));
 }
 
 // The segment's end: the next release, prescribed window boundary, or t1.
@@ -350,7 +494,7 @@ void HingeRun::FreeEvents(std::vector<integrators::ShapeEventFunction>& events,
                           std::vector<EventTag>& tags) const {
   const std::vector<int>& free = sys_.free_hinges();
   auto add_hinge = [&](const std::string& name, double sense, double angle, HingeEvent::Kind kind,
-                       int a, double restitution) {
+                       int a, double restitution, int side = 0) {
     const int k = free[static_cast<std::size_t>(a)];
     events.push_back(
         {name,
@@ -359,7 +503,7 @@ void HingeRun::FreeEvents(std::vector<integrators::ShapeEventFunction>& events,
          [this, k, sense](const integrators::ShapeState& s) {
            return sense * SnapOf(s).theta_dot[k];
          }});
-    tags.push_back({EventTag::What::kHinge, kind, a, angle, restitution});
+    tags.push_back({EventTag::What::kHinge, kind, a, angle, restitution, side});
   };
   for (int a = 0; a < static_cast<int>(free.size()); ++a) {
     const int k = free[static_cast<std::size_t>(a)];
@@ -376,12 +520,38 @@ void HingeRun::FreeEvents(std::vector<integrators::ShapeEventFunction>& events,
     }
     if (std::isfinite(d.stops.max_angle)) {
       add_hinge("stop max " + name, 1.0, d.stops.max_angle, HingeEvent::Kind::kStop, a,
-                d.stops.restitution);
+                d.stops.restitution, 1);
     }
     if (std::isfinite(d.stops.min_angle)) {
       add_hinge("stop min " + name, -1.0, d.stops.min_angle, HingeEvent::Kind::kStop, a,
-                d.stops.restitution);
+                d.stops.restitution, -1);
     }
+    // Exact Coulomb friction: the rate reaching 0 against the slip ends the slip (at
+    // -kSlipEndRate: a slip starts at rate 0 up to rounding, which must not end it).
+    if (schedule::IsCoulomb(d.friction)) {
+      const double slip = sys_.slip(k);
+      events.push_back({"slip ends " + name,
+                        [this, k, slip](const integrators::ShapeState& s) {
+                          return slip * SnapOf(s).theta_dot[k] + kSlipEndRate;
+                        },
+                        -1, true, options_.refine_events});
+      tags.push_back({EventTag::What::kHinge, HingeEvent::Kind::kStick, a});
+    }
+  }
+  // Held hinges: released when the torque holding them exceeds what holds them.
+  for (int k = 0; k < n_; ++k) {
+    const Hold& h = hold_[static_cast<std::size_t>(k)];
+    if (h.kind == Hold::Kind::kNone) continue;
+    const bool stop = h.kind == Hold::Kind::kStop;
+    events.push_back(
+        {(stop ? "lift-off " : "slip ") + body_.panels[static_cast<std::size_t>(k)].name,
+         [this, k](const integrators::ShapeState& s) { return HoldMargin(k, s.t, s.H_B, s.x); }, 1,
+         true, options_.refine_events});
+    EventTag tag{EventTag::What::kHinge,
+                 stop ? HingeEvent::Kind::kLiftOff : HingeEvent::Kind::kSlip};
+    tag.side = h.side;
+    tag.panel = k;
+    tags.push_back(tag);
   }
   const Vec3 s = s_;
   auto h_dot = [this](const integrators::ShapeState& y) {
@@ -482,9 +652,19 @@ SegmentEnd HingeRun::FreeSegment(double t_next) {
   return SegmentEnd::kHingeEvent;
 }
 
-// A located latch, jam or stop of free hinge tag.a at t_: the impulse; a lock (latch, jam,
-// coming to rest) ends the phase and may start after-latch releases; a bounce does not.
+// A located hinge event at t_: a lift-off or slip of a held hinge; the end of a slip; a
+// latch, jam or stop of free hinge tag.a: the impulse; a lock (latch, jam, coming to
+// rest) ends the phase and may start after-latch releases; a bounce does not.
 void HingeRun::OnHingeEvent(const EventTag& tag, bool stuck) {
+  CountInstant();
+  if (tag.panel >= 0) {
+    Unhold(tag.panel, tag.kind);
+    return;
+  }
+  if (tag.kind == HingeEvent::Kind::kStick) {
+    Sticks(tag, stuck);
+    return;
+  }
   const int k = sys_.free_hinges()[static_cast<std::size_t>(tag.a)];
   const schedule::FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
   // Snap the hinge onto the event's angle (the located state is within the event
@@ -499,14 +679,15 @@ void HingeRun::OnHingeEvent(const EventTag& tag, bool stuck) {
   // Stuck: the panel could not leave the stop it just rebounded off (its rebound is
   // shorter than integrators::kMinLeaveStep): it rests there.
   if (stuck) kind = HingeEvent::Kind::kRest;
-  const double target =
-      kind == HingeEvent::Kind::kStop ? -tag.restitution * before.theta_dot[k] : 0.0;
-  const FreeHingeSystem::Impulse imp = sys_.ApplyImpulse(t_, y_.H_B, x_, tag.a, target);
-  bool lock = kind != HingeEvent::Kind::kStop;  // latch, jam, rest
-  if (kind == HingeEvent::Kind::kStop && std::abs(imp.rate_after) < schedule::kRestSpeed) {
-    kind = HingeEvent::Kind::kRest;
-    lock = true;
+  double target = 0.0;
+  if (kind == HingeEvent::Kind::kStop) {
+    target = -tag.restitution * before.theta_dot[k];
+    if (RestsOnStop(tag, target)) {
+      kind = HingeEvent::Kind::kRest;
+      target = 0.0;
+    }
   }
+  const FreeHingeSystem::Impulse imp = sys_.ApplyImpulse(t_, y_.H_B, x_, tag.a, target);
   HingeEvent ev;
   ev.kind = kind;
   ev.t = t_;
@@ -521,11 +702,15 @@ void HingeRun::OnHingeEvent(const EventTag& tag, bool stuck) {
   work_.impacts -= imp.energy_dissipated;
   work_.drive += imp.drive_work;
   out_.hinge_events.push_back(ev);
-  if (!lock) return;
+  if (kind == HingeEvent::Kind::kStop) return;
   rec_.ClosePhase(before);
   x_ = sys_.Lock(k, tag.angle, x_);
-  done_[static_cast<std::size_t>(k)] = 1;
   out_.latch_times[static_cast<std::size_t>(k)] = t_;
+  if (kind == HingeEvent::Kind::kRest && tag.side != 0) {
+    StartHold(k, Hold::Kind::kStop, tag.side);
+  } else {
+    done_[static_cast<std::size_t>(k)] = 1;
+  }
   if (kind == HingeEvent::Kind::kLatch) {
     for (int j = 0; j < n_; ++j) {
       const HingePlan& p = plans_[static_cast<std::size_t>(j)];
@@ -537,6 +722,67 @@ void HingeRun::OnHingeEvent(const EventTag& tag, bool stuck) {
     }
   }
   OpenPhase(Current(dynamics::Side::kRight));
+}
+
+// Exact Coulomb friction brought free hinge tag.a to rest: the impulse that makes its rate
+// exactly 0 (a rounding error of the located state), then held if friction can hold it
+// (or if it could not leave rest the other way: `stuck`), else it slips back.
+bool HingeRun::Sticks(const EventTag& tag, bool stuck) {
+  const int k = sys_.free_hinges()[static_cast<std::size_t>(tag.a)];
+  const schedule::FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
+  const RunSample before = Current(dynamics::Side::kRight);
+  const FreeHingeSystem::Impulse imp = sys_.ApplyImpulse(t_, y_.H_B, x_, tag.a, 0.0);
+  work_.impacts -= imp.energy_dissipated;
+  work_.drive += imp.drive_work;
+  const double angle = x_[tag.a];
+  Eigen::VectorXd held = sys_.Lock(k, angle, x_);
+  const double lambda = sys_.HoldingTorque(k, t_, y_.H_B, held);
+  if (!stuck && std::abs(lambda) > d.friction.torque) {
+    // It turns back: the friction now opposes the other way.
+    x_ = sys_.Free(k, t_, y_.H_B, held, 0.0);
+    sys_.SetSlip(k, lambda > 0.0 ? -1 : 1);
+    return false;
+  }
+  rec_.ClosePhase(before);
+  x_ = held;
+  StartHold(k, Hold::Kind::kStick, 0);
+  HingeEvent ev;
+  ev.kind = HingeEvent::Kind::kStick;
+  ev.t = t_;
+  ev.panel = k;
+  ev.angle = angle;
+  ev.rate_before = imp.rate_before;
+  ev.impulse = imp.lambda;
+  ev.w_jump_B = imp.w_jump_B;
+  ev.energy_dissipated = imp.energy_dissipated;
+  ev.drive_work = imp.drive_work;
+  out_.hinge_events.push_back(ev);
+  OpenPhase(Current(dynamics::Side::kRight));
+  return true;
+}
+
+bool HingeRun::RestsOnStop(const EventTag& tag, double rebound) {
+  const int k = sys_.free_hinges()[static_cast<std::size_t>(tag.a)];
+  const schedule::Stops& st = plans_[static_cast<std::size_t>(k)].drive.stops;
+  const double v = std::abs(rebound);
+  // A rattle: the impacts come faster than one contact lasts, or the rebound would reach
+  // the other stop within it.
+  double& last = last_impact_[static_cast<std::size_t>(k)];
+  const bool rattle = t_ - last < schedule::kContactTime;
+  last = t_;
+  if (rattle || st.max_angle - st.min_angle < v * schedule::kContactTime) return true;
+  // The acceleration pressing the hinge onto the stop, at rest there without friction.
+  Eigen::VectorXd at_rest = x_;
+  sys_.ApplyImpulse(t_, y_.H_B, at_rest, tag.a, 0.0);
+  const int slip = sys_.slip(k);
+  sys_.SetSlip(k, 0);
+  const double press = tag.side * sys_.Acceleration(tag.a, t_, y_.H_B, at_rest);
+  sys_.SetSlip(k, slip);
+  if (!(press > 0.0)) return false;
+  const double angle_tol =
+      settings_.tolerances.atol + settings_.tolerances.rtol * std::abs(tag.angle);
+  return v < schedule::kRestSpeed || 2.0 * v / press < schedule::kContactTime ||
+         v * v / (2.0 * press) <= angle_tol;
 }
 
 // No free hinge: locked and prescribed hinges, the rigid-body path. The spin-axis
@@ -630,7 +876,9 @@ MissionResult HingeRun::Run() {
     }
     if (!(t_ < t1_)) break;
     const double t_next = NextChange();
-    const SegmentEnd end = sys_.free_count() > 0 ? FreeSegment(t_next) : RigidSegment(t_next);
+    // A held hinge's release is a terminal event: the shape path, with no hinge free.
+    const SegmentEnd end =
+        sys_.free_count() > 0 || AnyHeld() ? FreeSegment(t_next) : RigidSegment(t_next);
     if (end == SegmentEnd::kStopped) break;
     if (end == SegmentEnd::kHingeEvent) continue;
     // A prescribed window boundary: a phase boundary.

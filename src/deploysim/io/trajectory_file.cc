@@ -388,11 +388,13 @@ H5::Group OpenGroup(const std::string& path, const H5::Group& parent, const std:
 /// The kind named `name` ("latch", ...: analysis::ToString); throws naming the file.
 analysis::HingeEvent::Kind ParseKind(const std::string& path, const std::string& name) {
   using Kind = analysis::HingeEvent::Kind;
-  for (Kind k : {Kind::kRelease, Kind::kLatch, Kind::kJam, Kind::kStop, Kind::kRest}) {
+  std::string names;
+  for (Kind k : analysis::kHingeEventKinds) {
     if (analysis::ToString(k) == name) return k;
+    names += (names.empty() ? "" : ", ") + analysis::ToString(k);
   }
   throw std::runtime_error(path + ": /events/hinge/kind: '" + name +
-                           "' is not a hinge event kind (release, latch, jam, stop, rest)");
+                           "' is not a hinge event kind (" + names + ")");
 }
 
 /// The table /events/hinge/* (all columns of one length).

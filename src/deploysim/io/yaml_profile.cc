@@ -280,7 +280,9 @@ schedule::FreeDrive ReadFreeDrive(const Fields& f, const model::Model& m) {
   if (f.Has("friction")) {
     const Fields fr = f.Mapping("friction", {"torque", "regularization_speed_deg_s"});
     d.friction.torque = fr.Number("torque");
-    d.friction.regularization_speed = fr.Degrees("regularization_speed_deg_s");
+    // Left out: exact Coulomb friction (sticks and slips; schedule::Friction).
+    d.friction.regularization_speed =
+        fr.OptionalDegrees("regularization_speed_deg_s").value_or(0.0);
   }
   if (f.Has("stops")) {
     const Fields st = f.Mapping("stops", {"min_deg", "max_deg", "restitution"});

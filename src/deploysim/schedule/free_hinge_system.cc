@@ -83,6 +83,7 @@ FreeHingeSystem::FreeHingeSystem(const model::HingedBody& body,
     }
   }
   is_free_.assign(static_cast<std::size_t>(n), 0);
+  slip_.assign(static_cast<std::size_t>(n), 0);
   theta_.resize(n);
   theta_dot_.resize(n);
 }
@@ -246,7 +247,7 @@ FreeHingeSystem::Powers FreeHingeSystem::PowersNow(double t,
     const int k = free_[static_cast<std::size_t>(a)];
     const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
     const double rate = theta_dot_[k];
-    const NonConservativeParts q = NonConservativeTorqueParts(d, rate);
+    const NonConservativeParts q = NonConservativeTorqueParts(d, rate, slip(k));
     p.damper += q.damper * rate;
     p.friction += q.friction * rate;
     double motor = q.motor;
@@ -323,7 +324,7 @@ double FreeHingeSystem::DrivePower(double t,
 double FreeHingeSystem::Torque(
     int k, double t, dynamics::Side side, double theta, double theta_dot) const {
   const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
-  double q = DriveTorque(d, theta, theta_dot);
+  double q = DriveTorque(d, theta, theta_dot, slip(k));
   if (d.motor.kind == Motor::Kind::kServo) {
     q +=
         ServoTorque(d.motor, servo_ref_[static_cast<std::size_t>(k)].At(t, side), theta, theta_dot);
@@ -399,7 +400,7 @@ FreeHingeSystem::Snapshot FreeHingeSystem::Snap(double t,
   for (int a = 0; a < m; ++a) {
     const int k = free_[static_cast<std::size_t>(a)];
     const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
-    double q = NonConservativeTorque(d, theta_dot_[k]);
+    double q = NonConservativeTorque(d, theta_dot_[k], slip(k));
     if (d.motor.kind == Motor::Kind::kServo) {
       q += ServoTorque(d.motor, servo_ref_[static_cast<std::size_t>(k)].At(t, side), theta_[k],
                        theta_dot_[k]);
@@ -439,19 +440,71 @@ Eigen::VectorXd FreeHingeSystem::ShapeState(double t,
   return x;
 }
 
-FreeHingeSystem::Impulse FreeHingeSystem::ApplyImpulse(
-    double t, const Vec3& H_B, Eigen::VectorXd& x, int a, double rate_after) const {
-  const int m = free_count();
+Eigen::VectorXd FreeHingeSystem::ImpulseResponse(double t,
+                                                 const Vec3& H_B,
+                                                 const Eigen::VectorXd& x,
+                                                 int a) const {
   Setup(t, x, dynamics::Side::kRight);
   Solve(H_B, x);
-  const int u = 3 + m;
-  // Column a of the inverse of the unknowns' block: the response of (w, theta'_f) to a
-  // unit jump of p_a.
+  const int u = 3 + free_count();
   A_ = M_.topLeftCorner(u, u);
   Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(A_);
   Eigen::VectorXd e = Eigen::VectorXd::Zero(u);
   e[3 + a] = 1.0;
-  const Eigen::VectorXd col = llt.solve(e);
+  return llt.solve(e);
+}
+
+double FreeHingeSystem::InverseMass(double t,
+                                    const Vec3& H_B,
+                                    const Eigen::VectorXd& x,
+                                    int a) const {
+  return ImpulseResponse(t, H_B, x, a)[3 + a];
+}
+
+double FreeHingeSystem::HoldingTorque(int k,
+                                      double t,
+                                      const Vec3& H_B,
+                                      const Eigen::VectorXd& x) const {
+  if (probe_ == nullptr || probe_k_ != k || probe_free_ != free_) {
+    probe_ = std::make_shared<FreeHingeSystem>(*this);
+    probe_->probe_.reset();
+    probe_->Free(k);
+    probe_->SetSlip(k, 0);  // at rate 0: no friction in the free acceleration
+    probe_k_ = k;
+    probe_free_ = free_;
+  }
+  const FreeHingeSystem& p = *probe_;
+  const int m = free_count();
+  Snapshot now = Snap(t, H_B, x.head(2 * m));
+  now.theta_dot[k] = 0.0;
+  const Eigen::VectorXd xp = p.ShapeState(t, H_B, now.theta, now.theta_dot);
+  return -p.Acceleration(m, t, H_B, xp) / p.InverseMass(t, H_B, xp, m);
+}
+
+double FreeHingeSystem::Acceleration(int a,
+                                     double t,
+                                     const Vec3& H_B,
+                                     const Eigen::VectorXd& x) const {
+  const int m = free_count();
+  const int k = free_[static_cast<std::size_t>(a)];
+  const Eigen::VectorXd xs = x.head(2 * m);
+  Vec3 w;
+  Eigen::VectorXd xd;
+  Evaluate(t, H_B, xs, dynamics::Side::kRight, w, xd);
+  const Vec3 Hd = H_B.cross(w);
+  const double h = kHoldingStep;
+  const double up = Snap(t + h, H_B + h * Hd, xs + h * xd).theta_dot[k];
+  const double down = Snap(t - h, H_B - h * Hd, xs - h * xd).theta_dot[k];
+  return (up - down) / (2.0 * h);
+}
+
+FreeHingeSystem::Impulse FreeHingeSystem::ApplyImpulse(
+    double t, const Vec3& H_B, Eigen::VectorXd& x, int a, double rate_after) const {
+  const int m = free_count();
+  const int u = 3 + m;
+  // Column a of the inverse of the unknowns' block: the response of (w, theta'_f) to a
+  // unit jump of p_a.
+  const Eigen::VectorXd col = ImpulseResponse(t, H_B, x, a);
   Impulse out;
   const int k = free_[static_cast<std::size_t>(a)];
   out.rate_before = theta_dot_[k];

@@ -17,6 +17,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "deploysim/dynamics/inertia_source.h"
@@ -133,7 +134,38 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   Impulse ApplyImpulse(
       double t, const math::Vec3& H_B, Eigen::VectorXd& x, int a, double rate_after) const;
 
+  /// (M^-1)_aa [1 / (kg m^2)] over the unknowns (w, theta'_f) at the state: the rate change of
+  /// free hinge free_hinges()[a] per unit impulse on it.
+  double InverseMass(double t, const math::Vec3& H_B, const Eigen::VectorXd& x, int a) const;
+
+  /// The torque [N m] that holds locked hinge k (a kFree plan, not free now: resting on a
+  /// stop or stuck by friction) at rest at the state (t, H_B, x) of the current free set:
+  /// lambda = -theta''_k / (M^-1)_kk, theta''_k the acceleration hinge k would have if it
+  /// were free at rate 0 without friction (docs/design.md 2.7). A stop on the max side
+  /// holds it while lambda <= 0, on the min side while lambda >= 0; friction while
+  /// |lambda| <= its torque. theta''_k is the central difference of the rate along the flow
+  /// of the system with k free over +-kHoldingStep (exact for the motion's quadratic part;
+  /// its rounding error, ~1e-16 |v| / kHoldingStep in rad/s^2, is far below the resolution
+  /// any stop or friction decision needs).
+  double HoldingTorque(int k, double t, const math::Vec3& H_B, const Eigen::VectorXd& x) const;
+  /// theta''_k [rad/s^2] of free hinge free_hinges()[a] at the state (x: theta_f, p_f, then
+  /// ledger terms or not), the central difference of its rate along the flow over
+  /// +-kHoldingStep (see HoldingTorque).
+  double Acceleration(int a, double t, const math::Vec3& H_B, const Eigen::VectorXd& x) const;
+  static constexpr double kHoldingStep = 1e-6;  ///< [s]
+
+  /// The direction (+1, -1) free hinge k slips in: its exact Coulomb friction is -torque
+  /// times it (hinge_motion.h DriveTorque); 0: none (at rest).
+  void SetSlip(int k, int direction) { slip_[static_cast<std::size_t>(k)] = direction; }
+  int slip(int k) const { return slip_[static_cast<std::size_t>(k)]; }
+
  private:
+  /// Column a of the inverse of M over the unknowns (w, theta'_f): the response of the
+  /// unknowns to a unit jump of p_a (after Setup and Solve at the state: theta_dot_ holds).
+  Eigen::VectorXd ImpulseResponse(double t,
+                                  const math::Vec3& H_B,
+                                  const Eigen::VectorXd& x,
+                                  int a) const;
   /// theta and the known rates at t; cols_ = free then moving prescribed.
   void Setup(double t, const Eigen::VectorXd& x, dynamics::Side side) const;
   /// Mass matrix over cols_ and the solve for (w, theta'_f) into w_, theta_dot_.
@@ -158,6 +190,12 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   std::vector<PrescribedHinge> servo_ref_;   // per panel: a servo motor's planned motion
   std::vector<int> free_;
   std::vector<char> is_free_;
+  std::vector<int> slip_;  // per hinge: SetSlip
+  // HoldingTorque's system: this one with the held hinge probe_k_ free (rebuilt when the
+  // free set or the hinge changes).
+  mutable std::shared_ptr<FreeHingeSystem> probe_;
+  mutable int probe_k_ = -1;
+  mutable std::vector<int> probe_free_;
   Eigen::VectorXd angles_;  // locked angles (every hinge; free/prescribed: last known)
 
   // Scratch.

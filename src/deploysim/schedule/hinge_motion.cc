@@ -67,17 +67,17 @@ bool PrescribedHinge::IsAtRestOn(double t0, double t1) const {
   return true;
 }
 
-double DriveTorque(const FreeDrive& d, double theta, double theta_dot) {
+double DriveTorque(const FreeDrive& d, double theta, double theta_dot, int slip) {
   return -d.spring.stiffness * (theta - d.spring.rest_angle) + d.spring.preload +
-         NonConservativeTorque(d, theta_dot);
+         NonConservativeTorque(d, theta_dot, slip);
 }
 
-double NonConservativeTorque(const FreeDrive& d, double theta_dot) {
-  const NonConservativeParts q = NonConservativeTorqueParts(d, theta_dot);
+double NonConservativeTorque(const FreeDrive& d, double theta_dot, int slip) {
+  const NonConservativeParts q = NonConservativeTorqueParts(d, theta_dot, slip);
   return q.damper + q.motor + q.friction;
 }
 
-NonConservativeParts NonConservativeTorqueParts(const FreeDrive& d, double theta_dot) {
+NonConservativeParts NonConservativeTorqueParts(const FreeDrive& d, double theta_dot, int slip) {
   NonConservativeParts q;
   q.damper = -d.damping * theta_dot;
   switch (d.motor.kind) {
@@ -92,7 +92,9 @@ NonConservativeParts NonConservativeTorqueParts(const FreeDrive& d, double theta
     case Motor::Kind::kServo:
       break;  // time-dependent: ServoTorque, added by the caller
   }
-  if (d.friction.torque > 0.0) {
+  if (IsCoulomb(d.friction)) {
+    q.friction = -d.friction.torque * slip;
+  } else if (d.friction.torque > 0.0) {
     q.friction = -d.friction.torque * std::tanh(theta_dot / d.friction.regularization_speed);
   }
   return q;

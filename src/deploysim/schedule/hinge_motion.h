@@ -42,9 +42,12 @@ class PrescribedHinge {
 };
 
 /// The generalized force of a free hinge's drive Q(theta, theta') [N m] (hinge_plan.h):
-/// spring, damper, motor and regularized friction (not the stops or the latch, which act
-/// by impulses).
-double DriveTorque(const FreeDrive& drive, double theta, double theta_dot);
+/// spring, damper, motor and friction (not the stops or the latch, which act by impulses).
+/// `slip`: the direction (+1, -1) a hinge with exact Coulomb friction slides in over the
+/// segment being integrated (its friction is -torque slip, constant until the rate reaches
+/// 0, an event); 0: none (a hinge at rest, whose holding torque is asked for: the sign of
+/// a rate that is 0 up to rounding means nothing). Unused by the regularized law.
+double DriveTorque(const FreeDrive& drive, double theta, double theta_dot, int slip = 0);
 
 /// The torque of a servo motor (Motor::Kind::kServo) at hinge angle theta and rate
 /// theta_dot with the planned motion `ref` at that time [N m] (0 for other motors). Not part
@@ -53,7 +56,7 @@ double ServoTorque(const Motor& motor, const HingeKinematics& ref, double theta,
 
 /// The part of DriveTorque that dissipates or supplies energy, i.e. all but the spring:
 /// dE/dt = sum_k NonConservativeTorque_k theta'_k along the flow (E = T + V).
-double NonConservativeTorque(const FreeDrive& drive, double theta_dot);
+double NonConservativeTorque(const FreeDrive& drive, double theta_dot, int slip = 0);
 
 /// NonConservativeTorque by its source [N m] (their sum), for the energy ledger.
 struct NonConservativeParts {
@@ -61,7 +64,12 @@ struct NonConservativeParts {
   double friction = 0.0;
   double motor = 0.0;  ///< a servo's torque is added by the caller (ServoTorque)
 };
-NonConservativeParts NonConservativeTorqueParts(const FreeDrive& drive, double theta_dot);
+NonConservativeParts NonConservativeTorqueParts(const FreeDrive& drive,
+                                                double theta_dot,
+                                                int slip = 0);
+
+/// Friction::coulomb(): exact Coulomb friction (sticks and slips), not the regularized law.
+inline bool IsCoulomb(const Friction& f) { return f.torque > 0.0 && f.regularization_speed == 0.0; }
 
 /// The spring's stored energy V(theta) = 1/2 k (theta - rest)^2 - preload (theta - rest) [J].
 double SpringEnergy(const FreeDrive& drive, double theta);

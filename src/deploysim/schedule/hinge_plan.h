@@ -71,19 +71,26 @@ struct Motor {
   std::vector<HingeMove> follow;  ///< kServo: the planned moves (ascending, not overlapping).
 };
 
-/// Coulomb friction, regularized: Q = -torque tanh(theta' / regularization_speed). Far above
-/// the regularization speed it is the Coulomb torque -torque sign(theta'); below it, a
-/// viscous torque of slope torque / regularization_speed (so a panel held by friction
-/// alone creeps slowly instead of sticking: no stick-slip events).
+/// Coulomb friction at the hinge, one of two laws:
+/// - exact (regularization_speed 0): Q = -torque sign(theta') while the hinge slips; when
+///   its rate reaches 0 it sticks if the torque that holds it at rest is at most `torque`,
+///   and slips again when that holding torque exceeds `torque` (stick and slip are events,
+///   docs/design.md 2.7);
+/// - regularized (regularization_speed > 0, a documented choice): Q = -torque tanh(theta' /
+///   regularization_speed): far above that speed the Coulomb torque, below it a viscous
+///   torque of slope torque / regularization_speed, so a panel held by friction creeps
+///   instead of sticking. kMinRegularizationSpeed keeps it affordable.
 struct Friction {
   double torque = 0.0;                ///< [N m] >= 0; 0: no friction.
-  double regularization_speed = 0.0;  ///< [rad/s] > 0 when torque > 0.
+  double regularization_speed = 0.0;  ///< [rad/s]; 0: exact Coulomb friction.
 };
 
 /// Hard stops: the hinge cannot pass min_angle or max_angle. At a stop the panel
 /// rebounds with coefficient of restitution e (theta'+ = -e theta'-, the impulse of
-/// docs/design.md 2.7); a rebound slower than kRestSpeed leaves it resting on the stop: the
-/// hinge locks there for the rest of the run (a panel pressed on its stop by its spring).
+/// docs/design.md 2.7). A panel pressed on the stop whose rebound is slower than
+/// kRestSpeed, would be back within kContactTime, or would leave the stop by no more than
+/// the integration's angle tolerance (atol + rtol |angle|) rests on it: the hinge is held
+/// there until the torque that holds it pulls it away (a lift-off, docs/design.md 2.7).
 struct Stops {
   double min_angle = -std::numeric_limits<double>::infinity();  ///< [rad]; -inf: none.
   double max_angle = std::numeric_limits<double>::infinity();   ///< [rad]; +inf: none.
@@ -145,6 +152,32 @@ struct HingePlan {
 /// (0.0006 deg/s: 10 um/s at the tip of a 1 m panel). Bounces with restitution e need about
 /// ln(kRestSpeed / |theta'|) / ln(e) impacts to get there (e = 0.5 from 1 rad/s: 17).
 inline constexpr double kRestSpeed = 1e-5;
+/// A rebound off a stop that would be back on a stop within this time [s], or an impact
+/// that comes this soon after the hinge's previous one, is no rebound: the contact never
+/// opens (a hinge stop's impact itself lasts milliseconds; a latch-up stops a panel in
+/// about 10 ms), and the panel rests on the stop. It ends the impacts whose times
+/// accumulate (a panel pressed on its stop: the flights shrink as e^n) and a rattle
+/// between close stops (restitution 1 between stops 2e-6 deg apart).
+inline constexpr double kContactTime = 1e-3;
+
+/// The accepted ranges of a free hinge's drive (docs/file_formats.md, "Accepted ranges"),
+/// refused before a run outside them (schedule::ValidateProfile): beyond them a value
+/// describes no deployable panel's hardware, and the run's cost cannot be bounded (a
+/// spring's rest angle of 1e12 deg stores 1e23 J; the steps follow sqrt(k / I)).
+/// Angles: stops, latch and spring rest angles, 10 turns either way [rad].
+inline constexpr double kMaxDriveAngle = 3600.0 * 3.14159265358979323846 / 180.0;
+/// Spring and servo stiffness [N m/rad].
+inline constexpr double kMaxDriveStiffness = 1e9;
+/// Damper and servo damping [N m s/rad].
+inline constexpr double kMaxDriveDamping = 1e9;
+/// Preload, motor, stall and friction torques [N m].
+inline constexpr double kMaxDriveTorque = 1e6;
+/// A torque-speed motor's no-load speed: 1000 turns/s [rad/s].
+inline constexpr double kMaxDriveSpeed = 2000.0 * 3.14159265358979323846;
+/// The regularized friction law's smallest speed, 0.01 deg/s [rad/s]: below it the law's
+/// viscous slope torque / speed makes the equations stiff (at 1e-6 deg/s a 600 s run did
+/// not finish in a minute). Exact Coulomb friction (stick and slip) needs no speed.
+inline constexpr double kMinRegularizationSpeed = 0.01 * 3.14159265358979323846 / 180.0;
 
 /// "locked", "prescribed", "free".
 std::string ToString(HingePlan::Kind kind);

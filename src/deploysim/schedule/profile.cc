@@ -317,6 +317,17 @@ struct DriveCheck {
     if (!std::isfinite(value)) Fail(where, key + sub + " = " + shown + ": must be finite");
     if (!ok) Fail(where, key + sub + " = " + shown + ": " + rule);
   }
+  /// `key + sub` within +-limit (hinge_plan.h, the accepted ranges); `unit` as shown.
+  void Range(const std::string& sub,
+             double value,
+             double limit,
+             const std::string& unit,
+             bool degrees = false) const {
+    const std::string shown = degrees ? Deg(limit) : Num(limit);
+    (*this)(sub, value, std::abs(value) <= limit,
+            "must be within +-" + shown + " " + unit + " (rule: accepted range of a free hinge)",
+            degrees);
+  }
 };
 
 /// The drive's motor: its parameters by kind (a servo's moves as a prescribed hinge's).
@@ -324,8 +335,10 @@ void ValidateMotor(const Profile& p, const DriveCheck& require, const Motor& mo)
   const std::string& where = require.where;
   const std::string& key = require.key;
   if (mo.kind == Motor::Kind::kConstant) {
-    require(".motor.torque", mo.torque, true, "");
+    require.Range(".motor.torque", mo.torque, kMaxDriveTorque, "N m");
   } else if (mo.kind == Motor::Kind::kTorqueSpeed) {
+    require.Range(".motor.stall_torque", mo.stall_torque, kMaxDriveTorque, "N m");
+    require.Range(".motor.no_load_speed_deg_s", mo.no_load_speed, kMaxDriveSpeed, "deg/s", true);
     require(".motor.stall_torque", mo.stall_torque, mo.stall_torque != 0.0,
             "must be non-zero [N m] (the torque at rest; its sign is the direction the motor "
             "drives)");
@@ -342,6 +355,8 @@ void ValidateMotor(const Profile& p, const DriveCheck& require, const Motor& mo)
             "must be > 0 [N m/rad] (the servo's torque per radian of tracking error)");
     require(".motor.servo_damping", mo.servo_damping, mo.servo_damping >= 0.0,
             "must be >= 0 [N m s/rad]");
+    require.Range(".motor.servo_stiffness", mo.servo_stiffness, kMaxDriveStiffness, "N m/rad");
+    require.Range(".motor.servo_damping", mo.servo_damping, kMaxDriveDamping, "N m s/rad");
     ValidateMoves(p, where, key + ".motor.follow", mo.follow);
   }
 }
@@ -369,6 +384,12 @@ void ValidateStops(const Profile& p, const DriveCheck& require, const Stops& st,
     Fail(where, key + ".stops.max_deg = " + Deg(st.max_angle) + ": must be > min_deg (" +
                     Deg(st.min_angle) + ")");
   }
+  if (std::isfinite(st.min_angle)) {
+    require.Range(".stops.min_deg", st.min_angle, kMaxDriveAngle, "deg", true);
+  }
+  if (std::isfinite(st.max_angle)) {
+    require.Range(".stops.max_deg", st.max_angle, kMaxDriveAngle, "deg", true);
+  }
   require(".stops.restitution", st.restitution, st.restitution >= 0.0 && st.restitution <= 1.0,
           "must be in [0, 1] (0: the hinge stops dead on a stop, 1: a lossless rebound)");
   if (st.restitution != 0.0 && !st.any()) {
@@ -392,7 +413,7 @@ void ValidateLatch(
   const std::string& where = require.where;
   const std::string& key = require.key;
   if (la.enabled) {
-    require(".latch.angle_deg", la.angle, true, "", true);
+    require.Range(".latch.angle_deg", la.angle, kMaxDriveAngle, "deg", true);
     if (la.angle < st.min_angle || la.angle > st.max_angle) {
       Fail(where, key + ".latch.angle_deg = " + Deg(la.angle) +
                       ": the latch angle must lie within the stops " + StopRange(st));
@@ -461,18 +482,22 @@ void ValidateDrive(const Profile& p,
   const DriveCheck require{where, key};
   const Spring& sp = d.spring;
   require(".spring.stiffness", sp.stiffness, sp.stiffness >= 0.0, "must be >= 0 [N m/rad]");
-  require(".spring.rest_angle_deg", sp.rest_angle, true, "", true);
-  require(".spring.preload", sp.preload, true, "");
+  require.Range(".spring.stiffness", sp.stiffness, kMaxDriveStiffness, "N m/rad");
+  require.Range(".spring.rest_angle_deg", sp.rest_angle, kMaxDriveAngle, "deg", true);
+  require.Range(".spring.preload", sp.preload, kMaxDriveTorque, "N m");
   require(".damper.coefficient", d.damping, d.damping >= 0.0, "must be >= 0 [N m s/rad]");
+  require.Range(".damper.coefficient", d.damping, kMaxDriveDamping, "N m s/rad");
 
   ValidateMotor(p, require, d.motor);
 
   const Friction& fr = d.friction;
   require(".friction.torque", fr.torque, fr.torque >= 0.0, "must be >= 0 [N m] (0: no friction)");
+  require.Range(".friction.torque", fr.torque, kMaxDriveTorque, "N m");
   require(".friction.regularization_speed_deg_s", fr.regularization_speed,
-          fr.torque > 0.0 ? fr.regularization_speed > 0.0 : fr.regularization_speed >= 0.0,
-          "must be > 0 (below this hinge rate the friction torque fades out, tanh(rate / "
-          "speed))",
+          fr.regularization_speed == 0.0 || fr.regularization_speed >= kMinRegularizationSpeed,
+          "must be >= " + Deg(kMinRegularizationSpeed) +
+              " deg/s (below it the regularized law tanh(rate / speed) makes the run stiff; "
+              "leave it out for exact Coulomb friction, which sticks and slips)",
           true);
 
   ValidateStops(p, require, d.stops, theta0);
@@ -580,8 +605,14 @@ void ValidateNumerics(const Profile& p, const std::string& where) {
 }  // namespace
 
 std::string IntegratorRuleViolated(const std::string& key, double value) {
-  if (key == "rtol") return value >= 1e-16 && value < 1.0 ? "" : "must be in [1e-16, 1)";
-  if (key == "atol") return value > 0.0 ? "" : "must be > 0";
+  if (key == "rtol") {
+    return value >= kMinRtol && value <= kMaxRtol
+               ? ""
+               : "must be in [" + Num(kMinRtol) + ", " + Num(kMaxRtol) + "]";
+  }
+  if (key == "atol") {
+    return value > 0.0 && value <= kMaxAtol ? "" : "must be in (0, " + Num(kMaxAtol) + "]";
+  }
   if (key == "step") return value >= 0.0 ? "" : "must be >= 0 (0: automatic)";
   if (key == "max_step") return value > 0.0 ? "" : "must be > 0";
   throw std::invalid_argument("IntegratorRuleViolated: no rule for integrator." + key);

@@ -223,9 +223,13 @@ void SetHingeColumns(const Case& c, const analysis::MissionResult& m, CaseOutcom
       case HingeEvent::Kind::kJam:
       case HingeEvent::Kind::kStop:
       case HingeEvent::Kind::kRest:
+      case HingeEvent::Kind::kStick:
         out.max_latch_w_jump = std::max(out.max_latch_w_jump, e.w_jump_B.norm());
         out.max_latch_impulse = std::max(out.max_latch_impulse, std::abs(e.impulse));
         out.energy_dissipated_events += e.energy_dissipated;
+        break;
+      case HingeEvent::Kind::kLiftOff:
+      case HingeEvent::Kind::kSlip:
         break;
     }
   }
