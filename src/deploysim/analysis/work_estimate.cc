@@ -1,17 +1,23 @@
 #include "deploysim/analysis/work_estimate.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/math/inertia.h"
 #include "deploysim/math/number_format.h"
+#include "deploysim/model/mass_matrix.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/model/model.h"
 #include "deploysim/schedule/deployment_schedule.h"
+#include "deploysim/schedule/hinge_motion.h"
 
 namespace deploysim::analysis {
 
@@ -44,8 +50,250 @@ double MaxRateSquaredOnEllipsoid(const math::Vec3& I, double M2, double two_T) {
   return best;
 }
 
+// The largest rate at which H_B can turn in the body of a rigid body with inertia J and
+// momentum H [rad/s]: |dH_B/dt| / M = |w x H| / M = sqrt(|w|^2 - (2T / M)^2) (the part of w
+// across H), its largest |w| on the energy ellipsoid. What a Lie-group method resolves (it
+// carries the spin about H exactly): 0 for a spin about a principal axis, about |w| for a
+// flip.
+double BodyFrameRate(const math::Mat3& J, const math::Vec3& H) {
+  const double M2 = H.squaredNorm();
+  if (!(M2 > 0.0)) return 0.0;
+  const math::PrincipalAxes pa = math::PrincipalDecomposition(J);
+  const math::Vec3 h = pa.axes.transpose() * H;
+  const math::Vec3& I = pa.moments;
+  const double two_T = h[0] * h[0] / I[0] + h[1] * h[1] / I[1] + h[2] * h[2] / I[2];
+  const double across =
+      std::sqrt(std::max(0.0, MaxRateSquaredOnEllipsoid(I, M2, two_T) - two_T * two_T / M2));
+  // Near a principal axis i the body's w turns at the nutation (polhode) frequency
+  // (M / I_i) sqrt(|(I_i - I_j)(I_i - I_k)| / (I_j I_k)): the error control follows it,
+  // however small the nutation (a spin about the smallsat's minor axis: 435 steps in
+  // 600 s where the nutation is 1.4 deg).
+  int i = 0;
+  for (int a = 1; a < 3; ++a) {
+    if (std::abs(h[a]) > std::abs(h[i])) i = a;
+  }
+  const double Ij = I[(i + 1) % 3], Ik = I[(i + 2) % 3];
+  const double nutation =
+      std::sqrt(M2) / I[i] * std::sqrt(std::abs((I[i] - Ij) * (I[i] - Ik)) / (Ij * Ik));
+  return std::max(across, nutation);
+}
+
 // Three significant digits: the messages' numbers are estimates.
 std::string Num(double x) { return math::FormatSignificant(x); }
+
+/// Steps per radian of the fastest motion that an adaptive method takes at tolerance
+/// rtol: kStepsPerRadian rtol^(-1 / (q + 1)), q the order of its error estimate (a local
+/// error ~ (h nu)^(q+1) held at rtol). The constant is measured: rkmk-rkf78 on the stiff
+/// hinge spring trap (1e6 N m/rad, rtol 1e-11) takes 5.07 steps per radian of its
+/// frequency, 0.214 rtol^(-1/8); the shipped examples and the other traps take about 0.7
+/// of what that predicts (docs/design.md, "Cost known before the run"): 0.16.
+constexpr double kStepsPerRadian = 0.16;
+/// Lie-group methods (and `exact`) carry the spin itself exactly: what they resolve is
+/// the motion of H_B in the body, at most this fraction of the body's rate for the
+/// shipped examples' and the traps' spins (measured: the smallsat's rigid phases).
+constexpr double kLieRateFraction = 0.13;
+/// A damped mode's decay rate counts this much against an oscillation's frequency: it
+/// dies out (measured: the dual-spin craft's and the flat spin's pendulum dampers).
+constexpr double kDecayWeight = 0.25;
+/// [rad] Stops closer than this make a panel rest at once (schedule::kContactTime: a
+/// rebound at 1 mrad/s travels it within the contact time).
+constexpr double kRattleGap = 1e-6;
+/// The impacts a panel pressed on its stop makes before it rests: its speed falls as e^n
+/// to schedule::kRestSpeed from about 1 rad/s (at most kMaxBounces counted).
+double Bounces(double e) {
+  constexpr double kMaxBounces = 1000.0;
+  if (!(e > 0.0)) return 1.0;
+  if (!(e < 1.0)) return kMaxBounces;
+  return std::min(kMaxBounces, std::ceil(std::log(schedule::kRestSpeed) / std::log(e)));
+}
+/// The closed form (`exact`) on a constant stage: 8 steps per period of the motion.
+constexpr double kExactStepsPerPeriod = 8.0;
+/// Steps every segment between events costs at least (its first steps find the scale).
+constexpr double kStepsPerSegment = 5.0;
+
+double StepsPerRadian(const integrators::StepperInfo& info, double rtol) {
+  const int q = info.error_order > 0 ? info.error_order : info.order;
+  return kStepsPerRadian * std::pow(rtol, -1.0 / (q + 1));
+}
+
+/// The cost of one step [s] on one core: a fixed part, the tree's kinematics (per panel),
+/// the mass matrix's solve (per cube of the unknowns, 3 + free hinges). Measured on this
+/// project's reference machine: the smallsat's stiff spring (2 panels, 1 free), the
+/// 2048-panel tree with one free hinge, the chain of 64 free panels.
+double SecondsPerStep(int panels, int free) {
+  const double u = 3.0 + free;
+  return 12e-6 + 7e-6 * panels + 1.1e-7 * u * u * u;
+}
+
+/// Per free-plan hinge: its own stiffest rate (diagonal of S), and the system's.
+struct HingeRates {
+  double stiffest = 0.0;
+  std::vector<double> own;      ///< per panel (0 unless free)
+  std::vector<double> inertia;  ///< per panel: its effective inertia S_aa (0 unless free)
+};
+
+HingeRates FreeHingeRates(const schedule::Profile& profile, double spin) {
+  HingeRates out;
+  const model::Model& model = profile.model;
+  out.own.assign(profile.hinges.size(), 0.0);
+  out.inertia.assign(profile.hinges.size(), 0.0);
+  if (model.kind != model::ModelKind::kHinged) return out;
+  std::vector<int> cols;
+  for (std::size_t k = 0; k < profile.hinges.size(); ++k) {
+    if (profile.hinges[k].kind == schedule::HingePlan::Kind::kFree)
+      cols.push_back(static_cast<int>(k));
+  }
+  if (cols.empty()) return out;
+  const Eigen::VectorXd& theta0 = model.configuration(profile.initial.configuration).hinge_angles;
+  const model::PanelTree tree(model.hinged);
+  model::TreePose pose;
+  model::ComputePose(model.hinged, tree, theta0, pose);
+  Eigen::MatrixXd M;
+  model::ComputeMassMatrix(model.hinged, tree, pose, cols, M);
+  const Eigen::Index m = static_cast<Eigen::Index>(cols.size());
+  const Eigen::Matrix3d J = M.topLeftCorner<3, 3>();
+  const Eigen::MatrixXd B = M.block(0, 3, 3, m);
+  const Eigen::MatrixXd S = M.block(3, 3, m, m) - B.transpose() * J.ldlt().solve(B);
+  Eigen::VectorXd K(m), C(m);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const schedule::FreeDrive& d =
+        profile.hinges[static_cast<std::size_t>(cols[static_cast<std::size_t>(a)])].drive;
+    const bool servo = d.motor.kind == schedule::Motor::Kind::kServo;
+    K[a] = d.spring.stiffness + (servo ? d.motor.servo_stiffness : 0.0) + spin * spin * S(a, a);
+    C[a] =
+        d.damping + (servo ? d.motor.servo_damping : 0.0) +
+        (d.friction.regularization_speed > 0.0 ? d.friction.torque / d.friction.regularization_speed
+                                               : 0.0);
+    const std::size_t k = static_cast<std::size_t>(cols[static_cast<std::size_t>(a)]);
+    out.own[k] = std::sqrt(K[a] / S(a, a)) + kDecayWeight * C[a] / S(a, a);
+    out.inertia[k] = S(a, a);
+  }
+  double freq = 0.0, decay = 0.0;
+  if (m <= 256) {
+    // The generalized eigenvalues of (K, S), (C, S): S is SPD (the mass matrix is).
+    using Solver = Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd>;
+    const Solver ek(Eigen::MatrixXd(K.asDiagonal()), S, Eigen::EigenvaluesOnly);
+    const Solver ec(Eigen::MatrixXd(C.asDiagonal()), S, Eigen::EigenvaluesOnly);
+    freq = std::sqrt(std::max(0.0, ek.eigenvalues().maxCoeff()));
+    decay = std::max(0.0, ec.eigenvalues().maxCoeff());
+  } else {
+    // A long chain: the diagonal bound (the eigen solve would cost more than it saves).
+    for (Eigen::Index a = 0; a < m; ++a) {
+      freq = std::max(freq, std::sqrt(K[a] / S(a, a)));
+      decay = std::max(decay, C[a] / S(a, a));
+    }
+  }
+  out.stiffest = freq + kDecayWeight * decay;
+  return out;
+}
+
+/// How long free hinge k moves after its release [s] (inf: to the end), from its own rate
+/// and effective inertia: a latching swing, half a period; a drive that presses the panel
+/// onto a stop (its equilibrium beyond it) bounces to rest in t1 (1 + e) / (1 - e), t1 the
+/// first swing (a quarter period, or sqrt(2 travel I / torque) for a motor alone) and e
+/// the restitution (the flights shrink as e^n); exact Coulomb friction stops a spring's
+/// swing after (A - mu / k) / (2 mu / k) half periods (A its first amplitude).
+double MovingTime(const schedule::Profile& profile, std::size_t k, double own, double inertia) {
+  constexpr double kPi = 3.141592653589793;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const schedule::FreeDrive& d = profile.hinges[k].drive;
+  if (!(own > 0.0)) return kInf;
+  if (d.latch.enabled) return kPi / own;
+  // Stops closer than a rebound travels in the contact time: it rests at once (a rattle).
+  if (d.stops.max_angle - d.stops.min_angle < kRattleGap) return schedule::kContactTime;
+  const double theta0 = profile.model.configuration(profile.initial.configuration)
+                            .hinge_angles[static_cast<Eigen::Index>(k)];
+  const double torque =
+      d.spring.preload + (d.motor.kind == schedule::Motor::Kind::kConstant ? d.motor.torque : 0.0);
+  const double k_s = d.spring.stiffness;
+  const double eq = k_s > 0.0 ? d.spring.rest_angle + torque / k_s
+                              : (torque > 0.0   ? kInf
+                                 : torque < 0.0 ? -kInf
+                                                : theta0);
+  const double stop = eq > d.stops.max_angle   ? d.stops.max_angle
+                      : eq < d.stops.min_angle ? d.stops.min_angle
+                                               : std::numeric_limits<double>::quiet_NaN();
+  if (std::isfinite(stop) && d.stops.restitution < 1.0 &&
+      d.motor.kind != schedule::Motor::Kind::kServo) {
+    const double t1 = k_s > 0.0
+                          ? 0.5 * kPi / own
+                          : std::sqrt(2.0 * std::abs(stop - theta0) * inertia / std::abs(torque));
+    const double e = d.stops.restitution;
+    return t1 * (1.0 + e) / (1.0 - e);
+  }
+  const bool servo = d.motor.kind == schedule::Motor::Kind::kServo;
+  const double k_all = k_s + (servo ? d.motor.servo_stiffness : 0.0);
+  if (schedule::IsCoulomb(d.friction) && k_all > 0.0) {
+    // The swing's first amplitude: from the start to the spring's equilibrium, or each of
+    // a servo's planned moves (each starts a swing about its new target).
+    double amplitude = std::abs(theta0 - eq);
+    double swings = 1.0;
+    if (servo) {
+      amplitude = 0.0;
+      double from = theta0;
+      for (const schedule::HingeMove& mv : d.motor.follow) {
+        const double to = mv.kind == schedule::HingeMove::Kind::kTo ? mv.angle : from;
+        amplitude = std::max(amplitude, std::abs(to - from));
+        from = to;
+      }
+      swings = std::max<double>(1.0, static_cast<double>(d.motor.follow.size()));
+    }
+    const double half = 2.0 * d.friction.torque / k_all;  // amplitude lost per half period
+    return swings * kPi / own * std::max(1.0, std::ceil((amplitude - 0.5 * half) / half));
+  }
+  return kInf;
+}
+
+/// The stop impacts of the free hinges that a drive presses onto a stop (Bounces): each
+/// is a segment of the run.
+double PressedBounces(const schedule::Profile& profile) {
+  double n = 0.0;
+  for (const schedule::HingePlan& h : profile.hinges) {
+    if (h.kind != schedule::HingePlan::Kind::kFree || !h.drive.stops.any()) continue;
+    const schedule::FreeDrive& d = h.drive;
+    if (d.stops.max_angle - d.stops.min_angle < kRattleGap) continue;  // rests at once
+    const double torque = d.spring.preload +
+                          (d.motor.kind == schedule::Motor::Kind::kConstant ? d.motor.torque : 0.0);
+    if (d.spring.stiffness > 0.0 || torque != 0.0) n += Bounces(d.stops.restitution);
+  }
+  return n;
+}
+
+/// The time the free hinges move [s]: the union over the free hinges of [release, release
+/// + MovingTime]; after-latch releases wait for the estimate.
+double FreeTime(const schedule::Profile& profile, const HingeRates& rates) {
+  const double t0 = profile.t_begin(), t1 = profile.t_end();
+  const std::size_t n = profile.hinges.size();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> begin(n, kInf), end(n, kInf);
+  // Releases after a latch resolve in at most n passes (the order has no cycle).
+  for (std::size_t pass = 0; pass < n; ++pass) {
+    for (std::size_t k = 0; k < n; ++k) {
+      const schedule::HingePlan& h = profile.hinges[k];
+      if (h.kind != schedule::HingePlan::Kind::kFree) continue;
+      const schedule::Release& r = h.drive.release;
+      double b = t0;
+      if (r.kind == schedule::Release::Kind::kAtTime) b = std::max(t0, r.time);
+      if (r.kind == schedule::Release::Kind::kAfterLatch) {
+        b = end[static_cast<std::size_t>(r.panel)] + r.delay;
+      }
+      begin[k] = std::min(b, t1);
+      end[k] = std::min(t1, begin[k] + MovingTime(profile, k, rates.own[k], rates.inertia[k]));
+    }
+  }
+  std::vector<std::pair<double, double>> spans;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (begin[k] < end[k]) spans.emplace_back(begin[k], end[k]);
+  }
+  std::sort(spans.begin(), spans.end());
+  double total = 0.0, reach = -kInf;
+  for (const auto& [b, e] : spans) {
+    const double from = std::max(b, reach);
+    if (e > from) total += e - from;
+    reach = std::max(reach, e);
+  }
+  return total;
+}
 
 }  // namespace
 
@@ -67,13 +315,14 @@ WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
   math::Vec3 H0 = math::Vec3::Zero();
   double I_parts = smallest_moment(model.hinged.hub.body.inertia_cm);
   for (const model::Panel& pn : model.hinged.panels) I_parts += smallest_moment(pn.body.inertia_cm);
+  const model::Configuration& c0 = model.configuration(profile.initial.configuration);
+  const math::Mat3 J0 = model::ComputeMassProperties(model.hinged, c0.hinge_angles,
+                                                     Eigen::VectorXd::Zero(c0.hinge_angles.size()))
+                            .J_B;
   if (profile.initial.H_B) {
     H0 = *profile.initial.H_B;
   } else if (profile.initial.w_NB_B) {
-    const model::Configuration& c = model.configuration(profile.initial.configuration);
-    const model::MassProperties mp = model::ComputeMassProperties(
-        model.hinged, c.hinge_angles, Eigen::VectorXd::Zero(c.hinge_angles.size()));
-    H0 = mp.J_B * *profile.initial.w_NB_B;
+    H0 = J0 * *profile.initial.w_NB_B;
   }
   out.momentum = H0.norm();
   StageWork w;
@@ -102,14 +351,54 @@ WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
     w.max_rate += rate;
   }
   w.turns = w.max_rate * w.duration / kTwoPi;
-  const bool adaptive = MakeStepper(profile.integrator.method)->info().adaptive;
-  if (!adaptive && profile.integrator.step > 0.0) {
+  const integrators::StepperInfo info = MakeStepper(profile.integrator.method)->info();
+  if (!info.adaptive && profile.integrator.step > 0.0) {
     w.fixed_steps = std::ceil(w.duration / profile.integrator.step);
   }
   out.finite = std::isfinite(w.turns) && std::isfinite(w.fixed_steps);
   out.turns = w.turns;
   out.fixed_steps = w.fixed_steps;
   out.stages.push_back(w);
+  // Steps: the spin over the whole run, the free hinges while they move.
+  const HingeRates rates = FreeHingeRates(profile, out.momentum / I_parts);
+  out.hinge_rate = rates.stiffest;
+  out.free_time = FreeTime(profile, rates);
+  int free_plans = 0;
+  for (const schedule::HingePlan& h : profile.hinges) {
+    free_plans += h.kind == schedule::HingePlan::Kind::kFree ? 1 : 0;
+  }
+  const bool lie = info.lie_group || profile.integrator.method == "exact";
+  // A Lie-group method resolves H_B's motion in the body: before the release, and once the
+  // latching hinges have latched (a deployment can make the spin axis intermediate).
+  double spin = w.max_rate;
+  if (lie) {
+    Eigen::VectorXd latched = c0.hinge_angles;
+    for (std::size_t k = 0; k < profile.hinges.size(); ++k) {
+      const schedule::HingePlan& h = profile.hinges[k];
+      if (h.kind == schedule::HingePlan::Kind::kFree && h.drive.latch.enabled) {
+        latched[static_cast<Eigen::Index>(k)] = h.drive.latch.angle;
+      }
+    }
+    const math::Mat3 J1 =
+        model::ComputeMassProperties(model.hinged, latched, Eigen::VectorXd::Zero(latched.size()))
+            .J_B;
+    spin = std::max(BodyFrameRate(J0, H0), BodyFrameRate(J1, H0));
+  }
+  if (w.fixed_steps > 0.0) {
+    out.steps = w.fixed_steps;
+  } else {
+    const integrators::StepperInfo free_info =
+        profile.integrator.method == "exact" ? MakeStepper("rkmk-rkf78")->info() : info;
+    // While hinges move the faster of the two motions sets the steps.
+    out.steps =
+        StepsPerRadian(info, profile.integrator.rtol) * spin * (w.duration - out.free_time) +
+        StepsPerRadian(free_info, profile.integrator.rtol) * std::max(spin, out.hinge_rate) *
+            out.free_time +
+        kStepsPerSegment * (1 + 2 * free_plans + PressedBounces(profile));
+  }
+  out.seconds =
+      out.steps * SecondsPerStep(static_cast<int>(model.hinged.panels.size()), free_plans);
+  out.finite = out.finite && std::isfinite(out.steps);
   return out;
 }
 
@@ -145,7 +434,9 @@ WorkEstimate EstimateWork(const schedule::Profile& profile) {
   }
   const double M = H0.norm();
   out.momentum = M;
-  const bool adaptive = MakeStepper(profile.integrator.method)->info().adaptive;
+  const integrators::StepperInfo info = MakeStepper(profile.integrator.method)->info();
+  const bool adaptive = info.adaptive;
+  const bool lie = info.lie_group || profile.integrator.method == "exact";
 
   // Geometry-mode moves: J_B >= the sum of the parts' own inertias about their CoMs (the
   // parallel-axis terms are positive semi-definite), so its smallest moment is at least
@@ -177,6 +468,7 @@ WorkEstimate EstimateWork(const schedule::Profile& profile) {
     const schedule::Stage& st = profile.stages[k];
     StageWork w;
     w.duration = st.t_end - st.t_begin;
+    double lie_rate = -1.0;  // the first hold's: known from its state
     if (st.is_hold()) {
       const double I_min = I_of(st.to);
       if (k == 0) {
@@ -186,6 +478,7 @@ WorkEstimate EstimateWork(const schedule::Profile& profile) {
         const math::Vec3& I = pa.moments;
         const double two_T = h[0] * h[0] / I[0] + h[1] * h[1] / I[1] + h[2] * h[2] / I[2];
         w.max_rate = std::sqrt(MaxRateSquaredOnEllipsoid(I, h.squaredNorm(), two_T));
+        lie_rate = BodyFrameRate(J_prev, H0);
       } else {
         w.max_rate = M / I_min;
       }
@@ -202,12 +495,36 @@ WorkEstimate EstimateWork(const schedule::Profile& profile) {
     if (!adaptive && profile.integrator.step > 0.0) {
       w.fixed_steps = std::ceil(w.duration / profile.integrator.step);
     }
+    const double resolved =
+        lie ? (lie_rate >= 0.0 ? lie_rate : kLieRateFraction * w.max_rate) : w.max_rate;
+    // `exact` on a hold: the closed form's steps, kExactStepsPerPeriod per period.
+    const double per_radian = profile.integrator.method == "exact" && st.is_hold()
+                                  ? kExactStepsPerPeriod / kTwoPi
+                                  : StepsPerRadian(info, profile.integrator.rtol);
+    out.steps +=
+        w.fixed_steps > 0.0 ? w.fixed_steps : per_radian * resolved * w.duration + kStepsPerSegment;
     out.finite = out.finite && std::isfinite(w.turns) && std::isfinite(w.fixed_steps);
     out.turns += w.turns;
     out.fixed_steps += w.fixed_steps;
     out.stages.push_back(w);
   }
+  const int panels = hinged ? static_cast<int>(model.hinged.panels.size()) : 0;
+  out.seconds = out.steps * SecondsPerStep(panels, 0);
+  out.finite = out.finite && std::isfinite(out.steps);
   return out;
+}
+
+double StiffestHingeRate(const schedule::Profile& profile) {
+  return EstimateWork(profile).hinge_rate;
+}
+
+std::string DescribeWork(const WorkEstimate& e) {
+  std::string s = "estimated " + Num(e.steps) + " steps";
+  if (e.hinge_rate > 0.0) {
+    s +=
+        " (free hinges up to " + Num(e.hinge_rate) + " rad/s for about " + Num(e.free_time) + " s)";
+  }
+  return s + ", about " + Num(e.seconds) + " s on one core";
 }
 
 void CheckWork(const schedule::Profile& profile) {
@@ -235,6 +552,12 @@ void CheckWork(const schedule::Profile& profile) {
                                 ": gives " + Num(e.fixed_steps) + " steps over " +
                                 Num(profile.t_end() - profile.t_begin()) + " s (rule: at most " +
                                 Num(kMaxFixedSteps) + " steps of a fixed-step method per run)");
+  }
+  if (!(e.seconds <= kMaxRunSeconds)) {
+    throw std::invalid_argument(
+        where + ": the run is " + DescribeWork(e) + " (rule: at most " + Num(kMaxRunSeconds) +
+        " s estimated per run: shorten the run (until), loosen integrator.rtol, soften the "
+        "stiffest hinge (its stiffness or damping), or free fewer panels)");
   }
 }
 

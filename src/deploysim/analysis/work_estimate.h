@@ -53,13 +53,46 @@ struct WorkEstimate {
   double turns = 0.0;             ///< Sum over the stages.
   double fixed_steps = 0.0;       ///< Sum over the stages (0 for adaptive methods).
   bool finite = true;             ///< False if a rate is not finite (invalid input elsewhere).
+  /// Hinge profiles: the stiffest rate of the free hinges' motion linearized at the start
+  /// [rad/s] (StiffestHingeRate), 0 without free hinges.
+  double hinge_rate = 0.0;
+  /// The time the free hinges are estimated to move [s] (from each release to its latch,
+  /// estimated as half a period of its stiffest rate, or to the end).
+  double free_time = 0.0;
+  /// The accepted steps the run is estimated to take (EstimateSteps); the step-size
+  /// bound it implies is the run's duration over it.
+  double steps = 0.0;
+  /// The estimated wall time on one core [s]: steps times the cost of a step, which grows
+  /// with the panels (the tree's kinematics) and the cube of the free hinges (the mass
+  /// matrix's solve).
+  double seconds = 0.0;
 };
+
+/// The stiffest rate [rad/s] of a hinge profile's free hinges at the start: the largest
+/// of sqrt(lambda) over the generalized eigenvalues lambda of (K, S) plus the largest of
+/// (C, S), with S the free hinges' mass matrix with the hub free (the Schur complement of
+/// J_B in M, docs/design.md 2.7), K their spring and servo stiffnesses plus the centrifugal
+/// stiffness of the spin (|w|^2 times S's diagonal: a panel on a spinning hub swings at
+/// about the spin rate), and C their dampers, servo damping and the regularized friction's
+/// slope (torque / regularization speed). 0 without free hinges.
+double StiffestHingeRate(const schedule::Profile& profile);
+
+/// The longest run accepted: its estimated wall time on one core [s]. Beyond it the run
+/// is refused before it starts, with the estimate and what to change.
+inline constexpr double kMaxRunSeconds = 3600.0;
+/// Runs estimated above this [s] print their estimate before they start, and show
+/// progress.
+inline constexpr double kLongRunSeconds = 60.0;
+
+/// One line for a long run: "estimated N steps (stiffest hinge rate R rad/s over F s ...),
+/// about S s on one core".
+std::string DescribeWork(const WorkEstimate& e);
 
 /// The estimate for a valid profile (schedule::ValidateProfile passed; the integrator
 /// method known). Throws only what DeploymentSchedule throws.
 WorkEstimate EstimateWork(const schedule::Profile& profile);
 
-/// EstimateWork, then the limits kMaxTurns and kMaxFixedSteps: throws
+/// EstimateWork, then the limits kMaxTurns, kMaxFixedSteps and kMaxRunSeconds: throws
 /// std::invalid_argument "<profile source>: <what>: <numbers> (rule: ...)", one line.
 /// Estimates that are not finite pass (other checks report their cause).
 void CheckWork(const schedule::Profile& profile);

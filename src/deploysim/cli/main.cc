@@ -6,12 +6,14 @@
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +21,7 @@
 #include "deploysim/analysis/coupling_comparison.h"
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/mission.h"
+#include "deploysim/analysis/work_estimate.h"
 #include "deploysim/cli/python_tool.h"
 #include "deploysim/cli/report.h"
 #include "deploysim/io/atomic_file.h"
@@ -124,9 +127,28 @@ deploysim::schedule::Profile Load(const std::string& path, const Overrides& o) {
   return p;
 }
 
-// A progress bar on a terminal; nothing otherwise (runs are short; sweeps have their own).
-std::function<void(double)> Progress(bool quiet) {
-  if (quiet || isatty(fileno(stderr)) == 0) return {};
+// A progress bar on a terminal. A run estimated to be long (analysis::kLongRunSeconds)
+// says so first, and off a terminal prints a line at every tenth of the run instead;
+// other runs are short and print nothing (sweeps have their own progress).
+std::function<void(double)> Progress(bool quiet, const deploysim::schedule::Profile& profile) {
+  if (quiet) return {};
+  const deploysim::analysis::WorkEstimate e = deploysim::analysis::EstimateWork(profile);
+  const bool long_run = e.seconds > deploysim::analysis::kLongRunSeconds;
+  if (long_run) {
+    std::cerr << "deploysim: a long run: " << deploysim::analysis::DescribeWork(e) << "\n";
+  }
+  if (isatty(fileno(stderr)) == 0) {
+    if (!long_run) return {};
+    auto next = std::make_shared<int>(1);
+    const auto t0 = std::chrono::steady_clock::now();
+    return [next, t0](double f) {
+      if (f * 10.0 < *next) return;
+      *next = static_cast<int>(f * 10.0) + 1;
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::fprintf(stderr, "deploysim: %3d%% of the run after %.0f s\n", static_cast<int>(f * 100),
+                   s);
+    };
+  }
   return [](double f) {
     const int width = 40;
     const int filled = static_cast<int>(f * width);
@@ -448,10 +470,12 @@ int RunSimulate(CommandLine& cl, const deploysim::schedule::Profile& profile, bo
   deploysim::io::RemoveTemporariesOnSignals();
   deploysim::io::TrajectoryOutputs outputs(cl.out_path, cl.csv ? cl.out_path + ".csv" : "",
                                            profile);
-  const MissionResult r = NamingFile(
-      cl.profile_path,
-      [&] { return deploysim::analysis::RunMission(profile, outputs, Progress(cl.quiet)); },
-      {cl.out_path, cl.out_path + ".csv"});
+  const MissionResult r = NamingFile(cl.profile_path,
+                                     [&] {
+                                       return deploysim::analysis::RunMission(
+                                           profile, outputs, Progress(cl.quiet, profile));
+                                     },
+                                     {cl.out_path, cl.out_path + ".csv"});
   if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
     std::cerr << "deploysim: error: " << cl.profile_path << ": integration " << r.message << "\n";
     return kExitIncomplete;
@@ -539,8 +563,9 @@ int RunAnalyze(const CommandLine& cl,
                bool comparable) {
   // The table needs no trajectory: its samples are dropped as they come (bounded memory).
   deploysim::analysis::NullSink discard;
-  const MissionResult r = NamingFile(
-      cl.profile_path, [&] { return deploysim::analysis::RunMission(profile, discard); });
+  const MissionResult r = NamingFile(cl.profile_path, [&] {
+    return deploysim::analysis::RunMission(profile, discard, Progress(false, profile));
+  });
   std::optional<deploysim::analysis::CouplingComparison> c;
   if (comparable) {
     c = NamingFile(cl.profile_path, [&] { return deploysim::analysis::CompareCouplings(profile); });

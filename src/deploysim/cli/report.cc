@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "deploysim/analysis/work_estimate.h"
 #include "deploysim/math/number_format.h"
 
 namespace deploysim::cli {
@@ -170,9 +171,16 @@ std::string FormatSummary(const analysis::MissionResult& r) {
                    p.source, p.model.name, schedule::ToString(p.mode),
                    schedule::ToString(p.coupling));
   o +=
-      fmt::format("integrator {}: {} steps, {} rejected, {} rhs evaluations, {:.3g} s wall; {}\n\n",
+      fmt::format("integrator {}: {} steps, {} rejected, {} rhs evaluations, {:.3g} s wall; {}\n",
                   p.integrator.method, r.stats.steps, r.stats.rejected, r.stats.evaluations,
                   r.wall_seconds, r.message);
+  // The estimate made before the run (analysis/work_estimate.h), beside what it took.
+  const analysis::WorkEstimate e = analysis::EstimateWork(p);
+  if (e.steps > 0.0) {
+    o += fmt::format("work estimate before the run: {} (measured {:.3g} of the steps)\n",
+                     analysis::DescribeWork(e), static_cast<double>(r.stats.steps) / e.steps);
+  }
+  o += "\n";
   o += FormatOutcome(r);
   // One row per stage; in a hinge profile one row per run of consecutive phases of the
   // same hinges and law (a stop impact starts a new phase: a panel bouncing 100 times on
