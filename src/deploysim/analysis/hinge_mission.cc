@@ -480,9 +480,9 @@ const FreeHingeSystem::Snapshot& HingeRun::SnapOf(const integrators::ShapeState&
 }
 
 Mat3 HingeRun::JdotOf(const integrators::ShapeState& y) const {
-  const FreeHingeSystem::Snapshot& snap = SnapOf(y);
+  SnapOf(y);  // the memo's state
   if (!memo_jdot_valid_) {
-    memo_jdot_ = model::ComputeMassProperties(body_, snap.theta, snap.theta_dot).Jdot_B;
+    memo_jdot_ = sys_.InertiaRate(y.t, y.H_B, y.x);
     memo_jdot_valid_ = true;
   }
   return memo_jdot_;

@@ -1,9 +1,12 @@
 #include "deploysim/schedule/free_hinge_system.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "deploysim/model/mass_properties.h"
 
@@ -56,17 +59,117 @@ bool SmallCholeskySolve(const Eigen::MatrixXd& A,
 
 }  // namespace
 
-FreeHingeSystem::FreeHingeSystem(const model::HingedBody& body,
-                                 const std::vector<HingePlan>& plans,
-                                 const Eigen::VectorXd& initial_angles)
-    : body_(body), tree_(body), plans_(plans), angles_(initial_angles) {
-  const int n = tree_.size();
-  if (static_cast<int>(plans_.size()) != n || initial_angles.size() != n) {
-    throw std::invalid_argument("FreeHingeSystem: " + std::to_string(plans_.size()) +
-                                " hinge plans and " + std::to_string(initial_angles.size()) +
+namespace {
+
+/// Adds the rigid element (m, CoM x, inertia I about x) to `into` whose CoM is `at`.
+void AddRigid(model::MassElement& into, Vec3& at, double m, const Vec3& x, const Mat3& I) {
+  const double total = into.mass + m;
+  const Vec3 c = (into.mass * at + m * x) / total;
+  auto shift = [](double mass, const Vec3& d) {
+    return Mat3(mass * (d.squaredNorm() * Mat3::Identity() - d * d.transpose()));
+  };
+  into.inertia_cm = into.inertia_cm + shift(into.mass, at - c) + I + shift(m, x - c);
+  into.mass = total;
+  at = c;
+}
+
+}  // namespace
+
+/// The body with every subtree of `locked` panels under which nothing moves merged into
+/// its parent: the composite of the parent and the subtree at its locked angles, in the
+/// parent's frame (mass, CoM, inertia about the CoM by the parallel-axis theorem).
+struct FreeHingeSystem::Merged {
+  model::HingedBody body;
+  std::vector<HingePlan> plans;
+  Eigen::VectorXd angles;
+  std::vector<int> red_of, orig_of;
+};
+
+FreeHingeSystem::Merged FreeHingeSystem::MergeLockedLeaves(const model::HingedBody& body,
+                                                           const std::vector<HingePlan>& plans,
+                                                           const Eigen::VectorXd& angles) {
+  const int n = static_cast<int>(body.panels.size());
+  if (static_cast<int>(plans.size()) != n || angles.size() != n) {
+    throw std::invalid_argument("FreeHingeSystem: " + std::to_string(plans.size()) +
+                                " hinge plans and " + std::to_string(angles.size()) +
                                 " angles for " + std::to_string(n) +
                                 " panels (rule: one of each per panel)");
   }
+  // Depth of each panel: children are merged before their parents.
+  std::vector<int> depth(static_cast<std::size_t>(n), -1);
+  std::function<int(int)> depth_of = [&](int k) {
+    int& d = depth[static_cast<std::size_t>(k)];
+    if (d < 0) {
+      const int p = body.panels[static_cast<std::size_t>(k)].parent;
+      d = p < 0 ? 0 : depth_of(p) + 1;
+    }
+    return d;
+  };
+  std::vector<int> order(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    order[static_cast<std::size_t>(k)] = k;
+    depth_of(k);
+  }
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return depth[static_cast<std::size_t>(a)] > depth[static_cast<std::size_t>(b)];
+  });
+  std::vector<char> keep(static_cast<std::size_t>(n), 0);
+  for (int k : order) {
+    if (plans[static_cast<std::size_t>(k)].kind != HingePlan::Kind::kLocked) {
+      keep[static_cast<std::size_t>(k)] = 1;
+    }
+    const int p = body.panels[static_cast<std::size_t>(k)].parent;
+    if (keep[static_cast<std::size_t>(k)] && p >= 0) keep[static_cast<std::size_t>(p)] = 1;
+  }
+  model::HingedBody merged = body;
+  for (int k : order) {
+    if (keep[static_cast<std::size_t>(k)]) continue;
+    const model::Panel& c = merged.panels[static_cast<std::size_t>(k)];
+    const Mat3 R = Eigen::AngleAxisd(angles[k], c.hinge_axis_B).toRotationMatrix();
+    const Vec3 x = c.hinge_point_B + R * c.com_offset_B;  // in the parent's frame
+    const Mat3 I = R * c.body.inertia_cm * R.transpose();
+    if (c.parent < 0) {
+      AddRigid(merged.hub.body, merged.hub.com_B, c.body.mass, x, I);
+    } else {
+      model::Panel& p = merged.panels[static_cast<std::size_t>(c.parent)];
+      AddRigid(p.body, p.com_offset_B, c.body.mass, x, I);
+    }
+  }
+  Merged out;
+  out.body.hub = merged.hub;
+  out.red_of.assign(static_cast<std::size_t>(n), -1);
+  for (int k = 0; k < n; ++k) {
+    if (!keep[static_cast<std::size_t>(k)]) continue;
+    out.red_of[static_cast<std::size_t>(k)] = static_cast<int>(out.orig_of.size());
+    out.orig_of.push_back(k);
+  }
+  out.angles.resize(static_cast<Eigen::Index>(out.orig_of.size()));
+  for (std::size_t r = 0; r < out.orig_of.size(); ++r) {
+    const int k = out.orig_of[r];
+    model::Panel pn = merged.panels[static_cast<std::size_t>(k)];
+    if (pn.parent >= 0) pn.parent = out.red_of[static_cast<std::size_t>(pn.parent)];
+    out.body.panels.push_back(pn);
+    out.plans.push_back(plans[static_cast<std::size_t>(k)]);
+    out.angles[static_cast<Eigen::Index>(r)] = angles[k];
+  }
+  return out;
+}
+
+FreeHingeSystem::FreeHingeSystem(const model::HingedBody& body,
+                                 const std::vector<HingePlan>& plans,
+                                 const Eigen::VectorXd& initial_angles)
+    : FreeHingeSystem(MergeLockedLeaves(body, plans, initial_angles), initial_angles) {}
+
+FreeHingeSystem::FreeHingeSystem(Merged merged, const Eigen::VectorXd& full_angles)
+    : body_(std::move(merged.body)),
+      tree_(body_),
+      plans_(std::move(merged.plans)),
+      red_of_(std::move(merged.red_of)),
+      orig_of_(std::move(merged.orig_of)),
+      full_angles_(full_angles),
+      angles_(std::move(merged.angles)) {
+  const int n = tree_.size();
+  const Eigen::VectorXd initial_angles = angles_;
   prescribed_.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const HingePlan& p = plans_[static_cast<std::size_t>(k)];
@@ -88,40 +191,70 @@ FreeHingeSystem::FreeHingeSystem(const model::HingedBody& body,
   theta_dot_.resize(n);
 }
 
-bool FreeHingeSystem::IsFree(int k) const { return is_free_[static_cast<std::size_t>(k)] != 0; }
+int FreeHingeSystem::Computed(int k) const {
+  const int r = red_of_.at(static_cast<std::size_t>(k));
+  if (r < 0) {
+    throw std::logic_error("FreeHingeSystem: panel " + std::to_string(k) +
+                           " is locked for the whole run (merged into its parent)");
+  }
+  return r;
+}
 
-void FreeHingeSystem::Lock(int k, double angle) {
-  if (plans_[static_cast<std::size_t>(k)].kind == HingePlan::Kind::kPrescribed) {
+Eigen::VectorXd FreeHingeSystem::Expand(const Eigen::VectorXd& computed, bool rates) const {
+  Eigen::VectorXd full =
+      rates ? Eigen::VectorXd::Zero(full_angles_.size()) : Eigen::VectorXd(full_angles_);
+  for (std::size_t r = 0; r < orig_of_.size(); ++r) {
+    full[orig_of_[r]] = computed[static_cast<Eigen::Index>(r)];
+  }
+  return full;
+}
+
+bool FreeHingeSystem::IsFree(int k) const {
+  const int r = red_of_[static_cast<std::size_t>(k)];
+  return r >= 0 && is_free_[static_cast<std::size_t>(r)] != 0;
+}
+
+void FreeHingeSystem::Lock(int k, double angle) { LockComputed(Computed(k), angle); }
+
+void FreeHingeSystem::LockComputed(int r, double angle) {
+  const int k = orig_of_[static_cast<std::size_t>(r)];
+  if (plans_[static_cast<std::size_t>(r)].kind == HingePlan::Kind::kPrescribed) {
     throw std::logic_error("FreeHingeSystem::Lock: hinge " + std::to_string(k) + " is prescribed");
   }
-  angles_[k] = angle;
-  if (IsFree(k)) {
-    is_free_[static_cast<std::size_t>(k)] = 0;
+  angles_[r] = angle;
+  if (is_free_[static_cast<std::size_t>(r)]) {
+    is_free_[static_cast<std::size_t>(r)] = 0;
     for (std::size_t a = 0; a < free_.size(); ++a) {
-      if (free_[a] == k) {
+      if (free_[a] == r) {
         free_.erase(free_.begin() + static_cast<std::ptrdiff_t>(a));
+        free_orig_.erase(free_orig_.begin() + static_cast<std::ptrdiff_t>(a));
         break;
       }
     }
   }
 }
 
-void FreeHingeSystem::Free(int k) {
-  if (plans_[static_cast<std::size_t>(k)].kind != HingePlan::Kind::kFree || IsFree(k)) {
+void FreeHingeSystem::Free(int k) { FreeComputed(Computed(k)); }
+
+void FreeHingeSystem::FreeComputed(int r) {
+  const int k = orig_of_[static_cast<std::size_t>(r)];
+  if (plans_[static_cast<std::size_t>(r)].kind != HingePlan::Kind::kFree ||
+      is_free_[static_cast<std::size_t>(r)]) {
     throw std::logic_error("FreeHingeSystem::Free: hinge " + std::to_string(k) +
                            " is not a locked free hinge");
   }
-  is_free_[static_cast<std::size_t>(k)] = 1;
-  free_.push_back(k);
+  is_free_[static_cast<std::size_t>(r)] = 1;
+  free_.push_back(r);
+  free_orig_.push_back(k);
 }
 
 Eigen::VectorXd FreeHingeSystem::Lock(int k, double angle, const Eigen::VectorXd& x) {
   const int m = free_count();
-  const auto it = std::find(free_.begin(), free_.end(), k);
-  if (it == free_.end()) {
+  const auto it = std::find(free_orig_.begin(), free_orig_.end(), k);
+  if (it == free_orig_.end()) {
     throw std::logic_error("FreeHingeSystem::Lock: hinge " + std::to_string(k) + " is not free");
   }
-  const int gone = static_cast<int>(it - free_.begin());
+  const int gone = static_cast<int>(it - free_orig_.begin());
   Eigen::VectorXd nx(2 * (m - 1));
   for (int a = 0, j = 0; a < m; ++a) {
     if (a == gone) continue;
@@ -247,7 +380,8 @@ FreeHingeSystem::Powers FreeHingeSystem::PowersNow(double t,
     const int k = free_[static_cast<std::size_t>(a)];
     const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
     const double rate = theta_dot_[k];
-    const NonConservativeParts q = NonConservativeTorqueParts(d, rate, slip(k));
+    const NonConservativeParts q =
+        NonConservativeTorqueParts(d, rate, slip_[static_cast<std::size_t>(k)]);
     p.damper += q.damper * rate;
     p.friction += q.friction * rate;
     double motor = q.motor;
@@ -324,7 +458,7 @@ double FreeHingeSystem::DrivePower(double t,
 double FreeHingeSystem::Torque(
     int k, double t, dynamics::Side side, double theta, double theta_dot) const {
   const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
-  double q = DriveTorque(d, theta, theta_dot, slip(k));
+  double q = DriveTorque(d, theta, theta_dot, slip_[static_cast<std::size_t>(k)]);
   if (d.motor.kind == Motor::Kind::kServo) {
     q +=
         ServoTorque(d.motor, servo_ref_[static_cast<std::size_t>(k)].At(t, side), theta, theta_dot);
@@ -382,8 +516,8 @@ FreeHingeSystem::Snapshot FreeHingeSystem::Snap(double t,
   Solve(H_B, x);
   Snapshot s;
   s.w_NB_B = w_;
-  s.theta = theta_;
-  s.theta_dot = theta_dot_;
+  s.theta = Expand(theta_, false);
+  s.theta_dot = Expand(theta_dot_, true);
   s.J_B = M_.block<3, 3>(0, 0);
   Eigen::VectorXd rates(static_cast<Eigen::Index>(cols_.size()));
   for (std::size_t b = 0; b < cols_.size(); ++b) {
@@ -400,7 +534,7 @@ FreeHingeSystem::Snapshot FreeHingeSystem::Snap(double t,
   for (int a = 0; a < m; ++a) {
     const int k = free_[static_cast<std::size_t>(a)];
     const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
-    double q = NonConservativeTorque(d, theta_dot_[k], slip(k));
+    double q = NonConservativeTorque(d, theta_dot_[k], slip_[static_cast<std::size_t>(k)]);
     if (d.motor.kind == Motor::Kind::kServo) {
       q += ServoTorque(d.motor, servo_ref_[static_cast<std::size_t>(k)].At(t, side), theta_[k],
                        theta_dot_[k]);
@@ -411,6 +545,15 @@ FreeHingeSystem::Snapshot FreeHingeSystem::Snap(double t,
   return s;
 }
 
+Mat3 FreeHingeSystem::InertiaRate(double t,
+                                  const Vec3& H_B,
+                                  const Eigen::VectorXd& x,
+                                  dynamics::Side side) const {
+  Setup(t, x, side);
+  Solve(H_B, x);
+  return model::ComputeMassProperties(body_, theta_, theta_dot_).Jdot_B;
+}
+
 Eigen::VectorXd FreeHingeSystem::ShapeState(double t,
                                             const Vec3& H_B,
                                             const Eigen::VectorXd& theta,
@@ -419,7 +562,7 @@ Eigen::VectorXd FreeHingeSystem::ShapeState(double t,
   const int m = free_count();
   Eigen::VectorXd x(2 * m);
   for (int a = 0; a < m; ++a) {
-    x[a] = theta[free_[static_cast<std::size_t>(a)]];
+    x[a] = theta[free_orig_[static_cast<std::size_t>(a)]];
     x[m + a] = 0.0;
   }
   Setup(t, x, side);
@@ -430,7 +573,9 @@ Eigen::VectorXd FreeHingeSystem::ShapeState(double t,
   Eigen::VectorXd rates(c);
   for (int b = 0; b < c; ++b) {
     const int k = cols_[static_cast<std::size_t>(b)];
-    rates[b] = IsFree(k) ? theta_dot[k] : theta_dot_[k];
+    rates[b] = is_free_[static_cast<std::size_t>(k)]
+                   ? theta_dot[orig_of_[static_cast<std::size_t>(k)]]
+                   : theta_dot_[k];
   }
   const Mat3 J = M_.block<3, 3>(0, 0);
   const Vec3 w = J.llt().solve(H_B - M_.block(0, 3, 3, c) * rates);
@@ -486,7 +631,7 @@ double FreeHingeSystem::Acceleration(int a,
                                      const Vec3& H_B,
                                      const Eigen::VectorXd& x) const {
   const int m = free_count();
-  const int k = free_[static_cast<std::size_t>(a)];
+  const int k = free_orig_[static_cast<std::size_t>(a)];  // Snap speaks of model panels
   const Eigen::VectorXd xs = x.head(2 * m);
   Vec3 w;
   Eigen::VectorXd xd;

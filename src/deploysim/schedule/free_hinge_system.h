@@ -33,13 +33,20 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
  public:
   /// `body` valid (model::ValidatedHingedBody: unit axes), one plan per panel, the angles
   /// at the start. Every non-prescribed hinge starts locked at its initial angle.
+  /// Panels whose plan is `locked` and under which no panel ever moves cost nothing: each
+  /// such subtree is merged into its parent as one rigid body (its composite mass, CoM
+  /// and inertia at its locked angles), so the kinematics, the mass matrix and the
+  /// energy gradient run over the panels that can move and their ancestors only (a tree
+  /// of 2048 panels with one free is a chain of 12). Every interface below still speaks
+  /// of the model's panels by their index.
   FreeHingeSystem(const model::HingedBody& body,
                   const std::vector<HingePlan>& plans,
                   const Eigen::VectorXd& initial_angles);
 
-  const model::HingedBody& body() const { return body_; }
-  const std::vector<HingePlan>& plans() const { return plans_; }
-  int panel_count() const { return static_cast<int>(plans_.size()); }
+  /// The model's panels (merged or not).
+  int panel_count() const { return static_cast<int>(red_of_.size()); }
+  /// The panels computed with (the others are merged into them): for tests.
+  int computed_panel_count() const { return static_cast<int>(plans_.size()); }
 
   /// Locks hinge k (not prescribed) at `angle` [rad]; a free hinge leaves the free set
   /// (the shape state loses its entries: the caller rebuilds x, or uses the overload).
@@ -57,10 +64,13 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   Eigen::VectorXd Free(
       int k, double t, const math::Vec3& H_B, const Eigen::VectorXd& x, double rate = 0.0);
   /// The free hinges in shape-state order.
-  const std::vector<int>& free_hinges() const { return free_; }
+  const std::vector<int>& free_hinges() const { return free_orig_; }
   bool IsFree(int k) const;
   /// The angle of a locked hinge [rad].
-  double locked_angle(int k) const { return angles_[k]; }
+  double locked_angle(int k) const {
+    const int r = red_of_[static_cast<std::size_t>(k)];
+    return r < 0 ? full_angles_[k] : angles_[r];
+  }
 
   // dynamics::ShapeSystem
   int free_count() const override { return static_cast<int>(free_.size()); }
@@ -110,6 +120,13 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
                 const Eigen::VectorXd& x,
                 dynamics::Side side = dynamics::Side::kRight) const;
 
+  /// dJ_B/dt [kg m^2/s] at the state (the moving hinges' rates; merged panels move with
+  /// their parents, so this costs the computed panels only).
+  math::Mat3 InertiaRate(double t,
+                         const math::Vec3& H_B,
+                         const Eigen::VectorXd& x,
+                         dynamics::Side side = dynamics::Side::kRight) const;
+
   /// The shape state for the current free set from the hub momentum and every hinge's
   /// angle and rate (theta_f, p_f = (Bm^T w + M theta')_f with w solved from H_B): used
   /// after Free() (a released hinge starts with theta' = 0) and to start a run.
@@ -156,10 +173,22 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
 
   /// The direction (+1, -1) free hinge k slips in: its exact Coulomb friction is -torque
   /// times it (hinge_motion.h DriveTorque); 0: none (at rest).
-  void SetSlip(int k, int direction) { slip_[static_cast<std::size_t>(k)] = direction; }
-  int slip(int k) const { return slip_[static_cast<std::size_t>(k)]; }
+  void SetSlip(int k, int direction) { slip_[static_cast<std::size_t>(Computed(k))] = direction; }
+  int slip(int k) const { return slip_[static_cast<std::size_t>(Computed(k))]; }
 
  private:
+  struct Merged;
+  FreeHingeSystem(Merged merged, const Eigen::VectorXd& full_angles);
+  static Merged MergeLockedLeaves(const model::HingedBody& body,
+                                  const std::vector<HingePlan>& plans,
+                                  const Eigen::VectorXd& angles);
+  /// The computed panel of model panel k (throws std::logic_error for a merged one: it is
+  /// locked for the whole run).
+  int Computed(int k) const;
+  void LockComputed(int r, double angle);
+  void FreeComputed(int r);
+  /// Every model panel's angles (rates) from the computed panels' (merged: locked).
+  Eigen::VectorXd Expand(const Eigen::VectorXd& computed, bool rates) const;
   /// Column a of the inverse of M over the unknowns (w, theta'_f): the response of the
   /// unknowns to a unit jump of p_a (after Setup and Solve at the state: theta_dot_ holds).
   Eigen::VectorXd ImpulseResponse(double t,
@@ -188,7 +217,12 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   std::vector<HingePlan> plans_;
   std::vector<PrescribedHinge> prescribed_;  // per panel (empty moves unless prescribed)
   std::vector<PrescribedHinge> servo_ref_;   // per panel: a servo motor's planned motion
-  std::vector<int> free_;
+  // The model's panels and the computed ones (the constructor's comment).
+  std::vector<int> red_of_;      // per model panel: its computed panel, -1 if merged
+  std::vector<int> orig_of_;     // per computed panel: its model panel
+  Eigen::VectorXd full_angles_;  // every model panel's initial angle
+  std::vector<int> free_;        // computed indices
+  std::vector<int> free_orig_;   // the same, model indices
   std::vector<char> is_free_;
   std::vector<int> slip_;  // per hinge: SetSlip
   // HoldingTorque's system: this one with the held hinge probe_k_ free (rebuilt when the
