@@ -44,9 +44,13 @@ EVENT_STYLE = {
     "latch": dict(color="#b2182b", ls="-", lw=1.0),
     "jam": dict(color="tab:purple", ls="-", lw=1.2),
     "rest": dict(color="tab:brown", ls=":", lw=1.1),
+    "lift-off": dict(color="tab:olive", ls="-.", lw=1.0),
+    "stick": dict(color="tab:gray", ls=":", lw=1.1),
+    "slip": dict(color="tab:cyan", ls="-.", lw=1.0),
 }
 STOP_COLOR = "0.3"
-EVENT_MARKERS = {"release": "^", "latch": "s", "jam": "X", "rest": "D", "stop": "|"}
+EVENT_MARKERS = {"release": "^", "latch": "s", "jam": "X", "rest": "D", "lift-off": "v",
+                 "stick": "o", "slip": "P", "stop": "|"}
 
 
 # The energy ledger's terms (/work_<term>), their labels and colours.
@@ -201,7 +205,7 @@ def mark_events(ax, d, labels=True, xlim=None):
                     linespacing=1.1, zorder=6, clip_on=True,
                     color=group[0][2] if len({x[2] for x in group}) == 1 else "0.15",
                     bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8)))
-    order = ["release", "latch", "jam", "rest", "stop"]
+    order = ["release", "latch", "jam", "rest", "lift-off", "stick", "slip", "stop"]
     return [handles[k] for k in order if k in handles]
 
 

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -15,6 +16,8 @@
 #include "analysis/hinge_fixtures.h"
 #include "deploysim/analysis/mission.h"
 #include "deploysim/analysis/work_estimate.h"
+#include "deploysim/model/mass_properties.h"
+#include "deploysim/schedule/free_hinge_system.h"
 
 namespace deploysim::analysis {
 namespace {
@@ -256,9 +259,10 @@ TEST(TrapFamiliesTest, AnAbsurdRestAngleIsRefused) {
   }
 }
 
-/// A chain of n small panels (0.1 kg, 0.1 m) on the smallsat's hub, hinged along y;
-/// `free_last`: only the outermost is free, else all are.
-schedule::Profile Chain(int n, bool free_last) {
+/// n small panels (0.1 kg, 0.1 m) on the smallsat's hub, hinged along y, panel k hanging
+/// on panel parent_of(k) (-1: the hub); the panels in `free` are free (a weak spring and
+/// damper), the others locked.
+schedule::Profile PanelTree(int n, int (*parent_of)(int), const std::vector<int>& free) {
   schedule::Profile p = SmallsatHingeProfile(Locked(), Locked(), 600.0);
   model::HingedBody& b = p.model.hinged;
   b.panels.clear();
@@ -270,7 +274,7 @@ schedule::Profile Chain(int n, bool free_last) {
     pn.hinge_point_B = k == 0 ? math::Vec3(0.3, 0.0, 0.0) : math::Vec3(0.1, 0.0, 0.0);
     pn.hinge_axis_B = math::Vec3::UnitY();
     pn.com_offset_B = math::Vec3(0.05, 0.0, 0.0);
-    pn.parent = k - 1;  // -1: the hub
+    pn.parent = parent_of(k);
     b.panels.push_back(pn);
   }
   model::Configuration c;
@@ -278,7 +282,7 @@ schedule::Profile Chain(int n, bool free_last) {
   c.hinge_angles = Eigen::VectorXd::Constant(n, 10.0 * kDeg);
   p.model.configurations = {c};
   p.hinges.assign(static_cast<std::size_t>(n), Locked());
-  for (int k = free_last ? n - 1 : 0; k < n; ++k) {
+  for (int k : free) {
     schedule::HingePlan& h = p.hinges[static_cast<std::size_t>(k)];
     h = Free();
     h.drive.spring.stiffness = 0.01;
@@ -294,7 +298,10 @@ schedule::Profile Chain(int n, bool free_last) {
 // 67 x 67 mass matrix, about 5 h on one core: refused in one line with the estimate and
 // what to change.
 TEST(TrapFamiliesTest, AChainOf64FreePanelsIsRefusedWithItsCost) {
-  const schedule::Profile p = Chain(64, false);
+  std::vector<int> all(64);
+  for (int k = 0; k < 64; ++k) all[static_cast<std::size_t>(k)] = k;
+  const schedule::Profile p = PanelTree(
+      64, [](int k) { return k - 1; }, all);
   try {
     schedule::ValidateProfile(p);
     CheckWork(p);  // what io::CheckRunSettings asks of every run
@@ -305,6 +312,60 @@ TEST(TrapFamiliesTest, AChainOf64FreePanelsIsRefusedWithItsCost) {
     EXPECT_NE(m.find("rule: at most 3.6e+03 s estimated per run"), std::string::npos) << m;
     EXPECT_EQ(m.find('\n'), std::string::npos);
   }
+}
+
+// 2048 panels in a binary tree (panel k on panel (k - 1) / 2), only the last leaf free:
+// the locked subtrees are merged into their parents, so each step computes the free
+// panel's 11 ancestors and itself (it took 69 s with every panel computed; now 0.7 s, the
+// same 4645 steps). The merged body has the full body's inertia.
+TEST(TrapFamiliesTest, ATreeOf2048PanelsWithOneFreeComputesOnlyItsBranch) {
+  const schedule::Profile p =
+      PanelTree(2048, [](int k) { return k == 0 ? -1 : (k - 1) / 2; }, {2047});
+  const model::HingedBody body = model::ValidatedHingedBody(p.model.hinged, "tree");
+  const Eigen::VectorXd& theta0 = p.model.configurations[0].hinge_angles;
+  const schedule::FreeHingeSystem sys(body, p.hinges, theta0);
+  EXPECT_EQ(sys.panel_count(), 2048);
+  EXPECT_EQ(sys.computed_panel_count(), 12);
+  const Eigen::VectorXd rest = Eigen::VectorXd::Zero(2048);
+  const math::Mat3 J_full = model::ComputeMassProperties(body, theta0, rest).J_B;
+  // Measured 2e-12 relative: the rounding of 2047 merges.
+  EXPECT_LT((sys.Evaluate(0.0).J_B - J_full).norm(), 1e-11 * J_full.norm());
+  const MissionResult r = RunMission(p);
+  ASSERT_EQ(r.termination, integrators::Termination::kReachedEnd) << r.message;
+  EXPECT_LT(r.stats.steps, 6000);
+  EXPECT_EQ(r.hinge_events.size(), 1u);  // its release
+  EXPECT_LT(EstimateWork(p).seconds, 10.0);
+  // The estimate's steps within a factor of 3 (measured 0.38 of them taken).
+  const double ratio = static_cast<double>(r.stats.steps) / EstimateWork(p).steps;
+  EXPECT_GT(ratio, 1.0 / 3.0);
+  EXPECT_LT(ratio, 3.0);
+}
+
+// An undamped 1e6 N m/rad hinge spring (no stops, no latch) swings 8400 periods in 60 s:
+// a Runge-Kutta method's energy error grows with every step (2.7e-7 of E over 600 s at
+// rtol 1e-11, 2.7e-8 over these 60 s); the free segments' energy projection keeps it at the
+// steps' own error.
+TEST(TrapFamiliesTest, AStiffUndampedSpringKeepsItsEnergyToTheTolerance) {
+  schedule::HingePlan h = Free();
+  h.drive.spring.stiffness = 1e6;
+  h.drive.spring.rest_angle = 80.0 * kDeg;
+  schedule::Profile p = SmallsatHingeProfile(h, Locked(), 60.0);
+  p.integrator.rtol = 1e-11;
+  p.integrator.atol = 1e-13;
+  const MissionResult r = RunMission(p);
+  ASSERT_EQ(r.termination, integrators::Termination::kReachedEnd) << r.message;
+  const Trajectory& tr = r.trajectory;
+  const double e0 = tr.energy[0] + tr.energy_spring[0];
+  double worst = 0.0;
+  for (std::size_t i = 0; i < tr.time.size(); ++i) {
+    worst = std::max(worst, std::abs(tr.energy[i] + tr.energy_spring[i] - e0));
+  }
+  std::printf("stiff spring: energy error %.2e of E over %zu steps\n", worst / e0, r.stats.steps);
+  EXPECT_LT(worst, 2e-12 * e0);  // measured 4.0e-13
+  // The estimate knows the cost: within a factor of 3 of the steps taken.
+  const double ratio = static_cast<double>(r.stats.steps) / EstimateWork(p).steps;
+  EXPECT_GT(ratio, 1.0 / 3.0);
+  EXPECT_LT(ratio, 3.0);
 }
 
 // At every accepted tolerance no hinge angle leaves its stops (at every sample and every

@@ -62,6 +62,7 @@ class ScalarAdapter {
     ++partial_steps;
     return Step(y0, h, nullptr);
   }
+  void Project(Scalar& /*y*/) {}
   void Accept(const Scalar& y0, const Scalar& y1) {
     y0_ = y0;
     y1_ = y1;

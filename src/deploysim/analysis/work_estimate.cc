@@ -85,9 +85,10 @@ std::string Num(double x) { return math::FormatSignificant(x); }
 /// rtol: kStepsPerRadian rtol^(-1 / (q + 1)), q the order of its error estimate (a local
 /// error ~ (h nu)^(q+1) held at rtol). The constant is measured: rkmk-rkf78 on the stiff
 /// hinge spring trap (1e6 N m/rad, rtol 1e-11) takes 5.07 steps per radian of its
-/// frequency, 0.214 rtol^(-1/8); the shipped examples and the other traps take about 0.7
-/// of what that predicts (docs/design.md, "Cost known before the run"): 0.16.
-constexpr double kStepsPerRadian = 0.16;
+/// frequency, 0.214 rtol^(-1/8); with this estimate's rates the shipped examples and the
+/// traps take from 0.3 to 3 times that, and 0.136 centres them (their table:
+/// docs/design.md, "Cost known before the run").
+constexpr double kStepsPerRadian = 0.136;
 /// Lie-group methods (and `exact`) carry the spin itself exactly: what they resolve is
 /// the motion of H_B in the body, at most this fraction of the body's rate for the
 /// shipped examples' and the traps' spins (measured: the smallsat's rigid phases).
@@ -123,6 +124,21 @@ double StepsPerRadian(const integrators::StepperInfo& info, double rtol) {
 double SecondsPerStep(int panels, int free) {
   const double u = 3.0 + free;
   return 12e-6 + 7e-6 * panels + 1.1e-7 * u * u * u;
+}
+
+/// The panels a hinge run computes: those that can move and their ancestors (locked
+/// subtrees under which nothing moves are merged into their parents, FreeHingeSystem).
+int ComputedPanels(const schedule::Profile& profile) {
+  const std::vector<model::Panel>& panels = profile.model.hinged.panels;
+  std::vector<char> kept(panels.size(), 0);
+  for (std::size_t k = 0; k < profile.hinges.size() && k < panels.size(); ++k) {
+    if (profile.hinges[k].kind == schedule::HingePlan::Kind::kLocked) continue;
+    for (int j = static_cast<int>(k); j >= 0 && !kept[static_cast<std::size_t>(j)];
+         j = panels[static_cast<std::size_t>(j)].parent) {
+      kept[static_cast<std::size_t>(j)] = 1;
+    }
+  }
+  return static_cast<int>(std::count(kept.begin(), kept.end(), 1));
 }
 
 /// Per free-plan hinge: its own stiffest rate (diagonal of S), and the system's.
@@ -241,6 +257,8 @@ double MovingTime(const schedule::Profile& profile, std::size_t k, double own, d
     const double half = 2.0 * d.friction.torque / k_all;  // amplitude lost per half period
     return swings * kPi / own * std::max(1.0, std::ceil((amplitude - 0.5 * half) / half));
   }
+  // A damped swing is not cut short: the body's motion keeps driving it (a pendulum
+  // damper follows the nutation; a small panel on a flipping body swings with it).
   return kInf;
 }
 
@@ -396,8 +414,7 @@ WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
             out.free_time +
         kStepsPerSegment * (1 + 2 * free_plans + PressedBounces(profile));
   }
-  out.seconds =
-      out.steps * SecondsPerStep(static_cast<int>(model.hinged.panels.size()), free_plans);
+  out.seconds = out.steps * SecondsPerStep(ComputedPanels(profile), free_plans);
   out.finite = out.finite && std::isfinite(out.steps);
   return out;
 }

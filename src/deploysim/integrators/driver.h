@@ -19,6 +19,7 @@
 ///   double MaxStep(const StateType& y);        the method's own bound (inf: none)
 ///   StateType Step(const StateType& y, double h, double* error_norm);
 ///   StateType Partial(const StateType& y0, double h);   a step inside the accepted one
+///   void Project(StateType& y);               restore an invariant of a step's end (or not)
 ///   void Accept(const StateType& y0, const StateType& y1);
 ///   StateType Dense(double t);                 continuous extension of the accepted step
 ///   StateType DenseSample(double t, std::size_t samples_in_step);
@@ -348,6 +349,7 @@ class Driver {
         // Do not let the short last step of a segment shrink the next segment's steps.
         if (!last || grow * h > h_adapt_) h_adapt_ = h * grow;
       }
+      a_.Project(y1);
       const Leave leave = CheckLeaving(y1, h);
       if (leave == Leave::kStuck) return false;
       if (leave == Leave::kRetry) continue;

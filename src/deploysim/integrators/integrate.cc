@@ -180,6 +180,7 @@ class RigidAdapter {
     ++partial_steps_;
     return stepper_.Step(problem_, y0, h, tol_, ws_).result;
   }
+  void Project(State& /*y*/) {}  // the rigid state has no invariant to restore
   void Accept(const State& y0, const State& y1) {
     stepper_.Accept(problem_, y0, y1, ws_);
     y0_ = y0;

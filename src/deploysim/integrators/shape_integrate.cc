@@ -258,8 +258,9 @@ class ShapeAdapter {
 
   ShapeAdapter(const ButcherTableau& tableau,
                const dynamics::ShapeSystem& system,
-               const Tolerances& tolerances)
-      : stepper_(tableau, system), system_(system), tol_(tolerances) {}
+               const Tolerances& tolerances,
+               const std::function<void(ShapeState&)>& project)
+      : stepper_(tableau, system), system_(system), tol_(tolerances), project_(project) {}
 
   bool adaptive() const { return stepper_.adaptive(); }
   int order() const { return stepper_.order(); }
@@ -277,6 +278,9 @@ class ShapeAdapter {
     return stepper_.Step(y0, h, tol_, nullptr);
   }
   void Accept(const ShapeState& y0, const ShapeState& y1) { stepper_.Accept(y0, y1); }
+  void Project(ShapeState& y) {
+    if (project_) project_(y);
+  }
   ShapeState Dense(double t) { return stepper_.Dense(t, tol_); }
   ShapeState DenseSample(double t, std::size_t /*samples_in_step*/) { return Dense(t); }
   bool DenseIsExact() { return false; }
@@ -289,6 +293,7 @@ class ShapeAdapter {
   long partial_steps_ = 0;
   const dynamics::ShapeSystem& system_;
   const Tolerances& tol_;
+  const std::function<void(ShapeState&)>& project_;
 };
 
 }  // namespace
@@ -302,7 +307,8 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
                                       std::size_t* next_output,
                                       const std::vector<ShapeEventFunction>& events,
                                       const std::function<void(const ShapeState&)>& samples,
-                                      const std::function<void(const ShapeState&)>& observer) {
+                                      const std::function<void(const ShapeState&)>& observer,
+                                      const std::function<void(ShapeState&)>& project) {
   const ButcherTableau& tableau = TableauOf(method);  // an unknown method fails first
   if (!(t_end > initial.t) || !std::isfinite(t_end)) {
     throw std::invalid_argument("IntegrateShape: end time must be finite and > start time");
@@ -320,7 +326,7 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
   for (const ShapeEventFunction& e : events) {
     specs.push_back({e.name, e.g, e.direction, e.terminal, e.refine, e.rate});
   }
-  ShapeAdapter adapter(tableau, system, settings.tolerances);
+  ShapeAdapter adapter(tableau, system, settings.tolerances, project);
   const std::function<void(const ShapeState&)> emit = [&samples](const ShapeState& s) {
     if (samples) samples(s);
   };

@@ -97,7 +97,9 @@ bool IsShapeMethod(const std::string& name);
 /// are < the stop time (<= t_end when the end is reached), passed to `samples` in
 /// order; *next_output is advanced past them. (A sample at exactly a terminal event's time
 /// is left to the caller: it shows the state after the event.) settings.step: the initial
-/// step (0: automatic). Throws std::invalid_argument for an unknown method or settings.
+/// step (0: automatic). `project`: applied to every step's end once the error control has
+/// accepted it, before its events and samples (a projection onto an invariant). Throws
+/// std::invalid_argument for an unknown method or settings.
 ShapeIntegrationResult IntegrateShape(const std::string& method,
                                       const IntegratorSettings& settings,
                                       const dynamics::ShapeSystem& system,
@@ -107,6 +109,7 @@ ShapeIntegrationResult IntegrateShape(const std::string& method,
                                       std::size_t* next_output,
                                       const std::vector<ShapeEventFunction>& events,
                                       const std::function<void(const ShapeState&)>& samples,
-                                      const std::function<void(const ShapeState&)>& observer = {});
+                                      const std::function<void(const ShapeState&)>& observer = {},
+                                      const std::function<void(ShapeState&)>& project = {});
 
 }  // namespace deploysim::integrators

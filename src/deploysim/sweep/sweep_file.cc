@@ -156,12 +156,8 @@ std::string NotApplicable(Parameter par,
                  ? ""
                  : "is not released after another panel's latch (vary its release with "
                    "release_time)";
-    case Parameter::kFrictionTorque:
-      return d.friction.regularization_speed > 0.0
-                 ? ""
-                 : "has no friction (give it friction with a regularization speed in the base "
-                   "profile)";
-    default:
+    default:  // friction_torque: any free hinge (without a regularization speed in the base
+              // profile, exact Coulomb friction, schedule::Friction)
       return "";
   }
 }
