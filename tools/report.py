@@ -911,7 +911,9 @@ def hinge_timeline(c, h, ctx):
            "<b>latch</b>: the hinge reaches its latch angle and is locked by a plastic "
            "impulse. <b>jam</b>: locked part-way (failure mode). <b>stop</b>: impact on "
            "a hard stop, the panel rebounds. <b>rest</b>: the panel comes to rest on a "
-           "stop. <b>|hub w jump|</b>: the shock a latch gives the spacecraft (jump of "
+           "stop and is held there; <b>lift-off</b>: the torque holding it pulls it away. "
+           "<b>stick</b> / <b>slip</b>: Coulomb friction holds the hinge at rest / lets it "
+           "go. <b>|hub w jump|</b>: the shock a latch gives the spacecraft (jump of "
            "the hub's angular velocity); angles 0 = deployed.</p>"]
     lrow = []
     for k, (name, t) in enumerate(h.latch_times.items()):

@@ -159,6 +159,11 @@ class HingeRun {
   /// How far the torque holding hinge k is past what holds it (> 0: it moves).
   double HoldMargin(int k, double t, const Vec3& H_B, const Eigen::VectorXd& x) const;
   bool AnyHeld() const;
+  /// Appends the event of `kind` on panel k at t_ (with the impulse's numbers, if any).
+  void Record(HingeEvent::Kind kind,
+              int k,
+              double angle,
+              const FreeHingeSystem::Impulse* imp = nullptr);
   /// Holds locked hinge k (a rest on a stop: side +-1; friction: 0) from now.
   void StartHold(int k, Hold::Kind kind, int side);
   /// Hinge events at one instant: a run whose events repeat at one time without end stops.
@@ -355,12 +360,7 @@ bool HingeRun::ReleasesDue() {
     x_ = sys_.Free(k, t_, y_.H_B, x_, rate);
     release_angle_[i] = before.theta[k];
     release_time_[i] = std::numeric_limits<double>::infinity();
-    HingeEvent ev;
-    ev.kind = HingeEvent::Kind::kRelease;
-    ev.t = t_;
-    ev.panel = k;
-    ev.angle = before.theta[k];
-    out_.hinge_events.push_back(ev);
+    Record(HingeEvent::Kind::kRelease, k, before.theta[k]);
     if (coulomb) {
       if (rate != 0.0) {
         sys_.SetSlip(k, rate > 0.0 ? 1 : -1);
@@ -382,12 +382,7 @@ bool HingeRun::StartSlip(int k, double lambda) {
   const double angle = Current(dynamics::Side::kRight).theta[k];
   x_ = sys_.Lock(k, angle, x_);
   StartHold(k, Hold::Kind::kStick, 0);
-  HingeEvent ev;
-  ev.kind = HingeEvent::Kind::kStick;
-  ev.t = t_;
-  ev.panel = k;
-  ev.angle = angle;
-  out_.hinge_events.push_back(ev);
+  Record(HingeEvent::Kind::kStick, k, angle);
   return true;
 }
 
@@ -401,6 +396,26 @@ void HingeRun::StartHold(int k, Hold::Kind kind, int side) {
   h.offset = 1e-9 * (mu + std::abs(sys_.HoldingTorque(k, t_, y_.H_B, x_)));
   if (unheld_t_[i] == t_) h.offset = std::max(h.offset, 10.0 * unheld_offset_[i]);
   hold_[i] = h;
+}
+
+void HingeRun::Record(HingeEvent::Kind kind,
+                      int k,
+                      double angle,
+                      const FreeHingeSystem::Impulse* imp) {
+  HingeEvent ev;
+  ev.kind = kind;
+  ev.t = t_;
+  ev.panel = k;
+  ev.angle = angle;
+  if (imp != nullptr) {
+    ev.rate_before = imp->rate_before;
+    ev.rate_after = imp->rate_after;
+    ev.impulse = imp->lambda;
+    ev.w_jump_B = imp->w_jump_B;
+    ev.energy_dissipated = imp->energy_dissipated;
+    ev.drive_work = imp->drive_work;
+  }
+  out_.hinge_events.push_back(ev);
 }
 
 bool HingeRun::AnyHeld() const {
@@ -439,12 +454,7 @@ void HingeRun::Unhold(int k, HingeEvent::Kind kind) {
   const RunSample before = Current(dynamics::Side::kRight);
   const double lambda = sys_.HoldingTorque(k, t_, y_.H_B, x_);
   rec_.ClosePhase(before);
-  HingeEvent ev;
-  ev.kind = kind;
-  ev.t = t_;
-  ev.panel = k;
-  ev.angle = before.theta[k];
-  out_.hinge_events.push_back(ev);
+  Record(kind, k, before.theta[k]);
   unheld_t_[i] = t_;
   unheld_offset_[i] = hold_[i].offset;
   hold_[i] = Hold();
@@ -728,20 +738,9 @@ void HingeRun::OnHingeEvent(const EventTag& tag, bool stuck) {
     }
   }
   const FreeHingeSystem::Impulse imp = sys_.ApplyImpulse(t_, y_.H_B, x_, tag.a, target);
-  HingeEvent ev;
-  ev.kind = kind;
-  ev.t = t_;
-  ev.panel = k;
-  ev.angle = tag.angle;
-  ev.rate_before = imp.rate_before;
-  ev.rate_after = imp.rate_after;
-  ev.impulse = imp.lambda;
-  ev.w_jump_B = imp.w_jump_B;
-  ev.energy_dissipated = imp.energy_dissipated;
-  ev.drive_work = imp.drive_work;
   work_.impacts -= imp.energy_dissipated;
   work_.drive += imp.drive_work;
-  out_.hinge_events.push_back(ev);
+  Record(kind, k, tag.angle, &imp);
   if (kind == HingeEvent::Kind::kStop) return;
   rec_.ClosePhase(before);
   x_ = sys_.Lock(k, tag.angle, x_);
@@ -786,17 +785,7 @@ bool HingeRun::Sticks(const EventTag& tag, bool stuck) {
   rec_.ClosePhase(before);
   x_ = held;
   StartHold(k, Hold::Kind::kStick, 0);
-  HingeEvent ev;
-  ev.kind = HingeEvent::Kind::kStick;
-  ev.t = t_;
-  ev.panel = k;
-  ev.angle = angle;
-  ev.rate_before = imp.rate_before;
-  ev.impulse = imp.lambda;
-  ev.w_jump_B = imp.w_jump_B;
-  ev.energy_dissipated = imp.energy_dissipated;
-  ev.drive_work = imp.drive_work;
-  out_.hinge_events.push_back(ev);
+  Record(HingeEvent::Kind::kStick, k, angle, &imp);
   OpenPhase(Current(dynamics::Side::kRight));
   return true;
 }
