@@ -73,6 +73,8 @@ constexpr double kSlipEndRate = 1e-12;
 /// it the steps' energy errors add up to less than the tolerance asks (every shipped
 /// profile, the longest 7000 rad).
 constexpr double kProjectionRadians = 1e4;
+/// The longest move of the energy projection, in tolerances of the state (FreeSegment).
+constexpr double kProjectionReach = 4.0;
 
 /// What a located event of a segment is.
 struct EventTag {
@@ -631,31 +633,47 @@ SegmentEnd HingeRun::FreeSegment(double t_next) {
   AxisPoint prev = point(ys);
   // Energy projection (Hairer, Lubich and Wanner, Geometric Numerical Integration, 2nd ed.,
   // section IV.4), in a run whose hinges swing through more than kProjectionRadians: each
-  // step's end is moved along dE/dp_f = theta'_f onto E = E_start + W, W the sources' work
-  // the ledger integrates over the segment. A Runge-Kutta method's energy error grows with
+  // step's end (theta_f, p_f) is moved onto E = E_start + W, W the sources' work the
+  // ledger integrates over the segment. A Runge-Kutta method's energy error grows with
   // every step (an undamped 1e6 N m/rad spring over 84000 periods: 2.7e-7 of E at rtol
-  // 1e-11); projected, it stays at the steps' own error (5e-13). The change of p_f is that
-  // error, within the tolerance; H_B, the angles and the attitude are kept. Shorter swings
-  // keep their energy to the tolerance unprojected (every shipped profile).
+  // 1e-11); projected, it stays at the steps' own error (5e-13). H_B and the attitude are
+  // kept. Shorter swings keep their energy to the tolerance unprojected (every shipped
+  // profile).
   const FreeHingeSystem::Snapshot start_snap = sys_.Snap(ys.t, ys.H_B, ys.x);
   const double e_start = start_snap.kinetic_energy + start_snap.spring_energy;
   const int m = sys_.free_count();
   const auto project = [&](integrators::ShapeState& y) {
-    if (!project_energy_) return;
+    if (!project_energy_ || m == 0) return;
+    const auto energy = [&](const Eigen::VectorXd& x) {
+      const FreeHingeSystem::Snapshot s = sys_.Snap(y.t, y.H_B, x);
+      return s.kinetic_energy + s.spring_energy;
+    };
     const FreeHingeSystem::Snapshot s = sys_.Snap(y.t, y.H_B, y.x);
-    double g2 = 0.0;
-    for (int k : sys_.free_hinges()) g2 += s.theta_dot[k] * s.theta_dot[k];
-    if (!(g2 > 0.0)) return;
     const double excess = s.kinetic_energy + s.spring_energy - (e_start + y.x.tail<kTerms>().sum());
-    // The step moves p_f by |excess| / |theta'_f|: only a change within the tolerance on
-    // p_f is a projection of the steps' error (a hinge nearly at rest cannot take up an
-    // energy error: it is left to the error control).
-    const double allowed = settings_.tolerances.rtol * y.x.segment(m, m).cwiseAbs().maxCoeff() +
-                           settings_.tolerances.atol * M_;
-    if (!(std::abs(excess) <= allowed * std::sqrt(g2))) return;
+    // The move that changes E by -excess and is smallest in units of the tolerance of each
+    // component (tol_i: atol scale + rtol |y_i|, as the error control weighs them):
+    // delta_i = -excess tol_i^2 g_i / sum (tol_j g_j)^2, g = dE/d(theta_f, p_f) (theta'_f
+    // for p_f; a central difference for theta_f). The move is at most kProjectionReach
+    // tolerances long: a projection of the steps' error, never a jump (a larger excess,
+    // where the hinges are nearly at rest, is taken up over the next steps).
+    const integrators::Tolerances& tol = settings_.tolerances;
+    Eigen::VectorXd g(2 * m), w(2 * m);
     for (int a = 0; a < m; ++a) {
-      y.x[m + a] -= excess * s.theta_dot[sys_.free_hinges()[static_cast<std::size_t>(a)]] / g2;
+      const double th = y.x[a];
+      const double h = 1e-7 * std::max(1.0, std::abs(th));
+      Eigen::VectorXd xp = y.x, xm = y.x;
+      xp[a] += h;
+      xm[a] -= h;
+      g[a] = (energy(xp) - energy(xm)) / (2.0 * h);
+      w[a] = tol.atol + tol.rtol * std::abs(th);
+      g[m + a] = s.theta_dot[sys_.free_hinges()[static_cast<std::size_t>(a)]];
+      w[m + a] = tol.atol * M_ + tol.rtol * std::abs(y.x[m + a]);
     }
+    const double reach2 = g.cwiseProduct(w).squaredNorm();
+    if (!(reach2 > 0.0) || !std::isfinite(excess)) return;
+    const double cap = kProjectionReach * std::sqrt(reach2);
+    const double take = std::clamp(excess, -cap, cap);
+    y.x.head(2 * m) -= (take / reach2) * w.cwiseProduct(w).cwiseProduct(g);
   };
   const integrators::ShapeIntegrationResult r = integrators::IntegrateShape(
       shape_method_, settings_, sys_, ys, t_next, grid_, &next_out_, events,
