@@ -25,6 +25,7 @@
 #include "deploysim/crosscheck/simtk_support.h"
 #include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
+#include "deploysim/schedule/hinge_motion.h"
 #include "deploysim/schedule/laws.h"
 
 namespace deploysim::crosscheck {
@@ -997,6 +998,18 @@ void CheckInputs(const schedule::Profile& profile,
   if (!profile.is_hinge_profile()) {
     throw std::invalid_argument(profile.source +
                                 ": the free-hinge cross-check needs a hinge profile (hinges:)");
+  }
+  // The Simbody model has the regularized friction law only (a Coulomb stick needs the
+  // holding torque's events, which it does not model).
+  for (std::size_t k = 0; k < profile.hinges.size(); ++k) {
+    const schedule::HingePlan& h = profile.hinges[k];
+    if (h.kind == schedule::HingePlan::Kind::kFree && schedule::IsCoulomb(h.drive.friction)) {
+      throw std::invalid_argument(
+          profile.source + ": hinges." + profile.model.hinged.panels[k].name +
+          ".free.friction: exact Coulomb friction (no regularization_speed_deg_s) is not "
+          "modelled by the Simbody cross-check (rule: cross-check a profile with the "
+          "regularized law)");
+    }
   }
   if (!(options.accuracy > 0.0 && options.accuracy < 1.0)) {
     throw std::invalid_argument("crosscheck: accuracy = " + Exact(options.accuracy) +
