@@ -343,17 +343,16 @@ TEST(TrapFamiliesTest, ATreeOf2048PanelsWithOneFreeComputesOnlyItsBranch) {
 
 void CheckStiffSpring(double rest_deg, double until, double bound);
 
-// An undamped 1e6 N m/rad hinge spring (no stops, no latch) swings 8400 periods in 60 s:
+// An undamped 1e6 N m/rad hinge spring (no stops, no latch) swings 2800 periods in 20 s:
 // a Runge-Kutta method's energy error grows with every step (2.7e-7 of E over 600 s at
-// rtol 1e-11, 2.7e-8 over these 60 s); the free segments' energy projection keeps it at the
-// steps' own error.
-// The same spring wound 170 deg (4.4e6 J, rates up to 2900 rad/s: the run that once
-// gained 13 J) keeps it too over 20 s.
+// rtol 1e-11, about 1e-8 over these 20 s); the free segments' energy projection keeps it
+// at the steps' own error. The same spring wound 170 deg (4.4e6 J, rates up to 2900
+// rad/s: the run that once gained 21 J over 600 s) keeps it too, over 12 s.
 TEST(TrapFamiliesTest, AStiffUndampedSpringKeepsItsEnergyToTheTolerance) {
-  // Measured 4.1e-13 and 5.7e-12 of E over the samples (dense output between the steps;
+  // Measured 1.0e-13 and 4.0e-12 of E over the samples (dense output between the steps;
   // at the steps' ends the ledger closes to 1e-16).
-  CheckStiffSpring(80.0, 60.0, 2e-12);
-  CheckStiffSpring(-80.0, 20.0, 2e-11);
+  CheckStiffSpring(80.0, 20.0, 5e-13);
+  CheckStiffSpring(-80.0, 12.0, 1.5e-11);
 }
 
 void CheckStiffSpring(double rest_deg, double until, double bound) {
