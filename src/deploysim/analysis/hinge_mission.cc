@@ -151,7 +151,7 @@ class HingeRun {
   /// panel rests on the stop instead (schedule::Stops, kContactTime).
   bool RestsOnStop(const EventTag& tag, double rebound);
   /// Exact Coulomb friction brought free hinge tag.a's rate to 0: it sticks (true) or,
-  /// when friction cannot hold it, slips on the other way (false; x_ changed).
+  /// when friction cannot hold it, slips on the way its torque pulls (false; x_ changed).
   bool Sticks(const EventTag& tag, bool stuck);
   /// Held hinge k leaves its hold (a lift-off or a slip): freed at rate 0.
   void Unhold(int k, HingeEvent::Kind kind);
@@ -795,7 +795,7 @@ bool HingeRun::Sticks(const EventTag& tag, bool stuck) {
   Eigen::VectorXd held = sys_.Lock(k, angle, x_);
   const double lambda = sys_.HoldingTorque(k, t_, y_.H_B, held);
   if (!stuck && std::abs(lambda) > d.friction.torque) {
-    // It turns back: the friction now opposes the other way.
+    // It slips on, the way the holding torque pulls it (back, or on after a touch of 0).
     x_ = sys_.Free(k, t_, y_.H_B, held, 0.0);
     sys_.SetSlip(k, lambda > 0.0 ? -1 : 1);
     return false;
