@@ -335,6 +335,9 @@ class Driver {
       double err = 0.0;
       S y1 = a_.Step(y_, h, &err);
       if (a_.adaptive()) {
+        // A non-finite trial state (a step far too long for a stiff hinge) is rejected like
+        // a large error, whatever its error norm says.
+        if (!A::Finite(y1)) err = std::numeric_limits<double>::infinity();
         if (!std::isfinite(err) || err > 1.0) {
           ++out_.stats.rejected;
           h_adapt_ = h * RejectedStepFactor(err, q_);

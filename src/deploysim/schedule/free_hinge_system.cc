@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -329,18 +330,23 @@ void FreeHingeSystem::Solve(const Vec3& H_B, const Eigen::VectorXd& x) const {
     rhs_.noalias() -= M_.block(0, u, u, q) * rates_;
   }
   sol_.resize(u);
+  // A trial step far too long for a stiff hinge can leave non-finite angles or momenta: the
+  // solution is then non-finite too, and the step's error rejects it (the driver shortens
+  // it). The mass matrix of finite angles is positive definite: failing there is a bug.
+  const bool finite = theta_.allFinite() && rhs_.allFinite();
+  bool solved = false;
   if (u <= kSmallSystem) {
-    if (!SmallCholeskySolve(M_, u, rhs_, sol_)) {
-      throw std::runtime_error("FreeHingeSystem: the mass matrix is not positive definite");
-    }
-  } else {
+    solved = finite && SmallCholeskySolve(M_, u, rhs_, sol_);
+  } else if (finite) {
     A_ = M_.topLeftCorner(u, u);
     Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(A_);
-    if (llt.info() != Eigen::Success) {
-      throw std::runtime_error("FreeHingeSystem: the mass matrix is not positive definite");
-    }
-    sol_ = llt.solve(rhs_);
+    solved = llt.info() == Eigen::Success;
+    if (solved) sol_ = llt.solve(rhs_);
   }
+  if (!solved && finite) {
+    throw std::runtime_error("FreeHingeSystem: the mass matrix is not positive definite");
+  }
+  if (!solved) sol_.setConstant(std::numeric_limits<double>::quiet_NaN());
   w_ = sol_.head<3>();
   for (int a = 0; a < m; ++a) theta_dot_[free_[static_cast<std::size_t>(a)]] = sol_[3 + a];
 }
