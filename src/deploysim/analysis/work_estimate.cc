@@ -267,8 +267,8 @@ double MovingTime(const schedule::Profile& profile, std::size_t k, double own, d
 /// The stop impacts of the free hinges that a drive presses onto a stop (Bounces): each
 /// is a segment of the run.
 /// The events that cut the run into segments, each a restart of the integration: per free
-/// hinge pressed onto a stop, its bounces (Bounces; at most one per quarter period of its
-/// own rate over the run, or 1000: restitution near 1 bounces for the whole run); with exact
+/// hinge pressed onto a stop, its bounces (Bounces; at most one per two first flights over
+/// the run: restitution near 1 bounces for the whole run); with exact
 /// Coulomb friction and a spring or servo, two slip ends per period of its own rate (a
 /// stiff spring with little friction swings, and stops, tens of thousands of times).
 double Segments(const schedule::Profile& profile, const HingeRates& rates) {
@@ -286,11 +286,27 @@ double Segments(const schedule::Profile& profile, const HingeRates& rates) {
       n += 2.0 * cycles;
     }
     if (!d.stops.any() || d.stops.max_angle - d.stops.min_angle < kRattleGap) continue;
+    // Pressed onto a stop: the first flight from the start to it, t1 = sqrt(2 travel / a)
+    // under the pressing acceleration a at the stop; a bounce at most every 2 t1.
+    const double theta0 = profile.model.configuration(profile.initial.configuration)
+                              .hinge_angles[static_cast<Eigen::Index>(k)];
     const double torque = d.spring.preload +
                           (d.motor.kind == schedule::Motor::Kind::kConstant ? d.motor.torque : 0.0);
-    if (d.spring.stiffness > 0.0 || torque != 0.0) {
-      n += std::min(Bounces(d.stops.restitution), std::max(4.0 * cycles, 1000.0));
+    const double k_s = d.spring.stiffness;
+    const double eq = k_s > 0.0
+                          ? d.spring.rest_angle + torque / k_s
+                          : (torque > 0.0 ? d.stops.max_angle + 1.0 : d.stops.min_angle - 1.0);
+    const double stop = eq > d.stops.max_angle   ? d.stops.max_angle
+                        : eq < d.stops.min_angle ? d.stops.min_angle
+                                                 : std::numeric_limits<double>::quiet_NaN();
+    if (!std::isfinite(stop) || (k_s == 0.0 && torque == 0.0) || !(rates.inertia[k] > 0.0)) {
+      continue;
     }
+    const double press =
+        (k_s > 0.0 ? k_s * std::abs(stop - eq) : std::abs(torque)) / rates.inertia[k];
+    const double travel = std::max(std::abs(stop - theta0), kRattleGap);
+    const double flights = T / (2.0 * std::sqrt(2.0 * travel / press));
+    n += std::min(Bounces(d.stops.restitution), std::max(flights, 1.0));
   }
   return n;
 }
