@@ -170,10 +170,9 @@ std::string FormatSummary(const analysis::MissionResult& r) {
   o += fmt::format("deploysim analysis of '{}' ({}; model '{}', mode {}, coupling {})\n", p.name,
                    p.source, p.model.name, schedule::ToString(p.mode),
                    schedule::ToString(p.coupling));
-  o +=
-      fmt::format("integrator {}: {} steps, {} rejected, {} rhs evaluations, {:.3g} s wall; {}\n",
-                  p.integrator.method, r.stats.steps, r.stats.rejected, r.stats.evaluations,
-                  r.wall_seconds, r.message);
+  o += fmt::format("integrator {}: {} steps, {} rejected, {} rhs evaluations, {:.3g} s wall; {}\n",
+                   p.integrator.method, r.stats.steps, r.stats.rejected, r.stats.evaluations,
+                   r.wall_seconds, r.message);
   // The estimate made before the run (analysis/work_estimate.h), beside what it took.
   const analysis::WorkEstimate e = analysis::EstimateWork(p);
   if (e.steps > 0.0) {
