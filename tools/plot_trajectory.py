@@ -5,7 +5,7 @@ Usage: /usr/bin/python3 tools/plot_trajectory.py TRAJECTORY.h5 [-o OUTDIR]
 
 Writes into OUTDIR (default: next to the file, <stem>_plots/):
   momentum.png          H_B components and |H_B| against time (the seed's Fig. 3.1)
-  angular_velocity.png  w_NB_B components against time
+  angular_velocity.png  w_NB_B components [deg/s] against time
   spin_axis.png         angle between the body spin axis and h_N (the flip as seen),
                         with the located flips and 45-degree crossings marked
   inertia.png           principal moments of J(t), stages shaded
@@ -13,24 +13,33 @@ Writes into OUTDIR (default: next to the file, <stem>_plots/):
                         total against the energy ledger (the work of each source: dampers,
                         friction, motors, prescribed drives, latch and stop impacts)
   polhode.png           H_B/|H_B| on the momentum sphere and its three plane
-                        projections, with the separatrix of the final inertia
-                        (the seed's Figs. 2.3-2.8)
+                        projections, a colour per stage, with the separatrix of the final
+                        inertia (the seed's Figs. 2.3-2.8); below, one small panel per
+                        stage, zoomed to it, against the separatrix of its own inertia
   hinge_angles.png      hinge angles [deg] and rates [deg/s] per panel, with the hinge
                         events marked (only when the file has hinge angles: geometry mode)
-On the time plots, hinge events (free-hinge profiles) are marked: releases, latches, jams
-and rests as labelled vertical lines, stop impacts as ticks at the bottom, a burst of
-bounces with one label.
+Units: time s, angles deg, rates deg/s, on every plot; every axis names its unit.
+On the time plots, hinge events (free-hinge profiles) are marked: releases, latches, jams,
+rests, lift-offs, sticks and slips as vertical lines, stop impacts as ticks at the bottom.
+Each event (a burst of bounces: one) has a number, the same on every plot, in a strip
+above the axes (the data keep their own range); the key under the plot says what and when
+each number is. Stage profiles have their stage names in that strip.
+Each PNG carries its axes' labels and limits and the numbered events as JSON in a tEXt
+chunk "deploysim-axes" (what tests/tools/plots_render_test.sh checks).
 The file is read through tools/deploysim_results.py (older version 2 files included).
 Needs Debian's python3-matplotlib, python3-h5py, python3-numpy (run with /usr/bin/python3).
 """
 import argparse
+import json
 import os
 import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.font_manager  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.transforms as transforms  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
@@ -111,24 +120,24 @@ def span(d):
 
 
 def shade_stages(ax, d, label=True, xlim=None):
-    """Stages shaded by kind, with their names (at the middle of their part inside `xlim`,
-    the plot's time range when it shows only part of the run)."""
+    """Stages shaded by kind; with label, their names in the strip above the axes (at the
+    middle of their part inside `xlim`, the plot's time range when it shows only part of
+    the run), so that no name covers a curve."""
     # A hinge profile's phases are named after the events, which are marked themselves:
     # shade them without labels.
     label = label and not d["events"]
     x0, x1 = xlim if xlim is not None else (d["stage_begin"][0], d["stage_end"][-1])
+    names = []
     for i, (a, b) in enumerate(zip(d["stage_begin"], d["stage_end"])):
         law = d["stage_law"][i]
         color = STAGE_COLORS["hold" if law == "hold" else "free" if law == "free" else "move"]
         ax.axvspan(a, b, color=color, zorder=0, lw=0)
         va, vb = max(a, x0), min(b, x1)
         if label and len(d["stage_begin"]) > 1 and vb > va:
-            ax.text((va + vb) / 2, 0.985, d["stage_name"][i], transform=ax.get_xaxis_transform(),
-                    ha="center", va="top", fontsize=7, color="0.3", rotation=90 if
-                    (vb - va) < 0.08 * (x1 - x0) else 0,
-                    zorder=5, bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none",
-                                        alpha=0.7))
-    if label:
+            names.append(dict(t=(va + vb) / 2, text=d["stage_name"][i], color="0.25",
+                              edge="none"))
+    if names:
+        ax._strip = names
         for a in d["stage_begin"][1:]:
             ax.axvline(a, color="0.6", lw=0.6, ls=":", zorder=1)
 
@@ -149,25 +158,66 @@ def stop_bursts(d):
     return bursts
 
 
-def mark_events(ax, d, labels=True, xlim=None):
+def time_decimals(d):
+    """Decimals of the event times in the key: 0.01 s on a 100-999 s run, 0.001 s on a
+    10-99 s run."""
+    return int(min(4, max(1, 4 - np.floor(np.log10(span(d))))))
+
+
+def event_items(d):
+    """The hinge events the time plots mark, numbered 1, 2, ... in time order (the same
+    numbers on every plot): one item per release, latch, jam, rest, lift-off, stick or
+    slip (several panels at the same time with the same kind: one item naming them all)
+    and one per burst of stop impacts. Each: dict(n, t, t_end, kind, names, count, color,
+    text), text being the key's line without the number."""
+    # A release at the run's start (a hinge free from the start) says nothing: not shown.
+    t_start = d["time"][0]
+    items = []
+    for e in d["events"]:
+        if e["kind"] == "stop" or (e["kind"] == "release" and e["t"] <= t_start):
+            continue
+        last = items[-1] if items else None
+        if last and last["kind"] == e["kind"] and last["t"] == e["t"]:
+            last["names"].append(e["name"])
+            continue
+        items.append(dict(t=e["t"], t_end=e["t"], kind=e["kind"], names=[e["name"]], count=1))
+    for b in stop_bursts(d):
+        items.append(dict(t=b[0]["t"], t_end=b[-1]["t"], kind="stop", names=[b[0]["name"]],
+                          count=len(b)))
+    items.sort(key=lambda x: (x["t"], x["kind"]))
+    dec = time_decimals(d)
+    for n, it in enumerate(items, 1):
+        it["n"] = n
+        it["color"] = EVENT_STYLE.get(it["kind"], {}).get("color", STOP_COLOR)
+        if it["kind"] == "stop" and it["count"] > 1:
+            when = f"{it['t']:.{dec}f}\u2013{it['t_end']:.{dec}f} s"
+            what = f"{it['count']} stops"
+        else:
+            when, what = f"{it['t']:.{dec}f} s", it["kind"]
+        it["text"] = f"{when}  {what} {', '.join(it['names'])}"
+    return items
+
+
+def mark_events(ax, d, labels=True):
     """Hinge events on a time axis. Returns legend handles for the kinds shown.
 
     Releases, latches, jams and rests: a vertical line each. Stop impacts: ticks at the
-    bottom, one label per burst of bounces ('93 stops wing_plus_x'). Labels stand in a
-    band at the top of the plot (reserve_label_bands makes room for it); labels of events
-    closer than 1.8% of the time span are stacked into one block."""
-    # A release at the run's start (a hinge free from the start) says nothing: not shown.
-    evs = [e for e in d["events"] if not (e["kind"] == "release" and e["t"] <= d["time"][0])]
+    bottom. With labels, each event's number (event_items) stands in the strip above the
+    axes, where it covers no data; the key under the plot (figure(..., key=True)) says what
+    each number is."""
+    t_start = d["time"][0]
+    evs = [e for e in d["events"] if not (e["kind"] == "release" and e["t"] <= t_start)]
     if not evs:
         return []
     handles = {}
-    lines = [e for e in evs if e["kind"] != "stop"]
-    bursts = stop_bursts(d)
-    for e in lines:
+    for e in evs:
+        if e["kind"] == "stop":
+            continue
         st = EVENT_STYLE.get(e["kind"], EVENT_STYLE["latch"])
         ax.axvline(e["t"], zorder=2, alpha=0.85, **st)
         handles.setdefault(e["kind"], Line2D([], [], **st, label=e["kind"]))
     tr = ax.get_xaxis_transform()
+    bursts = stop_bursts(d)
     for burst in bursts:
         for e in burst:
             ax.plot([e["t"], e["t"]], [0.0, 0.035], transform=tr, color=STOP_COLOR, lw=0.7,
@@ -176,73 +226,120 @@ def mark_events(ax, d, labels=True, xlim=None):
         handles["stop"] = Line2D([], [], color=STOP_COLOR, lw=0.7, marker="|", ls="none",
                                  markersize=8, label="stop impact (tick)")
     if labels:
-        items = [(e["t"], f"{e['kind']} {e['name']}",
-                  EVENT_STYLE.get(e["kind"], {}).get("color", "k")) for e in lines]
-        for b in bursts:
-            n = len(b)
-            items.append((b[0]["t"], f"{n} stops {b[0]['name']}" if n > 1
-                          else f"stop {b[0]['name']}", STOP_COLOR))
-        items.sort(key=lambda x: x[0])
-        t0, dt = (d["time"][0], span(d)) if xlim is None else (xlim[0], xlim[1] - xlim[0])
-        # A label line is about 13 px thick, 1.8% of the plot's width: the labels of closer
-        # events are stacked side by side in one block (at most 3 lines, then "+N").
-        groups = []
-        for item in items:
-            if groups:
-                g = groups[-1]
-                if item[0] - g[-1][0] < 0.018 * dt * min(len(g), 3):
-                    g.append(item)
-                    continue
-            groups.append([item])
-        ax._event_labels = []
-        for group in groups:
-            label = merge_labels([x[1] for x in group])
-            t = group[0][0]
-            if not t0 <= t <= t0 + dt:
-                continue
-            ax._event_labels.append(ax.text(t, 0.985, label, transform=tr, rotation=90,
-                    ha="right" if t - t0 > 0.97 * dt else "left", va="top", fontsize=6.5,
-                    linespacing=1.1, zorder=6, clip_on=True,
-                    color=group[0][2] if len({x[2] for x in group}) == 1 else "0.15",
-                    bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8)))
+        ax._strip = [dict(t=it["t"], text=str(it["n"]), color=it["color"], edge=it["color"],
+                          bold=True) for it in event_items(d)]
     order = ["release", "latch", "jam", "rest", "lift-off", "stick", "slip", "stop"]
     return [handles[k] for k in order if k in handles]
 
 
-def merge_labels(texts):
-    """The label of events close in time, one line each (rotated: side by side); the same
-    kind on several panels on one line: 'latch wing_plus_x, wing_minus_x'."""
-    lines = []
-    for t in texts:
-        kind, _, name = t.partition(" ")
-        if lines and lines[-1][0] == kind and not kind[0].isdigit() and len(lines[-1][1]) < 3:
-            lines[-1][1].append(name)
-        else:
-            lines.append((kind, [name]))
-    shown = [f"{k} {', '.join(n)}" for k, n in lines[:3]]
-    if len(lines) > 3:
-        shown[-1] += f" (+{sum(len(n) for _, n in lines[3:])} more)"
-    return "\n".join(shown)
+STRIP_FONT = 8.0  # pt: the strip's labels (event numbers, stage names)
+STRIP_ROW = 14.0  # pt between the strip's rows
 
 
-def reserve_label_bands(fig):
-    """Raises the top of every axes with event labels so that the data stays below them:
-    the labels' lowest edge is measured on the laid-out figure (a stack of long labels
-    reaches further down than a short one)."""
-    labelled = [ax for ax in fig.axes if getattr(ax, "_event_labels", False)]
-    if not labelled:
-        return
-    fig.canvas.draw()
-    for ax in labelled:
-        box = ax.get_window_extent()
-        low = min((t.get_window_extent().y0 - box.y0) / box.height for t in ax._event_labels)
-        lo, hi = ax.get_ylim()
-        ax.set_ylim(lo, lo + (hi - lo) / max(low - 0.03, 0.3))
+def build_strip(fig, ax):
+    """The labels of ax._strip above the axes: one row if they fit side by side, else as
+    many rows as needed (alternating). Each label sits over its time, or as near to it as
+    its neighbours allow, with a leader line down to the axes' top at its time."""
+    items = sorted(ax._strip, key=lambda x: x["t"])
+    r = fig.canvas.get_renderer()
+    pad = 0.25  # of the font size, the label box's padding
+    for it in items:
+        w, _, _ = r.get_text_width_height_descent(
+            it["text"], matplotlib.font_manager.FontProperties(
+                size=STRIP_FONT, weight="bold" if it.get("bold") else "normal"), ismath=False)
+        it["w_px"] = w + 2 * pad * STRIP_FONT * fig.dpi / 72.0 + 4.0  # and a small gap
+    width_px = ax.get_window_extent(r).width
+    rows = max(1, int(np.ceil(sum(it["w_px"] for it in items) / (0.9 * width_px))))
+    ax._strip_artists = []
+    for k, it in enumerate(items):
+        it["row"] = k % rows
+        it["artist"] = ax.annotate(
+            it["text"], xy=(0.0, 1.0), xycoords=ax.get_xaxis_transform(),
+            xytext=(0.0, 1.0),
+            textcoords=transforms.offset_copy(ax.transAxes, fig=fig,
+                                              y=4.0 + STRIP_ROW * it["row"], units="points"),
+            ha="center", va="bottom", fontsize=STRIP_FONT, color=it["color"],
+            fontweight="bold" if it.get("bold") else "normal", annotation_clip=False,
+            bbox=dict(boxstyle=f"round,pad={pad}", fc="white", ec=it["edge"], lw=0.8),
+            arrowprops=dict(arrowstyle="-", color=it["color"], lw=0.6, shrinkA=0, shrinkB=0))
+    ax._strip_items = items
+    place_strip(fig, ax)
+
+
+def place_strip(fig, ax):
+    """Spreads each strip row's labels along the axes' width (axes fractions, from their
+    widths in pixels on the laid-out figure): over their times where there is room."""
+    items = ax._strip_items
+    width_px = ax.get_window_extent(fig.canvas.get_renderer()).width
+    x0, x1 = ax.get_xlim()
+    for row in {it["row"] for it in items}:
+        its = [it for it in items if it["row"] == row]
+        f = [(it["t"] - x0) / (x1 - x0) for it in its]
+        w = [it["w_px"] / width_px for it in its]
+        x = list(f)
+        for i in range(1, len(x)):
+            x[i] = max(x[i], x[i - 1] + (w[i - 1] + w[i]) / 2)
+        x[-1] = min(x[-1], 1.0 - w[-1] / 2)
+        for i in range(len(x) - 2, -1, -1):
+            x[i] = min(x[i], x[i + 1] - (w[i] + w[i + 1]) / 2)
+        x[0] = max(x[0], w[0] / 2 - 0.02)
+        for i in range(1, len(x)):
+            x[i] = max(x[i], x[i - 1] + (w[i - 1] + w[i]) / 2)
+        for it, xi in zip(its, x):
+            it["artist"].xy = (it["t"], 1.0)
+            it["artist"].xyann = (xi, 1.0)
+
+
+def event_key(fig, kax, d):
+    """The key under the plot: each event's number (coloured as its line) and what and
+    when it was, in columns."""
+    items = event_items(d)
+    kax.axis("off")
+    ncols = key_columns(items)
+    nrows = int(np.ceil(len(items) / ncols))
+    kax.set_xlim(0, 1)
+    kax.set_ylim(0, 1)
+    kax.text(0.0, 1.0, "Hinge events (numbered above the plot" + (
+        "; the ticks at the bottom are stop impacts)" if any(it["kind"] == "stop" for it in items)
+        else ")"), fontsize=8, color="0.3", va="top", ha="left")
+    line = 1.0 / (nrows + 1)
+    for k, it in enumerate(items):
+        col, row = divmod(k, nrows)
+        x, y = col / ncols, 1.0 - (row + 1.5) * line
+        kax.text(x + 0.022, y, str(it["n"]), fontsize=8.5, fontweight="bold",
+                 color=it["color"], ha="right", va="center")
+        kax.text(x + 0.03, y, it["text"], fontsize=8.5, color="0.1", ha="left",
+                 va="center")
+
+
+def key_columns(items):
+    """Columns of the key: three where the lines are short enough (the width of the plot,
+    10 in, holds three lines of about 48 characters at 8.5 pt)."""
+    longest = max(len(it["text"]) for it in items)
+    return max(1, min(len(items), 3 if longest <= 46 else 2 if longest <= 72 else 1))
+
+
+def figure(d, heights, width=10.0, key=True, **kw):
+    """A figure of len(heights) axes [in] stacked (sharing time), and, with key and hinge
+    events to mark, the event key under them. Returns fig and the list of axes."""
+    items = event_items(d) if key else []
+    rows = int(np.ceil(len(items) / key_columns(items))) if items else 0
+    key_h = 0.3 + 0.19 * rows if items else 0.0
+    fig = plt.figure(figsize=(width, sum(heights) + key_h + 0.9))
+    gs = fig.add_gridspec(len(heights) + (1 if items else 0), 1,
+                          height_ratios=list(heights) + ([key_h] if items else []))
+    axes = []
+    for k in range(len(heights)):
+        axes.append(fig.add_subplot(gs[k, 0], sharex=axes[0] if axes and kw.get("sharex")
+                                    else None))
+    if items:
+        event_key(fig, fig.add_subplot(gs[len(heights), 0]), d)
+    return fig, axes
 
 
 def legend(ax, d, event_handles, **kw):
-    """The axes' legend with the hinge events' kinds; with events (whose labels fill the
-    band at the top), outside the plot on the right, so that it hides neither."""
+    """The axes' legend with the hinge events' kinds; with events, outside the plot on the
+    right, so that it hides neither the curves nor the event lines."""
     handles, labels = ax.get_legend_handles_labels()
     handles += event_handles
     labels += [h.get_label() for h in event_handles]
@@ -252,6 +349,9 @@ def legend(ax, d, event_handles, **kw):
 
 
 def finish(fig, ax, path, title, d, xlim=None):
+    """Time range, notes on the shading, grid, title; lays the figure out with the strips
+    of labels above the axes and saves it (with the axes' labels and limits in the PNG's
+    metadata, see save)."""
     ax.set_xlim(*(xlim if xlim is not None else (d["time"][0], d["time"][-1])))
     laws = set(d["stage_law"])
     notes = []
@@ -267,14 +367,38 @@ def finish(fig, ax, path, title, d, xlim=None):
     ax.grid(True, lw=0.3, alpha=0.6)
     fig.suptitle(f"{d['name']}: {title}", fontsize=11)
     fig.tight_layout()
-    reserve_label_bands(fig)
-    fig.savefig(path, dpi=120)
+    stripped = [a for a in fig.axes if getattr(a, "_strip", None)]
+    for a in stripped:
+        build_strip(fig, a)
+    if stripped:
+        # Again with the strips in the layout (they take room from the top), and the labels
+        # spread on the final widths.
+        fig.tight_layout()
+        for a in stripped:
+            place_strip(fig, a)
+    save(fig, path, d)
+
+
+def save(fig, path, d, dpi=120):
+    """Saves the PNG with, in its metadata (a tEXt chunk "deploysim-axes"), each data axes'
+    x and y labels and limits, and the numbers of the hinge events marked: the plot test
+    reads them to check the ranges and units of what was drawn."""
+    axes = [dict(xlabel=a.get_xlabel(), ylabel=a.get_ylabel(), xlim=list(a.get_xlim()),
+                 ylim=list(a.get_ylim()), title=a.get_title(),
+                 strip=[it["text"] for it in getattr(a, "_strip_items", [])])
+            for a in fig.axes if a.axison and a.name != "3d"]
+    axes += [dict(xlabel=a.get_xlabel(), ylabel=a.get_ylabel(), zlabel=a.get_zlabel(),
+                  title=a.get_title()) for a in fig.axes if a.name == "3d"]
+    meta = json.dumps(dict(axes=axes, events=[dict(n=it["n"], t=it["t"], kind=it["kind"],
+                                                   count=it["count"], names=it["names"])
+                                              for it in event_items(d)]))
+    fig.savefig(path, dpi=dpi, metadata={"deploysim-axes": meta})
     plt.close(fig)
 
 
 def plot_momentum(d, out):
     t, H = d["time"], d["H_B"]
-    fig, ax = plt.subplots(figsize=(10, 4.8))
+    fig, (ax,) = figure(d, [3.9])
     shade_stages(ax, d)
     ev = mark_events(ax, d)
     for i, c in enumerate(("tab:red", "tab:green", "tab:blue")):
@@ -288,20 +412,21 @@ def plot_momentum(d, out):
 
 def plot_angular_velocity(d, out):
     t, w = d["time"], d["w_NB_B"]
-    fig, ax = plt.subplots(figsize=(10, 4.8))
+    fig, (ax,) = figure(d, [3.9])
     shade_stages(ax, d)
     ev = mark_events(ax, d)
+    # Rates in deg/s on every plot (the hinge rates too).
     for i, c in enumerate(("tab:red", "tab:green", "tab:blue")):
-        ax.plot(t, w[:, i], color=c, lw=1.0, label=rf"$\omega_{{{'xyz'[i]}}}$")
+        ax.plot(t, np.degrees(w[:, i]), color=c, lw=1.0, label=rf"$\omega_{{{'xyz'[i]}}}$")
     ax.set_xlabel("time [s]")
-    ax.set_ylabel(r"angular velocity $\omega_{NB}^B$ [rad/s]")
+    ax.set_ylabel(r"angular velocity $\omega_{NB}^B$ [deg/s]")
     legend(ax, d, ev, loc="upper right")
     finish(fig, ax, os.path.join(out, "angular_velocity.png"), "body angular velocity", d)
 
 
 def plot_spin_axis(d, out):
     t = d["time"]
-    fig, ax = plt.subplots(figsize=(10, 4.8))
+    fig, (ax,) = figure(d, [3.9])
     shade_stages(ax, d)
     ev = mark_events(ax, d)
     ax.plot(t, np.degrees(d["spin_axis_angle"]), color="tab:purple", lw=1.2,
@@ -328,7 +453,7 @@ def plot_spin_axis(d, out):
 
 def plot_inertia(d, out):
     t, m = d["time"], d["principal_moments"]
-    fig, ax = plt.subplots(figsize=(10, 4.8))
+    fig, (ax,) = figure(d, [3.9])
     shade_stages(ax, d)
     ev = mark_events(ax, d)
     for i, (c, n) in enumerate(zip(("tab:blue", "tab:green", "tab:red"),
@@ -354,7 +479,7 @@ def plot_energy(d, out):
     T, V, E = d["energy"], d["energy_spring"], d["energy_total"]
     springs = bool(np.any(V != 0.0))
     if not springs and not d["events"]:
-        fig, ax = plt.subplots(figsize=(10, 4.8))
+        fig, (ax,) = figure(d, [3.9], key=False)
         shade_stages(ax, d)
         ax.plot(t, T, color="tab:blue", lw=1.2, label="kinetic $T$")
         if np.any(d["energy_rigid"] != T):
@@ -369,8 +494,7 @@ def plot_energy(d, out):
         ax.set_ylabel("energy [J]")
         finish(fig, ax, os.path.join(out, "energy.png"), "kinetic energy (no springs)", d)
         return
-    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(10, 6.4), sharex=True,
-                                  gridspec_kw=dict(height_ratios=[2, 1]))
+    fig, (ax, ax2) = figure(d, [3.5, 1.9], sharex=True)
     for a in (ax, ax2):
         shade_stages(a, d, label=a is ax)
     ev = mark_events(ax, d)
@@ -492,13 +616,11 @@ def plot_hinge_angles(d, out):
     rates = d["hinge_rates"]
     xlim = hinge_activity_window(d)
     rows = 2 if rates is not None else 1
-    fig, axes = plt.subplots(rows, 1, figsize=(10, 3.4 + 2.6 * rows), sharex=True,
-                             squeeze=False)
-    axes = axes[:, 0]
+    fig, axes = figure(d, [3.0] + [2.4] * (rows - 1), sharex=True)
     cmap = plt.get_cmap("tab10")
     for a in axes:
         shade_stages(a, d, label=a is axes[0], xlim=xlim)
-    ev = mark_events(axes[0], d, xlim=xlim)
+    ev = mark_events(axes[0], d)
     for a in axes[1:]:
         mark_events(a, d, labels=False)
     # Rotors (a hinge that turns more than a full turn) would flatten every other curve:
@@ -588,38 +710,67 @@ def separatrix_circles(J, n=400):
     return circles
 
 
+def stage_colors(n):
+    """n colours for the stages, as different as they come (tab10, tab20, then a ramp)."""
+    if n <= 10:
+        return [plt.get_cmap("tab10")(k) for k in range(n)]
+    if n <= 20:
+        return [plt.get_cmap("tab20")(k) for k in range(n)]
+    return [plt.get_cmap("viridis")(k / (n - 1)) for k in range(n)]
+
+
+POLHODE_COLUMNS = 5  # small multiples per row
+
+
 def plot_polhode(d, out):
+    """Top row: the polhode H_B/|H_B| of the whole run on the momentum sphere and its three
+    plane projections, a colour per stage (short stages drawn over long ones, each stage's
+    start a dot), with the separatrix of the final inertia. Below, small multiples: one
+    panel per stage, zoomed to it and seen along the body axis nearest its mean momentum,
+    the other stages in grey and the separatrix of the inertia at that stage's end; a stage
+    that stays near one axis (a stowed spin, a slow deployment) is a point on the sphere
+    and only its own zoomed panel shows its shape."""
     H = d["H_B"]
     h = H / np.linalg.norm(H, axis=1)[:, None]
     t = d["time"]
-    fig = plt.figure(figsize=(12, 9))
-    ax3 = fig.add_subplot(2, 2, 1, projection="3d")
+    n_st = len(d["stage_end"])
+    # A sample on a stage boundary belongs to both stages: the curves join.
+    sel = [np.nonzero((t >= a) & (t <= b))[0] for a, b in zip(d["stage_begin"], d["stage_end"])]
+    shown = [k for k in range(n_st) if len(sel[k])]
+    colors = stage_colors(n_st)
+    dec = time_decimals(d)
+    labels = [f"{k + 1}. {d['stage_name'][k]} ({d['stage_begin'][k]:.{dec}f}\u2013"
+              f"{d['stage_end'][k]:.{dec}f} s)" for k in range(n_st)]
+    sm_rows = int(np.ceil(len(shown) / POLHODE_COLUMNS))
+    fig = plt.figure(figsize=(14, 3.1 + 3.0 * sm_rows + 0.5))
+    outer = fig.add_gridspec(1 + sm_rows, 1, height_ratios=[3.1] + [3.0] * sm_rows)
+    # (an empty column right of the sphere: its z label reaches into the next panel)
+    top = outer[0].subgridspec(1, 6, width_ratios=[1.15, 0.15, 1, 1, 1, 1.0], wspace=0.5)
+    ax3 = fig.add_subplot(top[0], projection="3d")
     u, v = np.mgrid[0:2 * np.pi:30j, 0:np.pi:16j]
     ax3.plot_wireframe(np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v), color="0.85",
                        lw=0.4)
-    cmap = plt.get_cmap("tab10")
-    stage_idx = np.clip(np.searchsorted(d["stage_end"], t, side="left"), 0, len(d["stage_end"]) - 1)
-    circles = separatrix_circles(d["J_B"][-1])
     planes = [(0, 1), (1, 2), (0, 2)]
-    axes2 = [fig.add_subplot(2, 2, k + 2) for k in range(3)]
-    for k in range(len(d["stage_end"])):
-        sel = stage_idx == k
-        if not np.any(sel):
-            continue
-        lab = d["stage_name"][k]
-        ax3.plot(h[sel, 0], h[sel, 1], h[sel, 2], color=cmap(k % 10), lw=0.8, label=lab)
+    axes2 = [fig.add_subplot(top[k + 2]) for k in range(3)]
+    # Long stages first: a short one (a few samples) drawn over them stays visible.
+    for z, k in enumerate(sorted(shown, key=lambda k: -len(sel[k]))):
+        s = sel[k]
+        ax3.plot(h[s, 0], h[s, 1], h[s, 2], color=colors[k], lw=1.0 + 0.4 * (z > 0))
+        ax3.scatter(*h[s[0]], color=colors[k], s=14, depthshade=False)
         for ax, (i, j) in zip(axes2, planes):
-            ax.plot(h[sel, i], h[sel, j], color=cmap(k % 10), lw=0.8, label=lab)
-    for c_i, c in enumerate(circles):
-        lab = "separatrix (final J)" if c_i == 0 else None
-        ax3.plot(c[:, 0], c[:, 1], c[:, 2], color="k", lw=0.8, ls="--", label=lab)
+            ax.plot(h[s, i], h[s, j], color=colors[k], lw=1.0 + 0.4 * (z > 0), zorder=3 + z)
+            ax.plot(h[s[0], i], h[s[0], j], "o", color=colors[k], ms=4, mec="k", mew=0.4,
+                    zorder=30 + z)
+    circles = separatrix_circles(d["J_B"][-1])
+    for c in circles:
+        ax3.plot(c[:, 0], c[:, 1], c[:, 2], color="k", lw=0.8, ls="--")
         for ax, (i, j) in zip(axes2, planes):
-            ax.plot(c[:, i], c[:, j], color="k", lw=0.6, ls="--", label=lab)
-    ax3.set_xlabel(r"$H_x/|H|$")
-    ax3.set_ylabel(r"$H_y/|H|$")
-    ax3.set_zlabel(r"$H_z/|H|$")
-    ax3.set_title("polhode on the momentum sphere", fontsize=9)
-    ax3.legend(fontsize=7, loc="upper left")
+            ax.plot(c[:, i], c[:, j], color="k", lw=0.6, ls="--", zorder=2)
+    ax3.set_xlabel(r"$H_x/|H|$ [-]", fontsize=8)
+    ax3.set_ylabel(r"$H_y/|H|$ [-]", fontsize=8)
+    ax3.set_zlabel(r"$H_z/|H|$ [-]", fontsize=8)
+    ax3.tick_params(labelsize=7)
+    ax3.set_title("on the momentum sphere", fontsize=9)
     for ax, (i, j) in zip(axes2, planes):
         ax.set_xlabel(rf"$H_{'xyz'[i]}/|H|$ [-]")
         ax.set_ylabel(rf"$H_{'xyz'[j]}/|H|$ [-]")
@@ -628,11 +779,55 @@ def plot_polhode(d, out):
         ax.set_ylim(-1.05, 1.05)
         ax.grid(True, lw=0.3, alpha=0.6)
         ax.set_title(f"projection on the {'xyz'[i]}{'xyz'[j]} plane", fontsize=9)
-    axes2[0].legend(fontsize=7, loc="lower left")
-    fig.suptitle(f"{d['name']}: polhodes (normalized body momentum)", fontsize=11)
+    handles = [Line2D([], [], color=colors[k], lw=1.6, marker="o", ms=4, mec="k", mew=0.4,
+                      label=labels[k]) for k in shown]
+    if circles:
+        handles.append(Line2D([], [], color="k", lw=0.8, ls="--",
+                              label="separatrix (final J; below: J at each stage's end)"))
+    handles.append(Line2D([], [], color="none", label="dot: a stage's start"))
+    axes2[2].legend(handles=handles, fontsize=7.5, loc="upper left", bbox_to_anchor=(1.08, 1.0),
+                    borderaxespad=0.0, frameon=False)
+
+    # The small multiples.
+    for m, k in enumerate(shown):
+        row, col = divmod(m, POLHODE_COLUMNS)
+        sub = outer[1 + row].subgridspec(1, POLHODE_COLUMNS, wspace=0.45)
+        ax = fig.add_subplot(sub[col])
+        s = sel[k]
+        mean = h[s].mean(axis=0)
+        look = int(np.argmax(np.abs(mean)))  # seen along this body axis
+        i, j = [a for a in range(3) if a != look]
+        for o in shown:
+            if o != k:
+                ax.plot(h[sel[o], i], h[sel[o], j], color="0.8", lw=0.6, zorder=1)
+        ang = np.linspace(0, 2 * np.pi, 361)
+        ax.plot(np.cos(ang), np.sin(ang), color="0.6", lw=0.6, zorder=1)
+        for c in separatrix_circles(d["J_B"][s[-1]]):
+            ax.plot(c[:, i], c[:, j], color="k", lw=0.6, ls="--", zorder=2)
+        ax.plot(h[s, i], h[s, j], color=colors[k], lw=1.3, zorder=3)
+        ax.plot(h[s[0], i], h[s[0], j], "o", color=colors[k], ms=5, mec="k", mew=0.5, zorder=4)
+        ax.plot(h[s[-1], i], h[s[-1], j], "s", color=colors[k], ms=4.5, mec="k", mew=0.5,
+                zorder=4)
+        # Zoomed to the stage (at least +-0.03 of the unit sphere, at most all of it).
+        lo, hi = h[s][:, [i, j]].min(axis=0), h[s][:, [i, j]].max(axis=0)
+        mid, half = (lo + hi) / 2, max(0.6 * np.max(hi - lo), 0.03)
+        half = min(half, 1.08)
+        mid = np.clip(mid, -1.08 + half, 1.08 - half)
+        ax.set_xlim(mid[0] - half, mid[0] + half)
+        ax.set_ylim(mid[1] - half, mid[1] + half)
+        ax.set_aspect("equal")
+        ax.grid(True, lw=0.3, alpha=0.6)
+        ax.tick_params(labelsize=7)
+        ax.set_xlabel(rf"$H_{'xyz'[i]}/|H|$ [-]", fontsize=8, labelpad=1)
+        ax.set_ylabel(rf"$H_{'xyz'[j]}/|H|$ [-]", fontsize=8, labelpad=1)
+        sign = "+" if mean[look] >= 0 else "\u2212"
+        ax.set_title(f"{k + 1}. {d['stage_name'][k]}\n{d['stage_begin'][k]:.{dec}f}\u2013"
+                     f"{d['stage_end'][k]:.{dec}f} s, seen from {sign}{'xyz'[look]}",
+                     fontsize=8, color=colors[k])
+    fig.suptitle(f"{d['name']}: polhode (normalized body momentum), a colour per stage; "
+                 "below, each stage zoomed (square: its end)", fontsize=11)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "polhode.png"), dpi=110)
-    plt.close(fig)
+    save(fig, os.path.join(out, "polhode.png"), d, dpi=100)
 
 
 def main(argv):
