@@ -9,7 +9,7 @@ RESULT.h5 is a trajectory or a cross-check file (then both models side by side).
 video shows the run from --t0 to --t1 (default: all of it) in --seconds at --fps: the
 body (hub and panels at their hinge angles, or the equivalent box of a tensors model)
 with its axes (x red, y green, z blue), the fixed h_N (gold, pointing up), the spin axis
-and its trail (magenta), flips (white dots), hinge releases (green) and latches
+and its trail over the last minute (magenta), flips (white dots), hinge releases (green) and latches
 (orange) and, beside it, H_B / |H| and the angle
 between the spin axis and h_N with a moving marker, and the stage timeline (danger window
 shaded). --gif also writes OUT.gif (same frames, 256-colour palette).
@@ -98,6 +98,8 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
     offsets = [np.array([0, (si - (nS - 1) / 2) * spacing, 0]) for si in range(nS)]
     _, kinds = scene.part_names(run)
     sB = run["spin_axis_B"]
+    # Releases and latches are marked; stop impacts come in bursts and are not.
+    events = [e for e in run["events"] if e["kind"] != "stop"]
     ts = run["time"]
 
     fig = plt.figure(figsize=(w / dpi, h / dpi), dpi=dpi, facecolor="#10141c")
@@ -150,7 +152,7 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
         for sp in c.spines.values():
             sp.set_color("#334")
         c.set_xlim(ts[0], ts[-1])
-        for e in run["events"]:
+        for e in events:
             c.axvline(e["t"], color="#33cc99" if e["kind"] == "release" else "#ff9933", lw=0.6)
         for s in run["sides"]:
             for tf in s["flips"]:
@@ -204,7 +206,9 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
                 line.set_data_3d(*np.array([o, o + e]).T)
             s_tip = o + 1.25 * L * (M @ sB)
             spin_lines[si].set_data_3d(*np.array([o, s_tip]).T)
-            tip = run["sides"][si]["_tip"][: k + 1]
+            # The trail: the last TRAIL_SECONDS of the tip's path.
+            k0 = min(int(np.searchsorted(ts, t - scene.TRAIL_SECONDS)), k)
+            tip = run["sides"][si]["_tip"][k0: k + 1]
             trails[si].set_data_3d(tip[:, 0], tip[:, 1], tip[:, 2])
             fl = [tf for tf in run["sides"][si]["flips"] if tf <= t]
             if fl:
@@ -214,7 +218,7 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
             else:
                 flip_pts[si].set_data_3d([], [], [])
             for kind, pts_line in event_pts[si].items():
-                te = [e["t"] for e in run["events"] if e["t"] <= t and
+                te = [e["t"] for e in events if e["t"] <= t and
                       (e["kind"] == "release") == (kind == "release")]
                 ek = np.clip(np.searchsorted(ts, te), 0, len(ts) - 1).astype(int)
                 ep = run["sides"][si]["_tip"][ek] if len(te) else np.zeros((0, 3))
@@ -230,7 +234,7 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
             lines.append((s["label"] + ": " if nS > 1 else "") + f"flips {nf}/{len(s['flips'])}")
         hud.set_text("\n".join(lines))
         msg = ""
-        for e in run["events"]:
+        for e in events:
             if e["t"] <= t < e["t"] + win:
                 msg = f"{e['kind'].upper()} {e['panel']}"
         for s in run["sides"]:
@@ -300,8 +304,8 @@ def main(argv):
         render(run, tmp, a.fps, a.seconds, t0, t1, a.size)
         if a.gif:
             make_gif(tmp, tmp_gif, a.fps)
-            os.replace(tmp_gif, os.path.splitext(a.output)[0] + ".gif")
-        os.replace(tmp, a.output)
+            scene.publish(tmp_gif, os.path.splitext(a.output)[0] + ".gif")
+        scene.publish(tmp, a.output)
     except scene.SceneError as e:
         print(f"animate: {e}", file=sys.stderr)
         return 1

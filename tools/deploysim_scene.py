@@ -35,6 +35,33 @@ ROTATION_STEP = math.radians(10.0)
 HINGE_STEP = math.radians(1.0)
 J_STEP = 0.005
 MAX_GAP = 1.0 / 500
+# The spin-axis trail shows the last TRAIL_SECONDS of the tip's path (the viewer's default,
+# fading with age; the animation's): a whole run's trail fills a hemisphere.
+TRAIL_SECONDS = 60.0
+# A hinge moves between two samples when its angle changes by more than this [rad].
+HINGE_MOTION = 1e-9
+# analysis::kDegenerateMoments: two principal moments closer than this (relative to the
+# largest) make the spin axis's role degenerate.
+DEGENERATE_MOMENTS = 1e-9
+# The maxima a cross-check file states (root attributes, SI units), by attribute name:
+# (label, unit in the file, unit shown, factor from the file's unit to the shown one).
+CROSSCHECK_MAXIMA = {
+    "max_H_B_relative_difference": ("largest |H_B difference| / |H_B(t0)|", "1", "", 1.0),
+    "max_attitude_difference": ("largest attitude difference", "rad", "deg",
+                                180.0 / math.pi),
+    "max_w_difference": ("largest hub angular-velocity difference", "rad/s", "deg/s",
+                         180.0 / math.pi),
+    "max_flip_time_difference": ("largest flip-time difference", "s", "s", 1.0),
+}
+
+
+def publish(tmp, out):
+    """Renames the finished temporary file tmp onto out with the mode an ordinary file
+    would get, 0666 less the umask (mkstemp creates it 0600)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(tmp, 0o666 & ~mask)
+    os.replace(tmp, out)
 
 
 class SceneError(Exception):
@@ -309,17 +336,22 @@ def _read_crosscheck(path, model_path):
             sides.append(dict(label=label, q=_need(f, side + "/q_NB", path, what),
                               H=_need(f, side + "/H_B", path, what),
                               h_N=_need(f, side + "/h_N", path, what),
+                              w=f[side + "/w_NB_B"][()] if side + "/w_NB_B" in f else None,
                               flips=f[side + "/flip_time"][()] if side + "/flip_time" in f
                               else np.zeros(0)))
         run["hinge"] = f["simbody/hinge_angles"][()] if "simbody/hinge_angles" in f else None
+        run["hinge_rates"] = (f["simbody/hinge_rates"][()] if "simbody/hinge_rates" in f
+                              else None)
         prof, model_text = _model_from_profile(_attr(f, "profile_text"),
                                                _attr(f, "profile_source"), path) \
             if model_path is None else (None, open(model_path).read())
         run["J"] = None
+        # No stage table, danger windows or hinge events in a cross-check file: the stages
+        # and danger windows are derived from the motion (crosscheck_stages), once the
+        # geometry is known.
         run["stages"], run["danger"], run["events"] = [], [], []
-        run["attrs"] = {k: _text(f.attrs[k]) for k in (
-            "max_H_B_relative_difference", "max_attitude_difference",
-            "max_flip_time_difference") if k in f.attrs}
+        run["outcome"] = None
+        run["attrs"] = {k: float(f.attrs[k]) for k in CROSSCHECK_MAXIMA if k in f.attrs}
     return run, t, sides, model_text, prof
 
 
@@ -330,9 +362,10 @@ def _read_trajectory(path, model_path):
         tr = results.read_trajectory(path)
         t = tr["time"]
         sides = [dict(label=tr.profile_name, q=tr["q_NB"], H=tr["H_B"], h_N=tr["h_N"],
-                      flips=tr.flip_time, angle=tr["spin_axis_angle"])]
+                      w=tr.get("w_NB_B"), flips=tr.flip_time, angle=tr["spin_axis_angle"])]
         run = dict(path=path, kind="trajectory", profile_name=tr.profile_name,
-                   J=tr["J_B"], hinge=tr.get("hinge_angles"), attrs={})
+                   J=tr["J_B"], hinge=tr.get("hinge_angles"),
+                   hinge_rates=tr.get("hinge_rates"), attrs={})
         model_text = open(model_path).read() if model_path is not None \
             else tr.attr("model_text")
         run["stages"] = [dict(name=s["name"], t0=float(s["t_begin"]), t1=float(s["t_end"]),
@@ -343,9 +376,13 @@ def _read_trajectory(path, model_path):
         run["outcome"] = None if o is None else dict(
             headline=o["headline"], name=o["name"], cls=o["class"],
             phase_begin=o["phase_begin"], transition_time=o["transition_time"])
-        # Stop impacts come in bursts: not marked.
-        run["events"] = [dict(t=float(e["time"]), kind=e["kind"], panel=e["panel_name"])
-                         for e in tr.hinge_events if e["kind"] != "stop"]
+        # Every row of the hinge event table (stop impacts too: the viewer groups their
+        # bursts; the 3D markers and banners leave them out). Angles and rates in SI.
+        run["events"] = [dict(t=float(e["time"]), kind=e["kind"], panel=e["panel_name"],
+                              angle=float(e["angle"]), rate_before=float(e["rate_before"]),
+                              rate_after=float(e["rate_after"]),
+                              impulse=float(e["impulse"]))
+                         for e in tr.hinge_events]
     except results.TrajectoryError as e:
         raise SceneError(str(e)) from None
     return run, t, sides, model_text, None
@@ -392,7 +429,77 @@ def read_run(path, model_path=None):
         if "angle" not in s:
             Hn = s["H"] / np.linalg.norm(s["H"], axis=1)[:, None]
             s["angle"] = np.arccos(np.clip(Hn @ s_B, -1, 1))
+    if run["kind"] == "crosscheck":
+        run["stages"], run["danger"] = crosscheck_stages(run)
     return run
+
+
+# --- derived tables (cross-check files) ---------------------------------------------------
+def axis_role(J, s_B):
+    """The role of the principal axis of J nearest s_B (analysis::LocateSpinAxis: minor,
+    intermediate, major, or degenerate within DEGENERATE_MOMENTS of the largest moment)."""
+    lam, V = np.linalg.eigh(0.5 * (J + J.T))
+    i = int(np.argmax(np.abs(V.T @ s_B)))
+    low = lam[1] - lam[0] <= DEGENERATE_MOMENTS * lam[2]
+    high = lam[2] - lam[1] <= DEGENERATE_MOMENTS * lam[2]
+    if (i == 1 and (low or high)) or (i == 0 and low) or (i == 2 and high):
+        return "degenerate"
+    return ("minor", "intermediate", "major")[i]
+
+
+def moving_span(run):
+    """(first, last) time at which a hinge angle changes (more than HINGE_MOTION rad
+    between samples), or None: no hinges, or none moves."""
+    h = run["hinge"]
+    if h is None or len(h) < 2:
+        return None
+    moving = np.nonzero(np.abs(np.diff(h, axis=0)).max(axis=1) > HINGE_MOTION)[0]
+    if len(moving) == 0:
+        return None
+    t = run["time"]
+    return float(t[moving[0]]), float(t[moving[-1] + 1])
+
+
+def crosscheck_stages(run):
+    """Stages and danger windows of a cross-check run, derived from its motion (the file
+    has neither table): the span before, during and after the hinges move (Simbody's hinge
+    angles), each named for its spin-axis role at its end as in a trajectory's stage
+    table; danger windows where the spin axis is the intermediate principal axis of J_B(t)
+    (as /danger_windows: first and last sample)."""
+    t = run["time"]
+    n = len(t)
+    s_B = run["spin_axis_B"]
+    if run["geometry"] is not None:
+        step = max(1, n // 2000)
+        idx = np.unique(np.r_[np.arange(0, n, step), n - 1])
+        roles = [axis_role(run["geometry"].inertia(run["hinge"][i])[0], s_B) for i in idx]
+    else:
+        idx = np.array([0, n - 1])
+        roles = [axis_role(run["J"][i], s_B) for i in idx]
+    tt = t[idx]
+    span = moving_span(run)
+    if span is None:
+        cuts = [(float(t[0]), float(t[-1]), "whole run")]
+    else:
+        cuts = [(float(t[0]), span[0], "stowed"), (span[0], span[1], "deploying"),
+                (span[1], float(t[-1]), "deployed")]
+
+    def role_at(x):
+        return roles[min(int(np.searchsorted(tt, x, side="right")) - 1, len(roles) - 1)]
+
+    stages = [dict(name=name, t0=a, t1=b, role=role_at(b), derived=True)
+              for a, b, name in cuts if b > a]
+    danger, start = [], None
+    for x, r in zip(tt, roles):
+        if r == "intermediate" and start is None:
+            start = float(x)
+        if r != "intermediate" and start is not None:
+            danger.append([start, last])
+            start = None
+        last = float(x)
+    if start is not None:
+        danger.append([start, float(tt[-1])])
+    return stages, danger
 
 
 # --- what to draw -------------------------------------------------------------------------

@@ -8,8 +8,8 @@ RESULT.h5 is a trajectory (`deploysim simulate`) or a cross-check file (`deploys
 crosscheck`: the reduced model and Simbody side by side). The page works offline from a
 local disk: three.js r111 and its OrbitControls from Debian's libjs-three are inlined, the
 run's samples are decimated (tools/deploysim_scene.py) and embedded as JSON. docs/viewer.md
-describes the scene, the controls and the page's test hooks (window.deploysimReady,
-window.deploysimSetTime(t)).
+describes the scene, the controls, the event list and the page's test hooks
+(window.deploysimReady, window.deploysimSetTime(t), window.deploysimEvents, ...).
 
 Exit status: 0 written; 1 bad input (one line on stderr, no output file written);
 2 bad usage.
@@ -32,6 +32,21 @@ TEMPLATE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "view_templa
 # Pose keyframes: a drawn box is re-posed only where a hinge angle (rad) or, for the
 # equivalent box, J_B (relative) changes by more than this between kept samples.
 POSE_CHANGE = 1e-9
+# Stop impacts of one panel less than this apart [s] are one row of the event list (a
+# panel rattling on its stop).
+STOP_BURST_GAP = 1.0
+# The deployment window (the hinge chart's second view): the span in which a hinge moves,
+# widened by this fraction of its length on each side, at least DEPLOY_PAD_MIN [s].
+DEPLOY_PAD = 0.15
+DEPLOY_PAD_MIN = 1.0
+# Default playback speed: the whole run in about this many seconds, rounded to one of the
+# page's speeds, never slower than real time.
+PLAY_SECONDS = 60.0
+RAD_S_TO_RPM = 60.0 / (2.0 * math.pi)
+
+WHAT = {"release": "released", "latch": "latched", "jam": "jammed",
+        "rest": "comes to rest on its stop", "lift-off": "lifts off its stop",
+        "stick": "sticks (friction holds it)", "slip": "slips (friction lets go)"}
 
 
 def _r(a, digits):
@@ -58,6 +73,109 @@ def _pose_keyframes(run, idx, scale):
     return out_t, out
 
 
+def _deg(x):
+    return math.degrees(x)
+
+
+def _f1(x):
+    """x with one decimal, without a minus sign on a rounded zero."""
+    t = f"{x:.1f}"
+    return "0.0" if t == "-0.0" else t
+
+
+def event_list(run):
+    """The page's event list, in time order: every row of the hinge event table (a burst
+    of stop impacts of one panel as one row), the flips, and the outcome's transition.
+    Each: t [s], t_last [s] (the burst's last impact, else t), kind, panel, side and text
+    (units stated). A cross-check file has no hinge event table: its rows are when each
+    hinge starts and stops moving (kinds "moves" and "halts")."""
+    rows, burst = [], {}
+    for e in run["events"]:
+        p, k = e["panel"], e["kind"]
+        a, rb, ra = _deg(e["angle"]), _deg(e["rate_before"]), _deg(e["rate_after"])
+        if k == "stop":
+            r = burst.get(p)
+            if r is not None and e["t"] - r["t_last"] < STOP_BURST_GAP:
+                r["count"] += 1
+                r["t_last"] = e["t"]
+                r["text"] = (f"{p}: {r['count']} stop impacts at {_f1(a)} deg, "
+                             f"{r['t']:.2f}–{e['t']:.2f} s, the first at "
+                             f"{_f1(r['first_rate'])} deg/s")
+                continue
+            r = dict(t=e["t"], t_last=e["t"], kind="stop", panel=p, side=None, count=1,
+                     first_rate=abs(rb),
+                     text=f"{p} hits its stop at {_f1(a)} deg, {_f1(abs(rb))} deg/s "
+                          f"(rebounds at {_f1(abs(ra))} deg/s)")
+            burst[p] = r
+            rows.append(r)
+            continue
+        burst.pop(p, None)
+        text = f"{p} {WHAT.get(k, k)} at {_f1(a)} deg"
+        if k in ("latch", "jam", "stick"):
+            text += f", {_f1(abs(rb))} deg/s"
+            if e["impulse"]:
+                text += f" (impulse {abs(e['impulse']):.3g} N m s)"
+        rows.append(dict(t=e["t"], t_last=e["t"], kind=k, panel=p, side=None, count=1,
+                         text=text))
+    if run["kind"] == "crosscheck" and run["geometry"] is not None:
+        # A cross-check file has no hinge event table: when each hinge starts and stops
+        # moving, from Simbody's hinge angles.
+        t, h = run["time"], run["hinge"]
+        for p, name in enumerate(run["geometry"].names):
+            moving = np.nonzero(np.abs(np.diff(h[:, p])) > scene.HINGE_MOTION)[0]
+            if len(moving) == 0:
+                continue
+            a, b = moving[0], moving[-1] + 1
+            rows.append(dict(t=float(t[a]), t_last=float(t[a]), kind="moves", panel=name,
+                             side=None, count=1,
+                             text=f"{name} starts to move from {_f1(_deg(h[a, p]))} deg "
+                                  "(Simbody's hinge angle)"))
+            rows.append(dict(t=float(t[b]), t_last=float(t[b]), kind="halts", panel=name,
+                             side=None, count=1,
+                             text=f"{name} stops moving at {_f1(_deg(h[b, p]))} deg "
+                                  "(Simbody's hinge angle)"))
+    two = len(run["sides"]) > 1
+    for si, s in enumerate(run["sides"]):
+        n = len(s["flips"])
+        for i, tf in enumerate(s["flips"]):
+            rows.append(dict(t=float(tf), t_last=float(tf), kind="flip", panel=None, side=si,
+                             count=1, text=f"flip {i + 1} of {n}"
+                             + (f" ({s['label']})" if two else "")
+                             + ": the spin axis passes 90 deg from h_N"))
+    o = run.get("outcome")
+    if o and o.get("transition_time") is not None:
+        tt = float(o["transition_time"])
+        rows.append(dict(t=tt, t_last=tt, kind="transition", panel=None, side=None, count=1,
+                         text=f"{o['name']}: the spin axis passes 45 deg from its start "
+                              "for the last time"))
+    rows.sort(key=lambda r: (r["t"], r["kind"], r["side"] or 0))
+    for r in rows:
+        r.pop("first_rate", None)
+        r["t"], r["t_last"] = round(r["t"], 6), round(r["t_last"], 6)
+    return rows
+
+
+def deployment_window(run):
+    """[t0, t1] around the span in which a hinge moves (the hinge chart's second view), or
+    None."""
+    span = scene.moving_span(run)
+    if span is None:
+        return None
+    pad = max(DEPLOY_PAD * (span[1] - span[0]), DEPLOY_PAD_MIN)
+    t = run["time"]
+    return [max(float(t[0]), span[0] - pad), min(float(t[-1]), span[1] + pad)]
+
+
+def footer(run):
+    """The cross-check file's maxima as text with units and three significant digits."""
+    out = []
+    for k, (label, _, unit, factor) in scene.CROSSCHECK_MAXIMA.items():
+        if k in run["attrs"]:
+            v = run["attrs"][k] * factor
+            out.append(f"{label}: {v:.3g}" + (f" {unit}" if unit else ""))
+    return out
+
+
 def build_data(run, title=None):
     """The page's JSON: decimated samples, pose keyframes and the run's annotations."""
     idx = scene.decimate(run)
@@ -70,14 +188,20 @@ def build_data(run, title=None):
     for k, s in enumerate(run["sides"]):
         q = s["q"][idx] / np.linalg.norm(s["q"][idx], axis=1)[:, None]
         h = s["h_N"][0] / np.linalg.norm(s["h_N"][0])
+        # The hub's rate |w_NB_B| in rpm, where the file has it.
+        rpm = (None if s.get("w") is None
+               else _r(np.linalg.norm(s["w"][idx], axis=1) * RAD_S_TO_RPM, 4))
         sides.append(dict(label=s["label"], q=_r(q, 6), H=_r(s["H"][idx], 8),
                           Hnorm=float(np.linalg.norm(s["H"][0])),
                           angle=_r(np.degrees(s["angle"][idx]), 3), hN=_r(h, 6),
-                          flips=_r(s["flips"], 6)))
+                          flips=_r(s["flips"], 6), rpm=rpm))
     n_sides = len(sides)
     hinge = None
     if run["geometry"] is not None:
-        hinge = dict(names=run["geometry"].names, deg=_r(np.degrees(run["hinge"][idx]), 3))
+        rates = run.get("hinge_rates")
+        hinge = dict(names=run["geometry"].names, deg=_r(np.degrees(run["hinge"][idx]), 3),
+                     rate=None if rates is None else _r(np.degrees(rates[idx]), 3),
+                     window=deployment_window(run))
     if run["geometry"] is not None:
         body = "hub and panels at their hinge angles (model %s)" % run["model_name"]
     else:
@@ -92,8 +216,9 @@ def build_data(run, title=None):
         kept=len(idx), sides=sides, hinge=hinge, parts=dict(names=names, kinds=kinds),
         poses=dict(t=pose_t, data=pose, stride=10 * len(names)),
         spinAxisB=_r(run["spin_axis_B"], 6), extent=L, stages=run["stages"],
-        danger=run["danger"], events=run["events"], attrs=run["attrs"],
-        outcome=run.get("outcome"),
+        danger=run["danger"], events=event_list(run), foot=footer(run),
+        outcome=run.get("outcome"), playSeconds=PLAY_SECONDS,
+        trailSeconds=scene.TRAIL_SECONDS,
         spacing=2.6 * L if n_sides > 1 else 0.0)
 
 
@@ -118,13 +243,13 @@ def write_html(data, out, three_dir=THREE_DIR):
     blob = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
     page = page.replace("/*@THREE@*/", js, 1).replace("@DATA@", blob, 1)
     page = page.replace("@TITLE@", data["title"].replace("&", "&amp;").replace("<", "&lt;"))
-    # Atomic: a temporary file in the same folder, renamed into place.
+    # Atomic: a temporary file in the same folder, renamed into place with the usual mode.
     d = os.path.dirname(os.path.abspath(out))
     fd, tmp = tempfile.mkstemp(prefix=".view-", suffix=".html", dir=d)
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(page)
-        os.replace(tmp, out)
+        scene.publish(tmp, out)
     except BaseException:
         os.unlink(tmp)
         raise

@@ -1,14 +1,20 @@
 #!/usr/bin/python3
-"""The 3D viewer (tools/view.py) and the animation (tools/animate.py), issue 12.
+"""The 3D viewer (tools/view.py) and the animation (tools/animate.py).
 
 Usage: viewer_test.py DEPLOYSIM SOURCE_DIR ARTEFACT_DIR
 Runs deploysim on deployment_profiles/smallsat_spring_deploy.yaml (and wing_nut.yaml, and
 a short cross-check), writes the pages and a short MP4, and checks them in Debian's
-headless Chromium with no network. Screenshots and pages are kept in ARTEFACT_DIR (look
-at them: spring_t30.png before the release, spring_t200.png mid-flip).
+headless Chromium with no network: the event list and its jumps, the playback slowing
+down around events, the fading trail, the layout at 1024x640 and 1920x1080, the files'
+modes. Screenshots and pages are kept in ARTEFACT_DIR (look at them: spring_t30.png before
+the release, spring_t200.png mid-flip, spring_WxH_swing.png during the first wing's swing,
+spring_WxH_after.png after the deployment, crosscheck_WxH.png).
 """
 import json
+import math
+import os
 import pathlib
+import re
 import subprocess
 import sys
 import time
@@ -29,8 +35,47 @@ MIN_SCENE_STDDEV = 0.02      # grey-level spread of a scene that is not blank (0
 MAX_DRAWN_ATTITUDE_ERROR_DEG = 0.5   # slerp between kept samples vs every sample (0.04)
 
 
-def run(*args, **kw):
-    return subprocess.run([str(a) for a in args], capture_output=True, text=True, **kw)
+# Layouts the page must fit (screenshots of each).
+SIZES = ((1024, 640), (1920, 1080))
+MAX_TRAIL_FRACTION = 0.5     # trail pixels of the default fading trail vs the whole run's
+
+
+def run(*args, umask=None, **kw):
+    pre = (lambda: os.umask(umask)) if umask is not None else None
+    return subprocess.run([str(a) for a in args], capture_output=True, text=True,
+                          preexec_fn=pre, **kw)
+
+
+def mode(path):
+    return os.stat(path).st_mode & 0o777
+
+
+def open_at(browser, path, size):
+    """Opens path in a tab of the given size (width, height)."""
+    browser.width, browser.height = size
+    return browser.open(pathlib.Path(path).as_uri())
+
+
+# A layout check in the page: every box that must stay inside its panel, and whether the
+# side panel and the bar below the 3D view hold their content without scrolling.
+LAYOUT_JS = """(() => {
+  const r = (e) => e.getBoundingClientRect();
+  const inside = (a, b) => a.left >= b.left - 0.5 && a.right <= b.right + 0.5 &&
+                           a.top >= b.top - 0.5 && a.bottom <= b.bottom + 0.5;
+  const side = document.getElementById('side'), bar = document.getElementById('bar');
+  const out = [];
+  for (const c of side.querySelectorAll('canvas'))
+    if (c.offsetParent && !inside(r(c), r(side))) out.push(c.id + ' leaves the side panel');
+  for (const c of bar.querySelectorAll('canvas, input, select, button'))
+    if (!inside(r(c), r(bar))) out.push((c.id || c.tagName) + ' leaves the bar');
+  for (const e of [side, bar])
+    if (e.scrollWidth > e.clientWidth + 1) out.push(e.id + ' overflows sideways');
+  for (const e of [side, bar, document.getElementById('view')])
+    if (!inside(r(e), {left: 0, top: 0, right: innerWidth, bottom: innerHeight}))
+      out.push(e.id + ' leaves the window');
+  if (side.scrollHeight > side.clientHeight + 1) out.push('side panel scrolls');
+  return out;
+})()"""
 
 
 def load_png(path):
@@ -88,7 +133,7 @@ class ViewerTest(unittest.TestCase):
 
     def test_page_offline_no_errors_and_moving_body(self):
         size = self.html.stat().st_size
-        page = self.browser.open(self.html.as_uri())
+        page = open_at(self.browser, self.html, (1280, 800))
         self.assertTrue(page.evaluate("window.deploysimReady === true"))
         # Self-contained: the page fetched nothing (no script, style, image or data file).
         self.assertEqual(page.evaluate("performance.getEntriesByType('resource').length"), 0)
@@ -112,9 +157,10 @@ class ViewerTest(unittest.TestCase):
             shots[t] = page.screenshot(ART / f"spring_t{t:g}.png")
         self.assertEqual(page.errors(), [])
         a, b = load_png(shots[30.0]), load_png(shots[200.0])
-        # The 3D view is the left part (the side panel is 446 px wide); the body sits in
-        # the middle of it.
-        view_w = a.shape[1] - 446
+        # The 3D view is the upper left part; the body sits in the middle of it.
+        view_w = page.evaluate("document.getElementById('view').clientWidth")
+        view_h = page.evaluate("document.getElementById('view').clientHeight")
+        a, b = a[:view_h], b[:view_h]
         for img in (a, b):
             self.assertGreater(img[:, :view_w].std(), MIN_SCENE_STDDEV, "blank scene")
         h, w = a.shape[:2]
@@ -131,17 +177,199 @@ class ViewerTest(unittest.TestCase):
         out = ART / "spring_crosscheck.html"
         r = run(PY, SRC / "tools/view.py", cc, "-o", out)
         self.assertEqual(r.returncode, 0, r.stderr)
-        page = self.browser.open(out.as_uri())
+        page = open_at(self.browser, out, (1280, 800))
         self.assertTrue(page.evaluate("window.deploysimReady === true"))
         self.assertEqual(page.evaluate("window.deploysimInfo.sides"), 2)
         page.evaluate("window.deploysimSetTime(68)")
         page.screenshot(ART / "spring_crosscheck_t68.png")
         self.assertEqual(page.errors(), [])
         img = load_png(ART / "spring_crosscheck_t68.png")
-        view_w = img.shape[1] - 446
-        left, right = img[:, : view_w // 2], img[:, view_w // 2: view_w]
+        view_w = page.evaluate("document.getElementById('view').clientWidth")
+        view_h = page.evaluate("document.getElementById('view').clientHeight")
+        left, right = img[:view_h, : view_w // 2], img[:view_h, view_w // 2: view_w]
         self.assertGreater(left.std(), MIN_SCENE_STDDEV)   # a body on each side
         self.assertGreater(right.std(), MIN_SCENE_STDDEV)
+        # The stage band is filled (derived from the motion: before, during and after the
+        # hinges move), and the file's maxima are printed with units and three digits.
+        stages = page.evaluate("window.deploysimInfo.stages")
+        self.assertEqual(stages, 3)
+        with h5py.File(cc, "r") as f:
+            att = float(f.attrs["max_attitude_difference"])
+            rel = float(f.attrs["max_H_B_relative_difference"])
+            dflip = float(f.attrs["max_flip_time_difference"])
+        foot = page.evaluate("document.getElementById('foot').innerText")
+        self.assertIn(f"largest attitude difference: {math.degrees(att):.3g} deg", foot)
+        self.assertIn(f"largest |H_B difference| / |H_B(t0)|: {rel:.3g}", foot)
+        self.assertIn(f"largest flip-time difference: {dflip:.3g} s", foot)
+        self.assertIsNone(re.search(r"\d\.\d{4,}", foot), foot)   # no raw full-precision number
+        # The hinges' motion is in the event list (the file has no hinge event table), and
+        # slows the playback down.
+        kinds = page.evaluate("window.deploysimEvents.map((e) => e.kind)")
+        self.assertEqual(kinds.count("moves"), 2)
+        self.assertEqual(kinds.count("halts"), 2)
+        self.assertLess(page.evaluate("window.deploysimRate(61)"),
+                        page.evaluate("window.deploysimState().speed"))
+
+    def test_event_list_and_jump_to(self):
+        """Every hinge event, flip and the transition of the file is in the list; a click
+        on a row jumps to a little before its event."""
+        page = open_at(self.browser, self.html, (1280, 800))
+        events = page.evaluate("window.deploysimEvents")
+        with h5py.File(self.h5, "r") as f:
+            ht = f["events/hinge/time"][()]
+            hk = [k.decode() if isinstance(k, bytes) else k for k in f["events/hinge/kind"][()]]
+            flips = f["events/flip_time"][()]
+            o = f.attrs["outcome"]
+            outcome = json.loads(o.decode() if isinstance(o, bytes) else o)
+        self.assertGreaterEqual(len(ht), 4)          # two releases, two latches
+        listed = [(e["t"], e["kind"]) for e in events]
+        for t, k in zip(ht, hk):
+            if k != "stop":   # a stop impact may be folded into its burst's row
+                self.assertIn((round(float(t), 6), k), listed)
+        self.assertEqual([e["t"] for e in events if e["kind"] == "flip"],
+                         [round(float(x), 6) for x in flips])
+        self.assertEqual(sum(e["kind"] == "transition" for e in events),
+                         0 if outcome["transition_time"] is None else 1)
+        self.assertEqual([e["t"] for e in events], sorted(e["t"] for e in events))
+        self.assertEqual(page.evaluate("document.querySelectorAll('#events .ev').length"),
+                         len(events))
+        lead = page.evaluate("window.deploysimState().jumpLead")
+        self.assertGreater(lead, 0)
+        for i, e in enumerate(events):
+            page.evaluate("window.deploysimSetTime(0)")
+            # The click and the read-out in one task: no animation frame runs between them.
+            st = page.evaluate(f"(document.querySelectorAll('#events .ev')[{i}].click(), "
+                               "window.deploysimState())")
+            self.assertAlmostEqual(st["t"], max(e["t"] - lead, 0.0), places=9, msg=e)
+            self.assertTrue(st["playing"])
+            now = page.evaluate("document.getElementById('now').textContent")
+            self.assertTrue(now.startswith(f"t = {max(e['t'] - lead, 0.0):.2f} s"), now)
+            self.assertAlmostEqual(page.evaluate(f"window.deploysimJump({i})"), st["t"])
+        self.assertEqual(page.errors(), [])
+
+    def test_playback_slows_down_near_events(self):
+        page = open_at(self.browser, self.html, (1280, 800))
+        with h5py.File(self.h5, "r") as f:
+            release = float(f["events/hinge/time"][0])
+            flips = f["events/flip_time"][()]
+        st = page.evaluate("window.deploysimState()")
+        base = st["speed"]
+        self.assertTrue(st["slowDown"])
+        # The default speed plays the 600 s run in about a minute, not 20x.
+        self.assertEqual(base, 10)
+        self.assertAlmostEqual(page.evaluate(f"window.deploysimRate({release})"), 1.0)
+        quiet = (release + flips[0]) / 2
+        self.assertAlmostEqual(page.evaluate(f"window.deploysimRate({quiet})"), base)
+        # Easing: in between on the way into the event, the rate never rises towards it.
+        ts = np.linspace(release - 8, release, 33)
+        rates = page.evaluate("[" + ",".join(f"window.deploysimRate({t})" for t in ts) + "]")
+        self.assertTrue(all(a >= b - 1e-12 for a, b in zip(rates, rates[1:])), rates)
+        self.assertTrue(any(1.0 < r < base for r in rates), rates)
+        # The playback itself: one real second near the release plays about one simulated
+        # second, away from events `base` seconds.
+        page.evaluate(f"window.deploysimSetTime({release - 0.5})")
+        near = page.evaluate("window.deploysimAdvance(1)") - (release - 0.5)
+        page.evaluate(f"window.deploysimSetTime({quiet})")
+        far = page.evaluate("window.deploysimAdvance(1)") - quiet
+        print(f"\n  one real second of playback: {near:.3f} s at the release, {far:.3f} s "
+              "away from events")
+        self.assertAlmostEqual(near, 1.0, places=6)
+        self.assertAlmostEqual(far, base, places=6)
+        # Turned off, the playback keeps its speed through the event.
+        page.evaluate("(() => { const c = document.getElementById('slow'); c.click(); })()")
+        self.assertFalse(page.evaluate("window.deploysimState().slowDown"))
+        self.assertAlmostEqual(page.evaluate(f"window.deploysimRate({release})"), base)
+        page.evaluate(f"window.deploysimSetTime({release - 0.5})")
+        self.assertAlmostEqual(page.evaluate("window.deploysimAdvance(1)") - (release - 0.5),
+                               base, places=6)
+        self.assertEqual(page.errors(), [])
+
+    def test_trail_fades(self):
+        """The default trail (the last minute, fading) draws far fewer magenta pixels late
+        in the run than the whole run's trail."""
+        page = open_at(self.browser, self.html, (1280, 800))
+        counts = {}
+        for which in ("default", "whole run"):
+            if which != "default":
+                page.evaluate("(() => { const s = document.getElementById('trail'); "
+                              "s.selectedIndex = s.options.length - 1; s.onchange(); })()")
+            page.evaluate("window.deploysimSetTime(590)")
+            png = page.screenshot(ART / f"spring_trail_{which.replace(' ', '_')}.png")
+            w = page.evaluate("document.getElementById('view').clientWidth")
+            h = page.evaluate("document.getElementById('view').clientHeight")
+            img = load_png(png)[:h, :w]
+            magenta = (img[..., 0] > 0.45) & (img[..., 2] > 0.45) & (img[..., 1] < 0.35)
+            counts[which] = int(magenta.sum())
+        print(f"\n  magenta pixels at t = 590 s: {counts}")
+        self.assertLess(counts["default"], MAX_TRAIL_FRACTION * counts["whole run"])
+        self.assertEqual(page.errors(), [])
+
+    def test_layout_at_two_sizes(self):
+        """Screenshots at 1024x640 and 1920x1080 (the main job during the first wing's
+        swing and after the deployment, the cross-check); nothing leaves its panel."""
+        cc = ART / "spring_crosscheck.h5"
+        if not cc.exists():
+            r = run(DEPLOYSIM, "crosscheck", SRC / "deployment_profiles/smallsat_spring_deploy.yaml",
+                    "--until", "90", "-o", cc)
+            self.assertEqual(r.returncode, 0, r.stderr)
+        cc_html = ART / "spring_crosscheck.html"
+        r = run(PY, SRC / "tools/view.py", cc, "-o", cc_html)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        for size in SIZES:
+            tag = "%dx%d" % size
+            page = open_at(self.browser, self.html, size)
+            for t, name in ((62.0, "swing"), (200.0, "after")):
+                page.evaluate(f"window.deploysimSetTime({t})")
+                page.screenshot(ART / f"spring_{tag}_{name}.png")
+                self.assertEqual(page.evaluate(LAYOUT_JS), [], (tag, name))
+            # Every chart caption states its unit.
+            caps = page.evaluate("[...document.querySelectorAll('.cap')].filter((c) => "
+                                 "c.offsetParent).map((c) => c.textContent)")
+            self.assertTrue(caps and all("[" in c for c in caps), caps)
+            self.assertEqual(page.errors(), [])
+            page.close()
+            page = open_at(self.browser, cc_html, size)
+            page.evaluate("window.deploysimSetTime(68)")
+            page.screenshot(ART / f"crosscheck_{tag}.png")
+            self.assertEqual(page.evaluate(LAYOUT_JS), [], (tag, "crosscheck"))
+            self.assertEqual(page.errors(), [])
+            page.close()
+
+    def test_written_with_the_umask(self):
+        """The page gets 0666 less the umask, like the HDF5 file beside it."""
+        for umask, want in ((0o022, 0o644), (0o027, 0o640)):
+            out = ART / f"spring_umask_{umask:03o}.html"
+            out.unlink(missing_ok=True)
+            r = run(PY, SRC / "tools/view.py", self.h5, "-o", out, umask=umask)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(oct(mode(out)), oct(want))
+        # The HDF5 file deploysim writes under the same umask: the same mode.
+        h5 = ART / "spring_umask.h5"
+        r = run(DEPLOYSIM, "simulate", SRC / "deployment_profiles/smallsat_spring_deploy.yaml",
+                "-q", "-o", h5, umask=0o022)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(oct(mode(h5)), oct(0o644))
+        self.assertEqual(oct(mode(ART / "spring_umask_022.html")), oct(mode(h5)))
+
+    def test_stop_bursts_are_one_row(self):
+        """Stop impacts of one panel less than a second apart are one row of the list."""
+        sys.path.insert(0, str(SRC / "tools"))
+        import view
+
+        def ev(t, kind, panel):
+            return dict(t=t, kind=kind, panel=panel, angle=-0.0349, rate_before=0.2,
+                        rate_after=-0.06, impulse=0.01)
+        fake = dict(kind="trajectory", sides=[dict(label="x", flips=[9.0])], outcome=None,
+                    events=[ev(1.0, "release", "a"), ev(2.0, "stop", "a"), ev(2.1, "stop", "b"),
+                            ev(2.4, "stop", "a"), ev(3.3, "stop", "a"), ev(3.5, "rest", "a"),
+                            ev(6.0, "stop", "a")])
+        rows = view.event_list(fake)
+        got = [(r["t"], r["kind"], r["panel"], r["count"], r["t_last"]) for r in rows]
+        self.assertEqual(got, [(1.0, "release", "a", 1, 1.0), (2.0, "stop", "a", 3, 3.3),
+                               (2.1, "stop", "b", 1, 2.1), (3.5, "rest", "a", 1, 3.5),
+                               (6.0, "stop", "a", 1, 6.0), (9.0, "flip", None, 1, 9.0)])
+        self.assertIn("3 stop impacts at -2.0 deg", rows[1]["text"])
+        self.assertIn("11.5 deg/s", rows[1]["text"])
 
     def test_cli_subcommand_runs_the_tool(self):
         out = ART / "spring_cli.html"
@@ -195,8 +423,11 @@ class AnimationTest(unittest.TestCase):
         mp4 = ART / "wing_nut.mp4"
         t0 = time.monotonic()
         r = run(PY, SRC / "tools/animate.py", h5, "-o", mp4, "--fps", self.FPS,
-                "--seconds", self.SECONDS, "--size", "320x240", "--gif")
+                "--seconds", self.SECONDS, "--size", "320x240", "--gif", umask=0o022)
         self.assertEqual(r.returncode, 0, r.stderr)
+        # Written 0666 less the umask, like the HDF5 file.
+        self.assertEqual(oct(mode(mp4)), oct(0o644))
+        self.assertEqual(oct(mode(ART / "wing_nut.gif")), oct(0o644))
         print(f"\n  animate.py: {time.monotonic() - t0:.1f} s for "
               f"{int(self.FPS * self.SECONDS)} frames")
         p = run("ffprobe", "-v", "error", "-select_streams", "v:0", "-count_frames",
