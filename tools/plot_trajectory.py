@@ -379,13 +379,24 @@ def finish(fig, ax, path, title, d, xlim=None):
     save(fig, path, d)
 
 
+def line_y_range(ax):
+    """[min, max] of the y values the axes' curves draw in data coordinates (not the
+    lines across the axes, as event lines), or None without any."""
+    ys = [np.asarray(ln.get_ydata(), dtype=float) for ln in ax.get_lines()
+          if ln.get_transform() == ax.transData and len(ln.get_ydata())]
+    ys = [y[np.isfinite(y)] for y in ys]
+    ys = [y for y in ys if len(y)]
+    return [float(min(y.min() for y in ys)), float(max(y.max() for y in ys))] if ys else None
+
+
 def save(fig, path, d, dpi=120):
     """Saves the PNG with, in its metadata (a tEXt chunk "deploysim-axes"), each data axes'
     x and y labels and limits, and the numbers of the hinge events marked: the plot test
     reads them to check the ranges and units of what was drawn."""
     axes = [dict(xlabel=a.get_xlabel(), ylabel=a.get_ylabel(), xlim=list(a.get_xlim()),
-                 ylim=list(a.get_ylim()), title=a.get_title(),
-                 strip=[it["text"] for it in getattr(a, "_strip_items", [])])
+                 ylim=list(a.get_ylim()), ydata=line_y_range(a), title=a.get_title(),
+                 strip=[it["text"] for it in getattr(a, "_strip_items", [])],
+                 twin=bool(getattr(a, "_twin", False)))
             for a in fig.axes if a.axison and a.name != "3d"]
     axes += [dict(xlabel=a.get_xlabel(), ylabel=a.get_ylabel(), zlabel=a.get_zlabel(),
                   title=a.get_title()) for a in fig.axes if a.name == "3d"]
@@ -504,6 +515,7 @@ def plot_energy(d, out):
         ax.plot(t, V, color="tab:orange", lw=1.1, label="stored in springs $V$")
         ax.plot(t, E, color="k", lw=1.6, label="total $E = T + V$")
     ax.set_ylabel("energy [J]")
+    ax.set_xlabel("time [s]")
     legend(ax, d, ev, loc="upper right")
     ax.grid(True, lw=0.3, alpha=0.6)
 
@@ -629,6 +641,8 @@ def plot_hinge_angles(d, out):
     deg = np.degrees(th)
     spinning = [k for k in range(th.shape[1]) if np.ptp(deg[:, k]) > 360.0]
     right = axes[1].twinx() if rates is not None and spinning else None
+    if right is not None:
+        right._twin = True  # its time axis is axes[1]'s (for save's metadata)
     # Line styles differ too: symmetric panels move alike and their curves coincide.
     styles = ["-", "--", "-.", ":"]
     for k in range(th.shape[1]):
@@ -667,6 +681,8 @@ def plot_hinge_angles(d, out):
                         c=[cmap(e["panel"] % 10) for e in sel],
                         edgecolors="k" if kind != "stop" else None, linewidths=0.6, zorder=7)
     axes[0].set_ylabel("hinge angle [deg]")
+    for a in axes:
+        a.set_xlabel("time [s]")
     legend(axes[0], d, ev, loc="best")
     axes[0].grid(True, lw=0.3, alpha=0.6)
     if rates is not None:
