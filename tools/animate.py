@@ -9,10 +9,9 @@ RESULT.h5 is a trajectory or a cross-check file (then both models side by side).
 video shows the run from --t0 to --t1 (default: all of it) in --seconds at --fps: the
 body (hub and panels at their hinge angles, or the equivalent box of a tensors model)
 with its axes (x red, y green, z blue), the fixed h_N (gold, pointing up), the spin axis
-and its trail over the last minute (magenta), flips (white dots), hinge releases (green) and latches
-(orange) and, beside it, H_B / |H| and the angle
-between the spin axis and h_N with a moving marker, and the stage timeline (danger window
-shaded). --gif also writes OUT.gif (same frames, 256-colour palette).
+and its trail over the last minute (magenta), flips (white dots), hinge releases (green)
+and latches (orange) and, beside it, H_B / |H| and the angle between the spin axis and
+h_N with a moving marker, and the stage timeline (danger window shaded). --gif also writes OUT.gif (same frames, 256-colour palette).
 
 Exit status: 0 written; 1 bad input or ffmpeg failure (one line on stderr, no output
 file); 2 bad usage.

@@ -245,6 +245,18 @@ class ViewerTest(unittest.TestCase):
             now = page.evaluate("document.getElementById('now').textContent")
             self.assertTrue(now.startswith(f"t = {max(e['t'] - lead, 0.0):.2f} s"), now)
             self.assertAlmostEqual(page.evaluate(f"window.deploysimJump({i})"), st["t"])
+        # The time axis of the charts: the deployment button shows the hinges' swings
+        # (releases and latches inside), the whole-run button all of it.
+        view = page.evaluate("(document.getElementById('zoomDep').click(), "
+                             "window.deploysimState().view)")
+        self.assertLess(view[1] - view[0], 0.1 * (events[-1]["t"] - events[0]["t"]))
+        for e in events:
+            if e["kind"] in ("release", "latch"):
+                self.assertTrue(view[0] < e["t"] < view[1], (view, e))
+        view = page.evaluate("(document.getElementById('zoomAll').click(), "
+                             "window.deploysimState().view)")
+        self.assertEqual(view, [page.evaluate("window.deploysimInfo.t0"),
+                                page.evaluate("window.deploysimInfo.t1")])
         self.assertEqual(page.errors(), [])
 
     def test_playback_slows_down_near_events(self):
@@ -309,8 +321,9 @@ class ViewerTest(unittest.TestCase):
         swing and after the deployment, the cross-check); nothing leaves its panel."""
         cc = ART / "spring_crosscheck.h5"
         if not cc.exists():
-            r = run(DEPLOYSIM, "crosscheck", SRC / "deployment_profiles/smallsat_spring_deploy.yaml",
-                    "--until", "90", "-o", cc)
+            r = run(DEPLOYSIM, "crosscheck",
+                    SRC / "deployment_profiles/smallsat_spring_deploy.yaml", "--until", "90",
+                    "-o", cc)
             self.assertEqual(r.returncode, 0, r.stderr)
         cc_html = ART / "spring_crosscheck.html"
         r = run(PY, SRC / "tools/view.py", cc, "-o", cc_html)
