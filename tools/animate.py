@@ -9,9 +9,10 @@ RESULT.h5 is a trajectory or a cross-check file (then both models side by side).
 video shows the run from --t0 to --t1 (default: all of it) in --seconds at --fps: the
 body (hub and panels at their hinge angles, or the equivalent box of a tensors model)
 with its axes (x red, y green, z blue), the fixed h_N (gold, pointing up), the spin axis
-and its trail over the last minute (magenta), flips (white dots), hinge releases (green)
-and latches (orange) and, beside it, H_B / |H| and the angle between the spin axis and
-h_N with a moving marker, and the stage timeline (danger window shaded). --gif also writes OUT.gif (same frames, 256-colour palette).
+and its trail (magenta: the last minute, or two flip intervals), flips (white dots),
+hinge releases (green) and latches (orange) and, beside it, H_B / |H| and the angle
+between the spin axis and h_N with a moving marker, and the stage timeline (danger window
+shaded). --gif also writes OUT.gif (same frames, 256-colour palette).
 
 Exit status: 0 written; 1 bad input or ffmpeg failure (one line on stderr, no output
 file); 2 bad usage.
@@ -99,6 +100,7 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
     sB = run["spin_axis_B"]
     # Releases and latches are marked; stop impacts come in bursts and are not.
     events = [e for e in run["events"] if e["kind"] != "stop"]
+    trail = scene.trail_seconds(run)
     ts = run["time"]
 
     fig = plt.figure(figsize=(w / dpi, h / dpi), dpi=dpi, facecolor="#10141c")
@@ -205,8 +207,8 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
                 line.set_data_3d(*np.array([o, o + e]).T)
             s_tip = o + 1.25 * L * (M @ sB)
             spin_lines[si].set_data_3d(*np.array([o, s_tip]).T)
-            # The trail: the last TRAIL_SECONDS of the tip's path.
-            k0 = min(int(np.searchsorted(ts, t - scene.TRAIL_SECONDS)), k)
+            # The trail: the last trail seconds of the tip's path.
+            k0 = min(int(np.searchsorted(ts, t - trail)), k)
             tip = run["sides"][si]["_tip"][k0: k + 1]
             trails[si].set_data_3d(tip[:, 0], tip[:, 1], tip[:, 2])
             fl = [tf for tf in run["sides"][si]["flips"] if tf <= t]

@@ -36,7 +36,8 @@ HINGE_STEP = math.radians(1.0)
 J_STEP = 0.005
 MAX_GAP = 1.0 / 500
 # The spin-axis trail shows the last TRAIL_SECONDS of the tip's path (the viewer's default,
-# fading with age; the animation's): a whole run's trail fills a hemisphere.
+# fading with age; the animation's): a whole run's trail fills a hemisphere. A run that
+# flips faster keeps two flip intervals (trail_seconds).
 TRAIL_SECONDS = 60.0
 # A hinge moves between two samples when its angle changes by more than this [rad].
 HINGE_MOTION = 1e-9
@@ -432,6 +433,15 @@ def read_run(path, model_path=None):
     if run["kind"] == "crosscheck":
         run["stages"], run["danger"] = crosscheck_stages(run)
     return run
+
+
+def trail_seconds(run):
+    """How much of the spin axis's path to draw [s]: TRAIL_SECONDS, or two median flip
+    intervals (the first side's flips) where that is shorter."""
+    f = np.asarray(run["sides"][0]["flips"], dtype=float)
+    if len(f) >= 2:
+        return float(min(TRAIL_SECONDS, 2.0 * np.median(np.diff(f))))
+    return TRAIL_SECONDS
 
 
 # --- derived tables (cross-check files) ---------------------------------------------------

@@ -218,7 +218,7 @@ def build_data(run, title=None):
         spinAxisB=_r(run["spin_axis_B"], 6), extent=L, stages=run["stages"],
         danger=run["danger"], events=event_list(run), foot=footer(run),
         outcome=run.get("outcome"), playSeconds=PLAY_SECONDS,
-        trailSeconds=scene.TRAIL_SECONDS,
+        trailSeconds=scene.trail_seconds(run),
         spacing=2.6 * L if n_sides > 1 else 0.0)
 
 
