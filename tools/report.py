@@ -86,18 +86,21 @@ RIGID_CAVEAT_MARK = "\u26a0"  # warning sign: the verdict holds only for a rigid
 TRAJECTORY_FIGURES = [
     ("spin_axis.png", "Angle between the initial body spin axis and the inertial angular "
      "momentum h_N. A flip is the axis turning over (through 90 deg); located flips and "
-     "45-degree crossings are marked."),
+     "45-degree crossings are marked. Hinge events are numbered above the plot, the same "
+     "numbers on every time plot, and listed in the key under it."),
     ("momentum.png", "Body-frame angular momentum H_B: its components exchange sign at "
      "each flip while |H_B| stays constant."),
     ("inertia.png", "Principal moments of J_B(t); stages shaded. The spin axis is in "
      "danger while its moment lies between the other two."),
     ("hinge_angles.png", "Hinge angles and rates per panel, with the hinge events "
      "(releases, latches, stops) marked."),
-    ("angular_velocity.png", "Body angular velocity w_NB_B."),
+    ("angular_velocity.png", "Body angular velocity w_NB_B [deg/s]."),
     ("energy.png", "Kinetic energy (and, for free hinges, spring and total energy with the "
      "losses at hinge events)."),
-    ("polhode.png", "Polhodes: H_B/|H_B| on the momentum sphere and its projections, with "
-     "the separatrix of the final inertia."),
+    ("polhode.png", "Polhode: H_B/|H_B| on the momentum sphere and its projections, a "
+     "colour per stage (a dot at each stage's start), with the separatrix of the final "
+     "inertia; below, each stage on its own, zoomed and seen along the body axis nearest "
+     "its mean momentum, against the separatrix of its own inertia."),
 ]
 GEOMETRY_FIGURES = [
     ("geometry_ellipsoid.png", "The geometric picture of torque-free rotation for the "
@@ -432,17 +435,31 @@ pre { font-family: "DejaVu Sans Mono", "Liberation Mono", monospace; font-size: 
 code { font-family: "DejaVu Sans Mono", "Liberation Mono", monospace; font-size: 8.6pt; }
 .toc { font-size: 9pt; columns: 2; margin: 4pt 0; padding-left: 16pt; }
 @media print {
+  /* Compact on paper: no section starts a page of its own (a heading stays with what
+     follows it), tables break between rows (the header row repeats), a figure stays with
+     its caption and is at most about 40 % of a page high, so that the next one fits
+     beside it instead of leaving the rest of the page blank; the input texts in two
+     columns. */
   body { max-width: none; padding: 0; }
   .summary { background: none; }
   thead { display: table-header-group; }
-  h2 { break-before: auto; }
-  section.inputs { break-before: page; page-break-before: always; }
+  h2, h3, section { break-before: auto; page-break-before: auto; }
+  table { break-inside: auto; page-break-inside: auto; }
+  figure { margin: 4pt 0 8pt; }
+  figure img { max-height: 100mm; width: auto; }
+  pre { columns: 2; column-gap: 5mm; column-rule: 1px solid #ddd; font-size: 6.6pt; }
   a { color: inherit; text-decoration: none; }
 }
 """
 
 
 # --- the sections -----------------------------------------------------------------------
+
+def regime_text(regime):
+    """The closed-form regime (/stages/regime) as the stability table shows it: the axis
+    the polhode circulates about ('minor-axis': 'minor'), 'separatrix' as it is."""
+    return regime[:-len("-axis")] if regime.endswith("-axis") else regime
+
 
 def role_text(role):
     return {"minor": "minor", "intermediate": "intermediate (unstable)",
@@ -688,7 +705,8 @@ def section_configuration(c, h, ctx):
                "of the spin axis among the principal axes</caption><thead><tr><th>#</th>"
                "<th>stage</th><th>at t [s]</th><th>I<sub>1</sub> [kg m\u00b2]</th>"
                "<th>I<sub>2</sub> [kg m\u00b2]</th><th>I<sub>3</sub> [kg m\u00b2]</th>"
-               "<th>spin axis</th></tr></thead><tbody>" + "".join(rows) + "</tbody></table>")
+               "<th>spin axis is the \u2026 axis</th></tr></thead><tbody>" + "".join(rows)
+               + "</tbody></table>")
     out.append("<p class='note'>A spin about the intermediate axis (the middle moment) is "
                "unstable: the body flips over periodically (Dzhanibekov effect). About the "
                "minor or major axis the momentum only wobbles.</p></section>")
@@ -721,7 +739,7 @@ def stability_row(c, i, s):
     def p(col):
         return hp("stages/" + col, i)
     rigid = s["rigid"]
-    regime = (c.h5(p("regime"), cls="t") if rigid else
+    regime = (c.h5(p("regime"), cls="t", shown=esc(regime_text(s["regime"]))) if rigid else
               f"<td class='t'>{'(free hinges)' if s['law'] == 'free' else '(deploying)'}</td>")
     flips = c.h5(p("observed_flip_count"), tag="span", cls=None)
     if rigid:
@@ -752,15 +770,24 @@ def section_stability(c, h, ctx):
         "<table class='stab'><caption>Stability table (one row per stage; a free-hinge profile: "
         "per phase between hinge events)</caption><thead><tr><th>#</th><th>stage</th>"
         "<th>law</th><th>t<sub>0</sub>\u2013t<sub>1</sub> [s]</th><th>const. J</th>"
-        "<th>spin axis at t<sub>1</sub></th><th>regime</th><th>1\u2212k\u00b2</th>"
+        "<th>spin axis at t<sub>1</sub> is the \u2026 axis</th>"
+        "<th>polhode circulates about the \u2026 axis</th><th>1\u2212k\u00b2</th>"
         "<th>sep. dist.</th><th>flip every [s]</th><th>flips seen / pred.</th>"
         f"<th title='verdict holds only for a perfectly rigid body'>{RIGID_CAVEAT_MARK}</th>"
         "</tr></thead><tbody>"
         + "".join(rows) + "</tbody></table>")
     out.append(
+        "<p class='note'><b>Two different axes.</b> <b>spin axis</b>: the role of the body's "
+        "spin axis among the principal axes of J_B at the stage end (minor, intermediate or "
+        "major moment). <b>polhode circulates about</b> (constant stages): the principal "
+        "axis that the angular momentum's path in the body (the polhode) goes round, set "
+        "by the energy: about the minor axis when D &lt; I<sub>2</sub>, about the major "
+        "axis when D &gt; I<sub>2</sub> (D = |H|\u00b2/2T). A polhode never circulates "
+        "about the intermediate axis, so an intermediate spin axis always goes with "
+        "\u201cminor\u201d or \u201cmajor\u201d here: the momentum goes round that other "
+        "axis and so turns over relative to the spin axis, which is the flip.</p>"
         "<p class='note'><b>const. J</b>: J_B constant and no relative momentum over the "
-        "stage (a hold), where the closed form applies. <b>regime</b>: the closed-form regime "
-        "on constant stages. <b>1\u2212k\u00b2</b>: complementary elliptic parameter (0 on the "
+        "stage (a hold), where the closed form applies. <b>1\u2212k\u00b2</b>: complementary elliptic parameter (0 on the "
         "separatrix). <b>sep. dist.</b>: (D \u2212 I<sub>2</sub>)/(I<sub>3</sub> \u2212 "
         "I<sub>1</sub>) at the stage end, 0 on the separatrix, &lt; 0 circulating about the "
         "minor axis. <b>flip every</b>: closed-form time between flips (\u221e: no flips). "

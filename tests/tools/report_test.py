@@ -55,6 +55,10 @@ FLAGS = {"/stages/rigid", "/stages/rigid_body_only"}
 # checked to be there and positive.
 WALL_TIME = "measured by tools/report.py around deploysim simulate"
 # Slow-report bound: the report of the main job takes ~3 s on one free core (the plots).
+# The most A4 pages each report may print to: 10 each when measured (13 and 12 when every
+# section of the inputs started a page and the figures stood a page high each); a bound a
+# page above, so that a blank half page more fails, a different font does not.
+PRINT_PAGES = {"spring": 11, "three_stage": 11}
 
 
 def report_cmd(profile, out, *extra, deploysim=None):
@@ -454,6 +458,8 @@ class ReportTest(unittest.TestCase):
               f"screenshots {self.art / (name + '_screen.png')}, "
               f"{self.art / (name + '_print.png')}", file=sys.stderr)
         self.assertGreater(pages, 2)
+        self.assertLessEqual(pages, PRINT_PAGES[name], f"{name}: the A4 print has {pages} "
+                             f"pages, more than {PRINT_PAGES[name]}: blank page ends?")
         return page
 
     # --- the tests -----------------------------------------------------------------
@@ -505,6 +511,30 @@ class ReportTest(unittest.TestCase):
                 self.h5[name] = simulate(profile, self.art / f"{name}.h5")
                 self.check_coverage(name, self.check_numbers(name))
                 self.check_self_contained(name)
+
+    def test_stability_columns_say_which_axis(self):
+        # The spin axis' role and the axis the polhode circulates about are two axes: an
+        # intermediate spin axis beside a "minor" regime is no contradiction, and the table
+        # says so under it.
+        for name in CASES:
+            with self.subTest(name):
+                body = self.reports[name].read_text(encoding="utf-8")
+                self.assertIn("polhode circulates about the \u2026 axis</th>", body)
+                self.assertIn("spin axis at t<sub>1</sub> is the \u2026 axis</th>", body)
+                self.assertIn("<b>Two different axes.</b>", body)
+                self.assertNotIn(">minor-axis<", body)  # shown as "minor", not the file's word
+        with h5py.File(self.h5["three_stage"], "r") as f:
+            roles = [text_of(x) for x in f["stages/spin_axis_role"][()]]
+            regimes = [text_of(x) for x in f["stages/regime"][()]]
+        # the row that looked contradictory is in the checked report
+        self.assertIn(("intermediate", "minor-axis"), list(zip(roles, regimes)))
+
+    def test_print_styles_compact(self):
+        # No forced page breaks; a figure keeps its caption.
+        body = self.reports["spring"].read_text(encoding="utf-8")
+        css = body[body.index("<style>"):body.index("</style>")]
+        self.assertNotRegex(css, r"break-before:\s*(page|always)")
+        self.assertRegex(css, r"figure \{[^}]*break-inside: avoid")
 
     def test_geometry_figures_or_a_note(self):
         body = self.reports["spring"].read_text(encoding="utf-8")
