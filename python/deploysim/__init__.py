@@ -12,16 +12,27 @@ section 4): the same readers, rules and messages, the same integrators, the same
     fb = deploysim.FreeBody([3.036e-6, 2.741e-6, 0.699e-6], [1e-8, 2.1252e-5, 1e-8])
     fb.H_B(numpy.linspace(0, 40, 4001)), fb.flip_times(0, 40), fb.period, fb.regime
     cols = deploysim.run_sweep("sweeps/smallsat_duration_spin.yaml", threads=2)
-    pandas.DataFrame(cols)
+    pandas.DataFrame(cols), pandas.DataFrame(r.events), r.units["H_B"]
+    deploysim.write_h5(r, "run.h5"); deploysim.view("run.h5", "run.html")
+    deploysim.report("deployment_profiles/smallsat_spring_deploy.yaml", "report.html")
 
 Units are SI (kg, m, s, rad); quaternions are Hamilton, scalar first (w, x, y, z); H_B is
-the total angular momentum about the system centre of mass in body components.
+the total angular momentum about the system centre of mass in body components. Every
+table carries its units: ``result.units``, ``result.events.units``, ``result.stage_units``,
+``run_sweep(...).units`` map column names to unit strings ("1": dimensionless, "none":
+text), the strings of the HDF5 files' ``units`` attributes. Values that do not apply are
+None (text) and NaN (numbers), where ``deploysim analyze --json`` writes null.
 Bad input raises ValueError with the CLI's one-line message ("<source>: <key> = <value>:
 <rule>"); files that cannot be read raise RuntimeError. Ctrl-C stops a run or a sweep
 with KeyboardInterrupt.
 """
 
 import os as _os
+import shutil as _shutil
+import subprocess as _subprocess
+import sys as _sys
+
+import numpy as _np
 
 from . import _deploysim
 from ._deploysim import FreeBody, Model, Profile, SweepSpec, methods  # noqa: F401
@@ -35,7 +46,7 @@ __all__ = [
     "FreeBody", "Model", "Profile", "SweepSpec", "SimulationResult", "methods",
     "load_model", "load_profile", "load_sweep", "model_from_dict", "profile_from_dict",
     "sweep_from_dict", "simulate", "run_sweep", "hardware_threads", "crosscheck",
-    "trajectory_columns",
+    "trajectory_columns", "write_h5", "view", "report", "cli_path", "Table",
 ]
 
 
@@ -101,9 +112,55 @@ def profile_from_dict(d, source="<dict>", base_dir="."):
 
 # ---- simulate ----
 
+class Table(dict):
+    """A table as a dict of 1-D columns {name: numpy array or list}, one entry per row, so
+    that ``pandas.DataFrame(table)`` takes it as it is; ``units`` maps each column name to
+    its unit string ("1": dimensionless, "none": text)."""
+
+    def __init__(self, columns, units):
+        super().__init__(columns)
+        self.units = {k: units[k] for k in self}
+
+
+class EventTable(Table):
+    """The hinge event table (Table). The hinge's jump of the body rate is the three columns
+    w_jump_B_x, w_jump_B_y, w_jump_B_z; ``events["w_jump_B"]`` stacks them into the (E, 3)
+    array of the HDF5 file's /events/hinge/w_jump_B (not a column: derived on request)."""
+
+    def __missing__(self, key):
+        if key == "w_jump_B":
+            return _np.stack([self["w_jump_B_x"], self["w_jump_B_y"], self["w_jump_B_z"]],
+                             axis=-1).reshape(-1, 3)
+        raise KeyError(key)
+
+
+# The units of the tables that are not trajectory columns: the strings of the `units`
+# attributes of the same datasets in the HDF5 file (docs/file_formats.md).
+EVENT_UNITS = {
+    "time": "s", "panel": "1", "panel_name": "none", "kind": "none", "angle": "rad",
+    "rate_before": "rad/s", "rate_after": "rad/s", "impulse": "N m s", "w_jump_B_x": "rad/s",
+    "w_jump_B_y": "rad/s", "w_jump_B_z": "rad/s", "energy_dissipated": "J", "drive_work": "J",
+}
+STAGE_UNITS = {
+    "index": "1", "name": "none", "law": "none", "from": "none", "to": "none", "t_begin": "s",
+    "t_end": "s", "rigid": "1", "moments_end": "kg m^2", "spin_axis_role": "none",
+    "regime": "none", "one_minus_k2": "1", "separatrix_distance": "1",
+    "predicted_flip_half_period": "s", "predicted_flips": "s", "observed_flips": "s",
+    "predicted_flip_count": "1", "observed_flip_count": "1", "max_flip_time_difference": "s",
+    "caveat": "none", "rigid_body_only": "1",
+}
+_RESULT_UNITS = {
+    "flips": "s", "predicted_flips": "s", "spin_axis_45_times": "s", "latch_times": "s",
+    "max_h_N_drift": "1", "wall_seconds": "s", "energy_initial": "J", "energy_final": "J",
+    "max_spin_axis_angle": "rad", "final_time": "s", "final_J_B": "kg m^2", "spin_axis_B": "1",
+}
+
+
 class SimulationResult:
     """The result of simulate(): the trajectory on the output grid and its analysis.
 
+    ``units`` maps every array and number below to its unit string (the trajectory's from
+    trajectory_columns(), e.g. units["H_B"] == "kg m^2/s"; "1" dimensionless).
     Arrays (N output times; P panels, 0 unless geometry mode), the datasets of
     ``deploysim simulate``'s HDF5 file (docs/file_formats.md), bit for bit:
       time               (N,)      [s]
@@ -128,12 +185,14 @@ class SimulationResult:
       flips              (F,)      [s] located flips (/events/flip_time)
       predicted_flips    (F',)     [s] closed-form flips of the rigid stages
       spin_axis_45_times (C,)      [s] 45-degree crossings (hinge profiles)
-      events             dict of columns: the hinge event table (/events/hinge/*): time [s],
-                         panel, panel_name, kind, angle [rad], rate_before, rate_after
-                         [rad/s], impulse [N m s], w_jump_B (E, 3) [rad/s],
-                         energy_dissipated [J], drive_work [J]
+      events             the hinge event table (/events/hinge/*), a Table of 1-D columns
+                         (pandas.DataFrame(r.events)) with .units: time [s], panel,
+                         panel_name, kind, angle [rad], rate_before, rate_after [rad/s],
+                         impulse [N m s], w_jump_B_x, w_jump_B_y, w_jump_B_z [rad/s],
+                         energy_dissipated [J], drive_work [J]; r.events["w_jump_B"] is
+                         the (E, 3) stack of the three w_jump_B columns
       latch_times        (P,) or (0,) [s] per panel, NaN if it never locked
-      danger_windows     dict t_begin, t_end [s]
+      danger_windows     Table t_begin, t_end [s]
     Analysis:
       stages             list of dicts, one per stage (hinge profiles: per phase): index,
                          name, law, from, to, t_begin [s], t_end [s], rigid, moments_end
@@ -141,28 +200,46 @@ class SimulationResult:
                          separatrix_distance, predicted_flip_half_period [s],
                          predicted_flips [s], observed_flips [s], predicted_flip_count,
                          observed_flip_count, max_flip_time_difference [s], caveat,
-                         rigid_body_only
-      stage_table        the same as a dict of columns (pandas.DataFrame(r.stage_table))
+                         rigid_body_only. Not applicable: from, to None for a hinge
+                         profile's phases; regime None, one_minus_k2 and
+                         predicted_flip_half_period NaN for stages that are not rigid
+                         (+inf half period: a rigid stage that predicts no flips)
+      stage_table        the same as a Table (pandas.DataFrame(r.stage_table))
+      stage_units        units of the stage dicts' keys
       statistics         dict steps, rejected, evaluations, dense_steps
       termination, reached_end, message, max_h_N_drift, wall_seconds [s],
       energy_initial, energy_final [J], max_spin_axis_angle [rad], panel_names,
       spin_axis_B, profile (the Profile as run)
     """
 
+    stage_units = STAGE_UNITS
+
     def __init__(self, raw):
+        self.units = {}
         for k, v in raw.pop("trajectory").items():  # one per trajectory_columns() entry
             setattr(self, k, v)
+        self.units.update((c["name"], c["units"]) for c in trajectory_columns())
         self.flips = raw.pop("flip_times")
         self.predicted_flips = raw.pop("predicted_flip_times")
-        self.events = raw.pop("hinge_events")
+        events = raw.pop("hinge_events")
+        jump = events.pop("w_jump_B")
+        columns = {}
+        for k, v in events.items():
+            if k == "energy_dissipated":  # the jump's columns where the file's array is
+                for i, c in enumerate("xyz"):
+                    columns[f"w_jump_B_{c}"] = _np.ascontiguousarray(jump[:, i])
+            columns[k] = v
+        self.events = EventTable(columns, EVENT_UNITS)
+        self.danger_windows = Table(raw.pop("danger_windows"), {"t_begin": "s", "t_end": "s"})
         for k, v in raw.items():
             setattr(self, k, v)
+        self.units.update(_RESULT_UNITS)
 
     @property
     def stage_table(self):
-        """The stages as a dict of columns (pandas.DataFrame(result.stage_table))."""
-        keys = list(self.stages[0].keys()) if self.stages else []
-        return {k: [s[k] for s in self.stages] for k in keys}
+        """The stages as a Table of columns (pandas.DataFrame(result.stage_table))."""
+        keys = list(self.stages[0].keys()) if self.stages else list(STAGE_UNITS)
+        return Table({k: [s[k] for s in self.stages] for k in keys}, STAGE_UNITS)
 
     def __len__(self):
         return len(self.time)
@@ -180,8 +257,26 @@ def trajectory_columns():
     return _deploysim._trajectory_columns()
 
 
+def _as_profile(profile):
+    if isinstance(profile, dict):
+        return profile_from_dict(profile)
+    if isinstance(profile, Profile):
+        return profile
+    return load_profile(profile)
+
+
+def _refuse_output_over_inputs(output, profile, csv):
+    """As the CLI: an output that names the profile or model file is refused (ValueError)."""
+    targets = [_os.fspath(output)] + ([_os.fspath(output) + ".csv"] if csv else [])
+    for t in targets:
+        for src in (profile.source, profile.model.source):
+            if _os.path.exists(src) and _os.path.exists(t) and _os.path.samefile(src, t):
+                raise ValueError(f"{t}: is an input of the run (rule: outputs never "
+                                 f"overwrite their inputs)")
+
+
 def simulate(profile, method=None, rtol=None, atol=None, step=None, dt=None, coupling=None,
-             mode=None, progress=None):
+             mode=None, progress=None, output=None, csv=False):
     """Run a deployment profile; returns a SimulationResult (numpy arrays, stage analysis).
 
     profile : a Profile, a profile file's path, or a dict (profile_from_dict)
@@ -191,6 +286,9 @@ def simulate(profile, method=None, rtol=None, atol=None, step=None, dt=None, cou
     dt      : output sampling interval [s]
     coupling: 'quasi-rigid' | 'exact'; mode: 'tensor' | 'geometry'
     progress: optional callable(fraction) called with the fraction done in [0, 1]
+    output  : optional trajectory file (HDF5) written during the same run, the file of
+              ``deploysim simulate -o OUTPUT``; csv=True also writes OUTPUT.csv. Written
+              atomically, and only when the run reaches its end.
 
     The run is ``deploysim simulate``'s (analysis::RunMission): with the same settings its
     arrays equal the HDF5 file's bit for bit. The GIL is released while it runs (other
@@ -198,14 +296,14 @@ def simulate(profile, method=None, rtol=None, atol=None, step=None, dt=None, cou
     KeyboardInterrupt. ValueError (the CLI's one-line message) for bad settings;
     RuntimeError if the integration does not reach the end.
     """
-    if isinstance(profile, dict):
-        profile = profile_from_dict(profile)
-    elif not isinstance(profile, Profile):
-        profile = load_profile(profile)
+    profile = _as_profile(profile)
     if any(x is not None for x in (method, rtol, atol, step, dt, coupling, mode)):
         profile = profile.with_overrides(method=method, rtol=rtol, atol=atol, step=step, dt=dt,
                                          coupling=coupling, mode=mode)
-    raw = _deploysim._simulate(profile, progress)
+    if output is not None:
+        _refuse_output_over_inputs(output, profile, csv)
+    raw = _deploysim._simulate(profile, progress,
+                               _os.fspath(output) if output is not None else "", bool(csv))
     result = SimulationResult(raw)
     if not result.reached_end:
         raise RuntimeError(f"{profile.source}: integration {result.message}")
@@ -304,3 +402,88 @@ def crosscheck(profile, accuracy=None, until=None, dt=None, own_error=0.0):
     elif not isinstance(profile, Profile):
         profile = load_profile(profile)
     return _deploysim._crosscheck(profile, accuracy, until, dt, float(own_error))
+
+
+# ---- files, the 3D viewer and the mission report ----
+
+def write_h5(run, path, csv=False, progress=None):
+    """Write the trajectory file (HDF5) of ``deploysim simulate -o PATH``; returns PATH.
+
+    run : a SimulationResult, a Profile, a profile file's path or a profile dict. The
+          package keeps no file writer's state in a result: for a SimulationResult the
+          profile it ran (``run.profile``, with its overrides) is run again straight into
+          the file; the run is deterministic, so the file holds the result's arrays bit for
+          bit. To write the file without a second run, pass ``output=`` to simulate().
+    csv : also write PATH.csv (``--csv``).
+    """
+    profile = run.profile if isinstance(run, SimulationResult) else run
+    simulate(profile, progress=progress, output=path, csv=csv)
+    return path
+
+
+def cli_path():
+    """The ``deploysim`` command the package runs for view() and report(): the first of
+    $DEPLOYSIM_BIN, the copy installed with the package (``pip install .`` puts the command
+    and its Python tools in deploysim/_cli/; a CMake build links its own there) and
+    ``deploysim`` on PATH. RuntimeError saying how to get one when there is none."""
+    here = _os.path.dirname(_os.path.abspath(__file__))
+    candidates = [_os.environ.get("DEPLOYSIM_BIN"),
+                  _os.path.join(here, "_cli", "bin", "deploysim"),
+                  _shutil.which("deploysim")]
+    for c in candidates:
+        if c and _os.path.isfile(c) and _os.access(c, _os.X_OK):
+            return c
+    raise RuntimeError(
+        "deploysim: no deploysim command found for the viewer and the report (looked at "
+        "$DEPLOYSIM_BIN, " + _os.path.join(here, "_cli", "bin", "deploysim") + " and PATH). "
+        "`pip install .` of the source tree installs it with the package; in a CMake build, "
+        "build the `deploysim` target; or set DEPLOYSIM_BIN to a deploysim executable "
+        "(its tools/ must be installed beside it or in the source tree it was built from)")
+
+
+def _run_tool(args):
+    env = dict(_os.environ)
+    # The tools run with this interpreter (its numpy, h5py, matplotlib), unless the caller
+    # chose another.
+    env.setdefault("DEPLOYSIM_PYTHON", _sys.executable)
+    p = _subprocess.run([cli_path(), *args], stdout=_subprocess.PIPE, stderr=_subprocess.PIPE,
+                        text=True, env=env)
+    if p.returncode != 0:
+        lines = [x for x in p.stderr.strip().splitlines() if x.strip()]
+        msg = lines[-1] if lines else f"exit status {p.returncode}"
+        raise RuntimeError(f"deploysim {args[0]}: {msg}")
+    return p
+
+
+def view(h5, html, model=None, title=None):
+    """Write the self-contained 3D viewer page (one HTML file) of a trajectory or
+    cross-check file: ``deploysim view H5 -o HTML`` (tools/view.py, docs/viewer.md).
+    Returns HTML. RuntimeError with the tool's one-line message on failure (nothing is
+    written then), or when no deploysim command is found (cli_path())."""
+    args = ["view", _os.fspath(h5), "-o", _os.fspath(html)]
+    if model is not None:
+        args += ["--model", _os.fspath(model)]
+    if title is not None:
+        args += ["--title", str(title)]
+    _run_tool(args)
+    return html
+
+
+def report(profile, html, method=None, rtol=None, atol=None, step=None, dt=None):
+    """Write the mission report of a profile file (one self-contained HTML file):
+    ``deploysim report PROFILE -o HTML`` (tools/report.py), which runs the profile itself.
+
+    profile : a profile file's path (the report quotes and runs the file; a Profile or a
+              dict has none); method, rtol, atol, step [s], dt [s]: as simulate's.
+    Returns HTML. RuntimeError with the tool's one-line message on failure (nothing is
+    written then), or when no deploysim command is found (cli_path())."""
+    if isinstance(profile, (Profile, dict)):
+        raise TypeError("report: a profile file's path is needed (the report runs and quotes "
+                        "the file)")
+    args = ["report", _os.fspath(profile), "-o", _os.fspath(html), "--quiet"]
+    for name, v in (("method", method), ("rtol", rtol), ("atol", atol), ("step", step),
+                    ("dt", dt)):
+        if v is not None:
+            args += [f"--{name}", repr(v) if isinstance(v, float) else str(v)]
+    _run_tool(args)
+    return html

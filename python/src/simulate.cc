@@ -3,7 +3,10 @@
 
 #include <pybind11/stl.h>
 
+#include <limits>
+#include <optional>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -11,6 +14,7 @@
 #include "convert.h"
 #include "deploysim/analysis/mission.h"
 #include "deploysim/integrators/integrate.h"
+#include "deploysim/io/trajectory_file.h"
 #include "trajectory_arrays.h"
 
 namespace py = pybind11;
@@ -19,15 +23,20 @@ namespace deploysim::python {
 
 namespace {
 
+// Values that do not apply to a stage are None (text) and NaN (numbers), as `deploysim
+// analyze --json` writes null: a hinge profile's phases have no from/to configuration, and
+// only rigid stages have a closed-form regime, 1 - k^2 and flip half period (0 there would
+// read as "on the separatrix" and "flips every 0 s").
 py::dict StageDict(const analysis::StageReport& a, const schedule::Profile& p, std::size_t i) {
+  constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
   py::dict d;
   const bool phases = p.is_hinge_profile();
   d["index"] = static_cast<long long>(i);
   if (phases) {
     d["name"] = a.name;
     d["law"] = a.law;
-    d["from"] = std::string();
-    d["to"] = std::string();
+    d["from"] = py::none();
+    d["to"] = py::none();
     d["t_begin"] = a.t_begin;
     d["t_end"] = a.t_end;
   } else {
@@ -42,10 +51,10 @@ py::dict StageDict(const analysis::StageReport& a, const schedule::Profile& p, s
   d["rigid"] = a.rigid;
   d["moments_end"] = Vec(a.moments_end);
   d["spin_axis_role"] = analysis::ToString(a.spin_axis_end);
-  d["regime"] = a.regime;
-  d["one_minus_k2"] = a.one_minus_k2;
+  d["regime"] = a.rigid ? py::object(py::str(a.regime)) : py::object(py::none());
+  d["one_minus_k2"] = a.rigid ? a.one_minus_k2 : kMissing;
   d["separatrix_distance"] = a.separatrix_distance;
-  d["predicted_flip_half_period"] = a.predicted_flip_half_period;
+  d["predicted_flip_half_period"] = a.rigid ? a.predicted_flip_half_period : kMissing;
   d["predicted_flips"] = DoublesCopy(a.predicted_flips);
   d["observed_flips"] = DoublesCopy(a.observed_flips);
   d["predicted_flip_count"] = static_cast<long long>(a.predicted_flips.size());
@@ -143,6 +152,21 @@ py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
   return d;
 }
 
+// The run's samples to the numpy arrays and, when asked, to `deploysim simulate`'s files
+// in the same pass.
+class Tee final : public analysis::SampleSink {
+ public:
+  Tee(analysis::SampleSink& arrays, analysis::SampleSink* files) : arrays_(arrays), files_(files) {}
+  void Append(const analysis::Trajectory& block) override {
+    arrays_.Append(block);
+    if (files_ != nullptr) files_->Append(block);
+  }
+
+ private:
+  analysis::SampleSink& arrays_;
+  analysis::SampleSink* files_;
+};
+
 }  // namespace
 
 /// The trajectory schema as the package describes it: one dict per column.
@@ -166,28 +190,40 @@ void RegisterSimulate(py::module_& m) {
   m.def("_trajectory_columns", &TrajectoryColumns);
   m.def(
       "_simulate",
-      [](const schedule::Profile& profile, py::object progress) {
+      [](const schedule::Profile& profile, py::object progress, const std::string& output,
+         bool csv) {
         PythonPoll poll(std::move(progress));
         const bool geometry = profile.mode == schedule::Mode::kGeometry;
         const double span = profile.t_end() - profile.t_begin();
         const double expected = profile.output.dt > 0.0 ? span / profile.output.dt + 2.0 : 2.0;
         TrajectoryArrays samples(geometry ? profile.model.hinged.panels.size() : 0,
                                  expected < 1e7 ? static_cast<std::size_t>(expected) : 0);
+        // The files of `deploysim simulate -o OUTPUT [--csv]`: written atomically, and only
+        // for a run that reaches its end (otherwise the temporaries are removed).
+        std::optional<io::TrajectoryOutputs> files;
+        if (!output.empty()) files.emplace(output, csv ? output + ".csv" : "", profile);
+        Tee sink(samples, files ? &*files : nullptr);
         analysis::MissionResult r;
         {
           py::gil_scoped_release release;
           try {
             // The streaming run of `deploysim simulate` (its HDF5 writer is a sink too).
-            r = analysis::RunMission(profile, samples, [&poll](double f) {
+            r = analysis::RunMission(profile, sink, [&poll](double f) {
               if (!poll.PollFraction(f, f >= 1.0)) throw PythonStop{};
             });
           } catch (const PythonStop&) {
+          }
+          if (files && !poll.stopped() &&
+              r.termination == integrators::Termination::kReachedEnd) {
+            files->Finish(r);
+            files->Commit();
           }
         }
         poll.Rethrow();
         return MissionDict(std::move(r), std::move(samples));
       },
-      py::arg("profile"), py::arg("progress") = py::none());
+      py::arg("profile"), py::arg("progress") = py::none(), py::arg("output") = std::string(),
+      py::arg("csv") = false);
 }
 
 }  // namespace deploysim::python

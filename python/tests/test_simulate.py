@@ -56,21 +56,47 @@ def test_simulate_equals_cli_hdf5(path, cli, tmp_path):
         if "hinge_latch_time" in f:
             assert same(r.latch_times, f["hinge_latch_time"][()])
         ev = f["events/hinge"]
-        for k in ("time", "angle", "rate_before", "rate_after", "impulse", "w_jump_B",
+        for k in ("time", "angle", "rate_before", "rate_after", "impulse",
                   "energy_dissipated", "panel"):
             assert same(r.events[k], ev[k][()]), k
+        for i, c in enumerate("xyz"):
+            assert same(r.events[f"w_jump_B_{c}"], ev["w_jump_B"][()][:, i]), c
+        assert same(r.events["w_jump_B"], ev["w_jump_B"][()])
         assert text(ev["kind"][()]) == r.events["kind"]
         assert text(ev["panel_name"][()]) == r.events["panel_name"]
         table = r.stage_table
         st = f["stages"]
-        for k in ("index", "t_begin", "t_end", "moments_end", "one_minus_k2",
-                  "separatrix_distance", "predicted_flip_half_period", "predicted_flip_count",
-                  "observed_flip_count", "max_flip_time_difference"):
+        rigid = np.array(table["rigid"], dtype=bool)
+        for k in ("index", "t_begin", "t_end", "moments_end", "separatrix_distance",
+                  "predicted_flip_count", "observed_flip_count", "max_flip_time_difference"):
             assert same(np.array(table[k]), st[k][()]), k
+        # Closed-form values of stages that are not rigid are NaN here (the file: 0).
+        for k in ("one_minus_k2", "predicted_flip_half_period"):
+            v = np.array(table[k], dtype=float)
+            assert same(v[rigid], st[k][()][rigid]), k
+            assert np.isnan(v[~rigid]).all(), k
         for k in ("rigid", "rigid_body_only"):
             assert same(np.array(table[k], dtype=np.int64), st[k][()]), k
-        for k in ("name", "law", "from", "to", "spin_axis_role", "regime", "caveat"):
+        for k in ("name", "law", "spin_axis_role", "caveat"):
             assert text(st[k][()]) == table[k], k
+        # Not applicable: None here, the empty string in the file.
+        regimes = text(st["regime"][()])
+        assert [x if x is not None else "" for x in table["regime"]] == regimes
+        assert all((x is None) == (not g) for x, g in zip(table["regime"], rigid))
+        for k in ("from", "to"):
+            hinge = r.profile.is_hinge_profile
+            assert table[k] == ([None] * len(rigid) if hinge else text(st[k][()])), k
+        # The units: those of the file's datasets.
+        for name in TRAJECTORY:
+            assert r.units[name] == f[name].attrs["units"], name
+        for k, u in r.events.units.items():
+            if not k.startswith("w_jump_B_"):
+                assert u == ev[k].attrs["units"], k
+            else:
+                assert u == ev["w_jump_B"].attrs["units"], k
+        for k in st:
+            assert r.stage_units[k] == st[k].attrs["units"], k
+        assert r.units["flips"] == f["events/flip_time"].attrs["units"]
         assert f.attrs["termination"] == r.termination
         assert f.attrs["profile_text"] == r.profile.text
 
