@@ -16,6 +16,8 @@ packages=(
   clang libfuzzer-14-dev            # fuzz targets (tools/fuzz.sh, cmake -DDEPLOYSIM_FUZZ=ON)
   chromium                          # headless page tests (tools/headless_chromium.py)
   libjs-three ffmpeg                # 3D viewer (three.js r111) and animations (MP4, GIF)
+  python3-venv python3-setuptools python3-wheel python3-pip  # pip install . (setup.py)
+  python3-yaml                      # the tools behind deploysim.view and deploysim.report
 )
 
 missing=()
