@@ -21,7 +21,7 @@ def expected(path):
 
 def is_profile(path):
     # The rule of tests/io/bad_inputs_test.cpp.
-    return re.search(r"(^|\n)(stages|model)[ \t]*:", path.read_text(errors="replace")) is not None
+    return re.search(r"(^|\n)(stages|model|base)[ \t]*:", path.read_text(errors="replace")) is not None
 
 
 def load_error(path):

@@ -185,7 +185,7 @@ MissionResult StageResult() {
   return r;
 }
 
-// The stage table of a stage profile reads as before issue 9; the caveats follow it.
+// The stage table of a stage profile, with its legend; the caveats follow it.
 TEST(ReportTest, StageProfileSummaryIsTheOldTablePlusCaveats) {
   const std::string expected =
       "deploysim analysis of 'demo' (demo.yaml; model 'sat', mode tensor, coupling "
@@ -193,15 +193,19 @@ TEST(ReportTest, StageProfileSummaryIsTheOldTablePlusCaveats) {
       "integrator rkf78: 10 steps, 1 rejected, 130 rhs evaluations, 0.5 s wall; reached the "
       "end time\n"
       "\n"
-      " #  stage              law              t0 [s]    t1 [s]  spin axis     regime        "
-      "      1-k^2   sep. dist. flip every [s]     flips\n"
+      " #  stage              law              t0 [s]    t1 [s]  spin axis     polhode about "
+      "  1-k^2 [-] sep. dist. [-] flip every [s]     flips\n"
       " 0  stowed spin        hold                  0        60  minor         minor-axis    "
-      "        0.5        -0.25            inf       0/0\n"
+      "        0.5          -0.25            inf       0/0\n"
       " 1  deploy             minimum-jerk         60        80  major         (deploying)   "
-      "          -        -0.25              -         0\n"
+      "          -          -0.25              -         0\n"
       "\n"
-      "(spin axis: role of the body spin axis among the principal axes at the stage end; "
-      "flips: observed/predicted for constant stages;\n"
+      "(spin axis: role of the body spin axis among the principal axes at the stage end;\n"
+      " polhode about: the principal axis the angular velocity circulates about in the body "
+      "(D < I2: minor, D > I2: major);\n"
+      " an intermediate spin axis on a minor- or major-axis polhode is a spin that flips;\n"
+      " 1-k^2: complementary elliptic parameter, 0 on the separatrix; flips: "
+      "observed/predicted for constant stages;\n"
       " sep. dist.: (D - I2)/(I3 - I1), 0 on the separatrix, < 0 circulating about the minor "
       "axis)\n"
       "\n"

@@ -44,8 +44,10 @@ std::string ReadAll(const fs::path& p) {
 
 std::string FirstLine(const std::string& text) { return text.substr(0, text.find('\n')); }
 
+// A profile names a model or has stages; a sweep file (base:) is read as one too, to be
+// refused with a pointer to `deploysim sweep`.
 bool IsProfile(const std::string& text) {
-  static const std::regex kProfileKey("(^|\n)(stages|model)[ \t]*:");
+  static const std::regex kProfileKey("(^|\n)(stages|model|base)[ \t]*:");
   return std::regex_search(text, kProfileKey);
 }
 

@@ -18,6 +18,7 @@
 
 #include "deploysim/analysis/mission.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/schedule/initial_spin.h"
 #include "deploysim/sweep/rng.h"
 #include "deploysim/sweep/sweep_spec.h"
 #include "sweep_test_support.h"
@@ -280,7 +281,7 @@ monte_carlo:
     EXPECT_EQ(plus.motor.torque, v[9]);
     EXPECT_EQ(minus.motor.kind, schedule::Motor::Kind::kNone);
     // Initial state: the spin rate about s, with J_B(t0) and h_rel_B(t0) of the hinges.
-    const dynamics::InertiaSample s0 = InitialInertia(c.profile);
+    const dynamics::InertiaSample s0 = schedule::InitialInertia(c.profile);
     const math::Vec3 w = s0.J_inv_B * (*c.profile.initial.H_B - s0.h_rel_B);
     EXPECT_NEAR(w.dot(c.spin_axis_B), v[1], kTight * v[1]);
     EXPECT_NEAR(c.spin_axis_B.y(), 1.0, kTight);

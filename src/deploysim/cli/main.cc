@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -27,6 +28,7 @@
 #include "deploysim/io/atomic_file.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/schedule/profile_warnings.h"
 #include "deploysim/version.h"
 #ifdef DEPLOYSIM_HAVE_SWEEP
 #include "deploysim/sweep/interrupt.h"
@@ -53,7 +55,7 @@ constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as shells report it
 
 struct Overrides {
   std::optional<std::string> method, coupling, mode;
-  std::optional<double> rtol, atol, step, dt;
+  std::optional<double> rtol, atol, step, dt, until;
 };
 
 // A numeric option's rule, checked on its text before CLI11 converts it, so that every
@@ -109,8 +111,20 @@ void AddOverrideOptions(CLI::App* cmd, Overrides& o) {
   cmd->add_option("--dt", o.dt, "output sampling interval [s]")->check(Number("> 0", [](double v) {
     return v > 0.0;
   }));
+  cmd->add_option("--until", o.until,
+                  "end the run at this time [s] (a stage profile: in a hold stage, at a stage "
+                  "end, or after its last stage, holding the last configuration)")
+      ->check(Number("(finite)", [](double) { return true; }));
   cmd->add_option("--coupling", o.coupling, "quasi-rigid | exact");
   cmd->add_option("--mode", o.mode, "tensor | geometry");
+}
+
+// Legal inputs that are almost certainly not meant (schedule::ProfileWarnings), one line
+// each on stderr; the trajectory file and the report carry them too.
+void PrintWarnings(const deploysim::schedule::Profile& p) {
+  for (const std::string& w : deploysim::schedule::ProfileWarnings(p)) {
+    std::cerr << "deploysim: warning: " << w << "\n";
+  }
 }
 
 deploysim::schedule::Profile Load(const std::string& path, const Overrides& o) {
@@ -123,7 +137,9 @@ deploysim::schedule::Profile Load(const std::string& path, const Overrides& o) {
   po.atol = o.atol;
   po.step = o.step;
   po.output_dt = o.dt;
+  po.until = o.until;
   deploysim::io::ApplyOverrides(p, po);
+  PrintWarnings(p);
   return p;
 }
 
@@ -263,7 +279,10 @@ void ConfigureApp(CLI::App& app) {
       "  deploysim report deployment_profiles/smallsat_spring_deploy.yaml -o report.html\n"
       "  deploysim view spring.h5 -o spring.html   (3D viewer; open it in a browser)\n"
       "File formats: docs/file_formats.md. Plots: /usr/bin/python3 tools/plot_trajectory.py "
-      "OUT.h5");
+      "OUT.h5\n"
+      "Exit status (every command): 0 done; 1 bad input or usage (one line on stderr, no "
+      "output written); 3 simulate: the integration did not reach the end; 4 crosscheck: the "
+      "models disagree; 130 interrupted (Ctrl-C).");
 }
 
 // The deployment profile argument of simulate, analyze and crosscheck.
@@ -583,6 +602,47 @@ int RunAnalyze(const CommandLine& cl,
 
 }  // namespace
 
+// The subcommand nearest a mistyped one (edit distance at most 3), or "".
+std::string NearestCommand(const CLI::App& app, const std::string& typed) {
+  std::string best;
+  std::size_t best_d = 4;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    const std::string& name = sub->get_name();
+    // Levenshtein distance, one row at a time.
+    std::vector<std::size_t> row(name.size() + 1);
+    for (std::size_t j = 0; j <= name.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= typed.size(); ++i) {
+      std::size_t diag = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= name.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (typed[i - 1] != name[j - 1])});
+        diag = up;
+      }
+    }
+    if (row[name.size()] < best_d) {
+      best_d = row[name.size()];
+      best = name;
+    }
+  }
+  return best;
+}
+
+// A first argument that is no option and no subcommand: "unknown command", with the
+// nearest one. Returns true when it printed that error.
+bool RefuseUnknownCommand(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return false;
+  const std::string typed = argv[1];
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    if (sub->get_name() == typed) return false;
+  }
+  const std::string near = NearestCommand(app, typed);
+  std::cerr << "deploysim: error: unknown command '" << typed.substr(0, 40) << "'"
+            << (near.empty() ? std::string() : " (did you mean '" + near + "'?)")
+            << " (see deploysim --help)\n";
+  return true;
+}
+
 int main(int argc, char** argv) {
   // A file size limit (ulimit -f) then fails a write with EFBIG, reported by name.
   std::signal(SIGXFSZ, SIG_IGN);
@@ -597,6 +657,7 @@ int main(int argc, char** argv) {
   CommandLine cl;
   const Subcommands cmds = AddSubcommands(app, cl);
 
+  if (RefuseUnknownCommand(app, argc, argv)) return kExitBadInput;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

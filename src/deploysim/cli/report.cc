@@ -10,6 +10,7 @@
 
 #include "deploysim/analysis/work_estimate.h"
 #include "deploysim/math/number_format.h"
+#include "deploysim/schedule/profile_warnings.h"
 
 namespace deploysim::cli {
 
@@ -209,9 +210,9 @@ std::string FormatSummary(const analysis::MissionResult& r) {
   std::size_t index_width = 2;
   for (const Row& row : rows) index_width = std::max(index_width, row.index.size());
   const std::size_t name_width = StageNameWidth(r);
-  o += fmt::format("{:>{}}  {:<{}} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>12} {:>14} {:>9}\n",
+  o += fmt::format("{:>{}}  {:<{}} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>14} {:>14} {:>9}\n",
                    "#", index_width, "stage", name_width, "law", "t0 [s]", "t1 [s]", "spin axis",
-                   "regime", "1-k^2", "sep. dist.", "flip every [s]", "flips");
+                   "polhode about", "1-k^2 [-]", "sep. dist. [-]", "flip every [s]", "flips");
   for (const Row& row : rows) {
     const analysis::StageReport& s = *row.last;
     const std::string flips = s.rigid ? fmt::format("{}/{}", row.observed, row.predicted)
@@ -220,7 +221,7 @@ std::string FormatSummary(const analysis::MissionResult& r) {
                                : s.law == "free" ? "(free hinges)"
                                                  : "(deploying)";
     o +=
-        fmt::format("{:>{}}  {:<{}} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>12} {:>14} {:>9}\n",
+        fmt::format("{:>{}}  {:<{}} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>14} {:>14} {:>9}\n",
                     row.index, index_width, s.name.substr(0, name_width), name_width, s.law,
                     Num(row.first->t_begin), Num(s.t_end), analysis::ToString(s.spin_axis_end),
                     regime, s.rigid ? Num(s.one_minus_k2) : "-", Num(s.separatrix_distance),
@@ -228,11 +229,15 @@ std::string FormatSummary(const analysis::MissionResult& r) {
   }
   if (merged) {
     o += "\n(a-b: consecutive phases of the same free hinges, split at stop impacts; spin axis, "
-         "regime and sep. dist. at the end of the last)";
+         "polhode and sep. dist. at the end of the last)";
   }
-  o += "\n(spin axis: role of the body spin axis among the principal axes at the stage end; "
-       "flips: observed/predicted for constant stages;\n sep. dist.: (D - I2)/(I3 - I1), 0 on the "
-       "separatrix, < 0 circulating about the minor axis)\n\n";
+  o += "\n(spin axis: role of the body spin axis among the principal axes at the stage end;\n"
+       " polhode about: the principal axis the angular velocity circulates about in the body "
+       "(D < I2: minor, D > I2: major);\n"
+       " an intermediate spin axis on a minor- or major-axis polhode is a spin that flips;\n"
+       " 1-k^2: complementary elliptic parameter, 0 on the separatrix; flips: observed/predicted "
+       "for constant stages;\n sep. dist.: (D - I2)/(I3 - I1), 0 on the separatrix, < 0 "
+       "circulating about the minor axis)\n\n";
   const std::string caveats = FormatCaveats(r);
   if (!caveats.empty()) o += caveats + "\n";
   double worst = 0.0;
@@ -371,6 +376,7 @@ std::string FormatJson(const analysis::MissionResult& r,
   o += fmt::format("  \"wall_seconds\": {},\n  \"max_h_N_drift\": {},\n",
                    math::JsonNumber(r.wall_seconds), math::JsonNumber(r.max_h_N_drift));
   o += "  \"outcome\": " + analysis::OutcomeJson(r.outcome) + ",\n";
+  o += "  \"warnings\": " + schedule::ProfileWarningsJson(p) + ",\n";
   o += fmt::format("  \"flip_times\": {},\n  \"stages\": [\n", JsonList(r.flip_times));
   for (std::size_t i = 0; i < r.stages.size(); ++i) {
     const auto& s = r.stages[i];

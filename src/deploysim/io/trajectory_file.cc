@@ -16,6 +16,7 @@
 #include "deploysim/io/hdf5_writer.h"
 #include "deploysim/math/number_format.h"
 #include "deploysim/math/quaternion.h"
+#include "deploysim/schedule/profile_warnings.h"
 
 #ifndef DEPLOYSIM_VERSION
 #define DEPLOYSIM_VERSION "unknown"
@@ -289,6 +290,7 @@ void WriteAnalysis(Hdf5Writer& w, const analysis::MissionResult& r, bool geometr
   w.Attribute("/", "statistics", StatisticsText(r.stats));
   w.Attribute("/", "max_h_N_drift", FormatNumber(r.max_h_N_drift));
   if (!r.outcome.headline.empty()) w.Attribute("/", "outcome", analysis::OutcomeJson(r.outcome));
+  w.Attribute("/", "warnings", schedule::ProfileWarningsJson(p));
 }
 
 // ---- reading ----

@@ -744,16 +744,28 @@ void Fields::Fail(const std::string& key, const std::string& rule) const {
 }
 
 void Fields::RequireExactlyOne(const std::string& a, const std::string& b) const {
-  const bool has_a = Has(a);
-  const bool has_b = Has(b);
-  if (has_a && has_b) {
-    doc_->Fail(path_.empty() ? "top level" : path_, node_,
-               "exactly one of " + a + ", " + b + " is required (both are given)");
+  (void)RequireExactlyOne(std::vector<std::string>{a, b});
+}
+
+std::string Fields::RequireExactlyOne(const std::vector<std::string>& keys) const {
+  std::vector<std::string> given;
+  std::string all;
+  for (const std::string& k : keys) {
+    if (Has(k)) given.push_back(k);
+    all += (all.empty() ? "" : ", ") + k;
   }
-  if (!has_a && !has_b) {
-    doc_->Fail(path_.empty() ? "top level" : path_, node_,
-               "exactly one of " + a + ", " + b + " is required (neither is given)");
+  if (given.size() == 1) return given.front();
+  std::string why;
+  if (given.empty()) {
+    why = keys.size() == 2 ? "neither is given" : "none is given";
+  } else if (given.size() == 2 && keys.size() == 2) {
+    why = "both are given";
+  } else {
+    for (const std::string& k : given) why += (why.empty() ? "" : ", ") + k;
+    why += " are given";
   }
+  doc_->Fail(path_.empty() ? "top level" : path_, node_,
+             "exactly one of " + all + " is required (" + why + ")");
 }
 
 }  // namespace deploysim::io::yaml

@@ -76,6 +76,8 @@ inline constexpr std::size_t kMaxNameBytes = 200;
 /// Degrees in files (`..._deg`, `..._deg_s`) become radians (rad/s) on load by this factor
 /// (nothing downstream sees degrees).
 inline constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
+/// Rates in revolutions per minute (`..._rpm`) become rad/s on load by this factor.
+inline constexpr double kRadPerSecondPerRpm = 2.0 * 3.14159265358979323846 / 60.0;
 
 /// The whole file as bytes: a regular file of at most kMaxFileBytes bytes. Throws
 /// std::runtime_error "<path>: cannot read: <reason>" (missing, unreadable, not a regular
@@ -216,6 +218,8 @@ class Fields {
   [[noreturn]] void Fail(const std::string& key, const std::string& rule) const;
   /// Requires exactly one of `a`, `b` to be present.
   void RequireExactlyOne(const std::string& a, const std::string& b) const;
+  /// Requires exactly one of `keys` to be present; returns it.
+  std::string RequireExactlyOne(const std::vector<std::string>& keys) const;
 
  private:
   const YamlNode* Find(const std::string& key) const;

@@ -83,6 +83,44 @@ schedule::Profile LoadProfileText(const std::string& text,
   return p;
 }
 
+namespace {
+
+/// Ends a stage profile at `until` (ProfileOverrides::until).
+void EndStagesAt(schedule::Profile& p, double until, const std::string& where) {
+  const auto refuse = [&](const std::string& rule) {
+    throw std::invalid_argument(where + ": until = " + math::FormatNumber(until) +
+                                " (override): " + rule);
+  };
+  std::vector<schedule::Stage>& st = p.stages;
+  if (!(until > st.front().t_begin)) {
+    refuse("must be > the start (" + math::FormatNumber(st.front().t_begin) + " s)");
+  }
+  if (until > st.back().t_end) {
+    if (st.back().is_hold()) {
+      st.back().t_end = until;
+    } else {
+      schedule::Stage hold;
+      hold.name = "hold to the end";
+      hold.from = hold.to = st.back().to;
+      hold.t_begin = st.back().t_end;
+      hold.t_end = until;
+      st.push_back(hold);
+    }
+    return;
+  }
+  std::size_t k = 0;
+  while (st[k].t_end < until) ++k;
+  if (st[k].t_end != until && !st[k].is_hold()) {
+    refuse("inside the move stage '" + st[k].name + "' (" + math::FormatNumber(st[k].t_begin) +
+           " to " + math::FormatNumber(st[k].t_end) +
+           " s): a stage profile ends in a hold stage or at a stage end");
+  }
+  st.resize(k + 1);
+  st.back().t_end = until;
+}
+
+}  // namespace
+
 void ApplyOverrides(schedule::Profile& profile, const ProfileOverrides& o) {
   const std::string where = Where(profile);
   schedule::Profile p = profile;
@@ -91,6 +129,13 @@ void ApplyOverrides(schedule::Profile& profile, const ProfileOverrides& o) {
   if (o.atol) p.integrator.atol = *o.atol;
   if (o.step) p.integrator.step = *o.step;
   if (o.output_dt) p.output.dt = *o.output_dt;
+  if (o.until) {
+    if (p.is_hinge_profile()) {
+      p.until = *o.until;
+    } else {
+      EndStagesAt(p, *o.until, where);
+    }
+  }
   if (o.mode) {
     const std::optional<schedule::Mode> m = FindMode(*o.mode);
     if (!m) {

@@ -34,6 +34,9 @@ struct ProfileOverrides {
   std::optional<double> output_dt;      ///< output.dt [s]
   std::optional<std::string> coupling;  ///< quasi-rigid | exact
   std::optional<std::string> mode;      ///< tensor | geometry
+  /// The run's end [s]: a hinge profile's `until`; a stage profile is cut inside a hold
+  /// stage or at a stage end, or held in its last configuration up to it.
+  std::optional<double> until;
 };
 
 /// Applies the overrides and re-validates the whole profile (ValidateProfile and

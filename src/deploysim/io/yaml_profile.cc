@@ -14,6 +14,7 @@
 #include "deploysim/io/yaml_fields.h"
 #include "deploysim/io/yaml_reader.h"
 #include "deploysim/math/quaternion.h"
+#include "deploysim/schedule/initial_spin.h"
 
 namespace deploysim::io {
 
@@ -83,9 +84,66 @@ void RequireConfiguration(const Fields& f, const std::string& key, const model::
                    "' (valid: " + yaml::ShortList(names) + ")");
 }
 
+/// A body axis: `x`, `y`, `z` (optionally signed: `-y`) or three components.
+math::Vec3 ReadAxis(const Fields& f, const std::string& key) {
+  const std::string name = f.Get(key).Scalar();
+  if (name.empty()) {
+    const math::Vec3 v = f.Vector3(key);
+    if (!(v.norm() > 0.0)) f.Fail(key, "must be a non-zero vector (it is normalized on load)");
+    return v.normalized();
+  }
+  static const std::vector<std::pair<std::string, math::Vec3>> kAxes = {
+      {"x", math::Vec3::UnitX()},   {"y", math::Vec3::UnitY()},   {"z", math::Vec3::UnitZ()},
+      {"+x", math::Vec3::UnitX()},  {"+y", math::Vec3::UnitY()},  {"+z", math::Vec3::UnitZ()},
+      {"-x", -math::Vec3::UnitX()}, {"-y", -math::Vec3::UnitY()}, {"-z", -math::Vec3::UnitZ()}};
+  for (const auto& [n, v] : kAxes) {
+    if (n == name) return v;
+  }
+  f.Fail(key, "unknown axis (valid: x, y, z, -x, -y, -z, or [x, y, z] in body components)");
+}
+
+/// `initial.spin`: a spin rate about a body axis with a nutation (schedule/initial_spin.h).
+schedule::InitialSpin ReadSpin(const Fields& initial) {
+  const Fields f = initial.Mapping(
+      "spin", {"axis", "rate_rpm", "rate_deg_s", "rate", "nutation_deg", "nutation_azimuth_deg"});
+  schedule::InitialSpin spin;
+  spin.axis_B = ReadAxis(f, "axis");
+  const std::string rate_key = f.RequireExactlyOne({"rate_rpm", "rate_deg_s", "rate"});
+  const double factor = rate_key == "rate_rpm"     ? yaml::kRadPerSecondPerRpm
+                        : rate_key == "rate_deg_s" ? yaml::kRadiansPerDegree
+                                                   : 1.0;
+  spin.rate = f.Number(rate_key) * factor;
+  if (!(spin.rate > 0.0)) f.Fail(rate_key, "must be > 0 (the axis gives the direction)");
+  spin.nutation = f.OptionalDegrees("nutation_deg");
+  if (spin.nutation && !(*spin.nutation >= 0.0 && *spin.nutation < 0.5 * 3.14159265358979323846)) {
+    f.Fail("nutation_deg", "must be in [0, 90) deg");
+  }
+  spin.azimuth = f.OptionalDegrees("nutation_azimuth_deg");
+  return spin;
+}
+
+/// The one initial rotation state: angular velocity (in rad/s, deg/s or rpm), angular
+/// momentum, or a spin about an axis.
+void ReadRotation(const Fields& f, schedule::InitialState& init) {
+  const std::string key = f.RequireExactlyOne({"angular_velocity", "angular_velocity_deg_s",
+                                               "angular_velocity_rpm", "angular_momentum", "spin"});
+  if (key == "angular_momentum") {
+    init.H_B = f.Vector3(key);
+  } else if (key == "spin") {
+    init.spin = ReadSpin(f);
+  } else {
+    const double factor = key == "angular_velocity_deg_s" ? yaml::kRadiansPerDegree
+                          : key == "angular_velocity_rpm" ? yaml::kRadPerSecondPerRpm
+                                                          : 1.0;
+    init.w_NB_B = f.Vector3(key) * factor;
+  }
+}
+
 schedule::InitialState ReadInitial(const Fields& top, bool hinge_profile, const model::Model& m) {
-  const Fields f = top.Mapping("initial", {"attitude_wxyz", "angular_velocity", "angular_momentum",
-                                           "configuration", "hinge_rates_deg_s"});
+  const Fields f =
+      top.Mapping("initial", {"attitude_wxyz", "angular_velocity", "angular_velocity_deg_s",
+                              "angular_velocity_rpm", "angular_momentum", "spin", "configuration",
+                              "hinge_rates_deg_s"});
   schedule::InitialState init;
   if (hinge_profile) {
     init.configuration = f.Name("configuration");
@@ -110,12 +168,7 @@ schedule::InitialState ReadInitial(const Fields& top, bool hinge_profile, const 
     }
     init.q_NB = math::FromWxyz(wxyz / norm);
   }
-  f.RequireExactlyOne("angular_velocity", "angular_momentum");
-  if (f.Has("angular_velocity")) {
-    init.w_NB_B = f.Vector3("angular_velocity");
-  } else {
-    init.H_B = f.Vector3("angular_momentum");
-  }
+  ReadRotation(f, init);
   return init;
 }
 
@@ -417,9 +470,19 @@ schedule::Profile ReadProfileText(const std::string& text,
                                   const model::Model* model) {
   const std::string& path = source;
   const YamlDocument doc(source, text, base_dir);
-  const Fields top(doc, doc.root(), "",
-                   {"name", "description", "model", "mode", "coupling", "initial", "stages",
-                    "hinges", "start", "until", "integrator", "output"});
+  const Fields top(
+      doc, doc.root(), "",
+      {"name", "description", "model", "mode", "coupling", "initial", "stages", "hinges", "start",
+       "until", "integrator", "output", "base", "grid", "monte_carlo", "outcome"});
+  if (top.Has("base")) {
+    top.Fail("base",
+             "this is a sweep file (it has base:), not a deployment profile: run it with "
+             "`deploysim sweep " +
+                 source + " -o RESULTS.h5` (docs/sweeps.md)");
+  }
+  for (const char* key : {"grid", "monte_carlo", "outcome"}) {
+    if (top.Has(key)) top.Fail(key, "unknown key (a key of sweep files, docs/sweeps.md)");
+  }
   schedule::Profile p;
   p.source = path;
   p.text = doc.text();
@@ -472,6 +535,10 @@ schedule::Profile ReadProfileText(const std::string& text,
   p.integrator = ReadIntegrator(top);
   p.output = ReadOutput(top);
   schedule::ValidateProfile(p);
+  if (p.initial.spin) {
+    // J_B(t0) needs the validated model and plans.
+    p.initial.H_B = schedule::SpinMomentum(schedule::InitialInertia(p), *p.initial.spin);
+  }
   return p;
 }
 

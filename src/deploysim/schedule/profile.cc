@@ -171,7 +171,17 @@ void ValidateInitial(const Profile& p, const std::string& where) {
   if (!q_wxyz.allFinite() || q_wxyz.norm() == 0.0) {
     Fail(where, "initial.attitude_wxyz = " + Vec(q_wxyz) + ": must be finite and non-zero");
   }
-  if (in.w_NB_B.has_value() == in.H_B.has_value()) {
+  // A spin (InitialSpin) resolves to H_B after this check; before, neither is set.
+  if (in.spin) {
+    if (in.w_NB_B) Fail(where, "initial: angular_velocity and spin are both given");
+    if (!in.spin->axis_B.allFinite() || !(in.spin->axis_B.norm() > 0.0)) {
+      Fail(where, "initial.spin.axis: must be finite and non-zero");
+    }
+    if (!(in.spin->rate > 0.0) || !std::isfinite(in.spin->rate)) {
+      Fail(where, "initial.spin.rate = " + Num(in.spin->rate) + " rad/s: must be finite and > 0");
+    }
+    if (!in.H_B) return;
+  } else if (in.w_NB_B.has_value() == in.H_B.has_value()) {
     Fail(where, std::string("initial: exactly one of angular_velocity, angular_momentum is "
                             "required (") +
                     (in.w_NB_B ? "both are" : "neither is") + " given)");

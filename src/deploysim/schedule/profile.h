@@ -44,12 +44,24 @@ struct Stage {
   bool is_hold() const { return from == to; }
 };
 
+/// The initial spin as analysts give it (`initial.spin`, initial_spin.h): resolved on load
+/// to H_B(t0), which the run uses; kept to describe the input.
+struct InitialSpin {
+  math::Vec3 axis_B = math::Vec3::UnitZ();  ///< Body axis s (unit).
+  double rate = 0.0;                        ///< [rad/s] > 0: w_NB_B(t0) . s.
+  std::optional<double> nutation;           ///< [rad] in [0, pi/2): angle of H_B(t0) from s.
+  std::optional<double> azimuth;            ///< [rad]: direction of that tilt about s.
+};
+
 struct InitialState {
   math::Quat q_NB = math::Quat::Identity();
   /// Exactly one of these is set: the body angular velocity w_NB_B [rad/s] or the
   /// total angular momentum H_B [kg m^2/s] at t = t_begin of the first stage.
   std::optional<math::Vec3> w_NB_B;
   std::optional<math::Vec3> H_B;
+  /// Set when the file gave `spin`: H_B is then the momentum it resolves to
+  /// (schedule::SpinMomentum) and w_NB_B is unset.
+  std::optional<InitialSpin> spin;
   /// `hinges:` profiles: the model configuration giving the hinge angles at t0 (required
   /// there; empty in stage profiles, whose first stage names it).
   std::string configuration;

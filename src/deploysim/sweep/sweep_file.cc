@@ -26,10 +26,10 @@ using io::yaml::YamlDocument;
 using io::yaml::YamlNode;
 using math::FormatNumber;
 
-constexpr double kDegree = 0.017453292519943295;  // [rad]
-constexpr double kRpm = 0.10471975511965977;      // [rad/s] (2 pi / 60)
-constexpr double kMaxAxisValues = 1e6;            // values per grid axis
-constexpr double kMaxSeed = 9007199254740992.0;   // 2^53: exact in a double
+constexpr double kDegree = io::yaml::kRadiansPerDegree;  // [rad]
+constexpr double kRpm = io::yaml::kRadPerSecondPerRpm;   // [rad/s]
+constexpr double kMaxAxisValues = 1e6;                   // values per grid axis
+constexpr double kMaxSeed = 9007199254740992.0;          // 2^53: exact in a double
 
 /// How a parameter is written in a file.
 struct ParameterInfo {

@@ -10,6 +10,7 @@
 #include "deploysim/math/number_format.h"
 #include "deploysim/model/model.h"
 #include "deploysim/schedule/free_hinge_system.h"
+#include "deploysim/schedule/initial_spin.h"
 #include "deploysim/schedule/laws.h"
 #include "deploysim/sweep/rng.h"
 
@@ -19,9 +20,6 @@ namespace {
 
 using math::FormatNumber;
 
-// A transverse momentum smaller than this fraction of |H_B| has no direction of its own:
-// the tilt then goes towards the next principal axis.
-constexpr double kNoTransverse = 1e-12;
 // Truncated normal draws: give up after this many rejections (the loader requires the
 // bounds to hold a reasonable probability mass, so this is never reached in practice).
 constexpr int kMaxRejections = 100000;
@@ -347,18 +345,8 @@ std::string DescribeParameters(const SweepSpec& spec, const CaseParameters& p) {
   return s + "}";
 }
 
-dynamics::InertiaSample InitialInertia(const schedule::Profile& p) {
-  if (!p.is_hinge_profile()) return schedule::DeploymentSchedule(p).Evaluate(p.t_begin());
-  const std::string where = p.source.empty() ? p.name : p.source;
-  const model::HingedBody body = model::ValidatedHingedBody(
-      p.model.hinged, p.model.source.empty() ? where + ": model" : p.model.source);
-  const schedule::FreeHingeSystem sys(body, p.hinges,
-                                      p.model.configuration(p.initial.configuration).hinge_angles);
-  return sys.Evaluate(p.t_begin());
-}
-
 math::Vec3 BaseSpinAxis(const schedule::Profile& base) {
-  const dynamics::InertiaSample s0 = InitialInertia(base);
+  const dynamics::InertiaSample s0 = schedule::InitialInertia(base);
   const math::Vec3 H_B0 =
       base.initial.H_B ? *base.initial.H_B : math::Vec3(s0.J_B * *base.initial.w_NB_B + s0.h_rel_B);
   return analysis::InitialSpinAxis(s0.J_B, H_B0);
@@ -405,7 +393,7 @@ dynamics::InertiaSample ApplyProfileParameters(const std::vector<Target>& target
     // formed from them.
     ApplyHingeParameters(targets, v, p);
     schedule::ValidateProfile(p);
-    return InitialInertia(p);
+    return schedule::InitialInertia(p);
   }
   ApplyStageParameters(targets, v, p);
   // The schedule validates the profile (model, modes, stages) and gives J_B(t0).
@@ -439,40 +427,6 @@ InitialParameters InitialParametersOf(const std::vector<Target>& targets,
   return in;
 }
 
-/// The unit direction, normal to the spin axis s, towards which H tilts when it has no
-/// transverse part: the next principal axis (ascending moments, cyclic) of J_B after the
-/// one nearest s.
-math::Vec3 TiltTowardsNextAxis(const math::Mat3& J_B, const math::Vec3& s) {
-  const math::PrincipalAxes pa = math::PrincipalDecomposition(J_B);
-  int i = 0;
-  for (int j = 0; j < 3; ++j) {
-    if (std::abs(pa.axes.col(j).dot(s)) > std::abs(pa.axes.col(i).dot(s))) i = j;
-  }
-  math::Vec3 u = pa.axes.col((i + 1) % 3);
-  return (u - u.dot(s) * s).normalized();
-}
-
-/// H tilted from the spin axis s by the nutation (default: its present tilt), towards
-/// its transverse direction (without one: the next principal axis) turned about s by the
-/// azimuth; |H| unchanged.
-math::Vec3 Tilted(const math::Vec3& H,
-                  const math::Vec3& s,
-                  const math::Mat3& J_B,
-                  const InitialParameters& in) {
-  const double M = H.norm();
-  const math::Vec3 transverse = H - H.dot(s) * s;
-  math::Vec3 u;
-  if (transverse.norm() > kNoTransverse * M) {
-    u = transverse.normalized();
-  } else {
-    // No tilt in the base.
-    u = TiltTowardsNextAxis(J_B, s);
-  }
-  if (in.azimuth) u = std::cos(*in.azimuth) * u + std::sin(*in.azimuth) * s.cross(u);
-  const double theta = in.nutation ? *in.nutation : std::atan2(transverse.norm(), H.dot(s));
-  return M * (std::cos(theta) * s + std::sin(theta) * u);
-}
-
 /// Step 4 of the file comment of sweep_spec.h: H_B(t0) of the case, from the profile's
 /// initial state with the nutation, azimuth and spin rate the case sets.
 math::Vec3 InitialMomentum(const std::vector<Target>& targets,
@@ -483,16 +437,8 @@ math::Vec3 InitialMomentum(const std::vector<Target>& targets,
   math::Vec3 H =
       p.initial.H_B ? *p.initial.H_B : math::Vec3(s0.J_B * *p.initial.w_NB_B + s0.h_rel_B);
   const InitialParameters in = InitialParametersOf(targets, v);
-  if (in.nutation || in.azimuth) H = Tilted(H, s, s0.J_B, in);
-  if (in.spin_rate) {
-    const math::Vec3 w = s0.J_inv_B * (H - s0.h_rel_B);
-    const double ws = w.dot(s);
-    if (!(std::abs(ws) > 0.0)) {
-      throw std::invalid_argument(
-          "spin_rate: the base angular velocity has no component along the spin axis");
-    }
-    H = s0.J_B * (w * (*in.spin_rate / std::abs(ws))) + s0.h_rel_B;
-  }
+  if (in.nutation || in.azimuth) H = schedule::TiltMomentum(H, s, s0.J_B, in.nutation, in.azimuth);
+  if (in.spin_rate) H = schedule::ScaleToSpinRate(H, s, s0, *in.spin_rate);
   return H;
 }
 
@@ -537,6 +483,7 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
     // 4. Initial state.
     p.initial.H_B = InitialMomentum(targets, v, p, s0, c.spin_axis_B);
     p.initial.w_NB_B.reset();
+    p.initial.spin.reset();  // H_B is the case's own now
     if (p.is_hinge_profile()) FinishHingeCase(spec, s0, c);
     schedule::ValidateProfile(p);
     io::CheckRunSettings(p);

@@ -201,11 +201,6 @@ Case BuildCase(const SweepSpec& spec, std::size_t index);
 /// The spin axis of the base profile: analysis::InitialSpinAxis of J_B(t0), H_B(t0).
 math::Vec3 BaseSpinAxis(const schedule::Profile& base);
 
-/// J_B, h_rel_B (and the rest of dynamics::InertiaSample) at the profile's start, for
-/// stage profiles (DeploymentSchedule) and hinge profiles (every hinge at its initial
-/// angle, free hinges at rest until released: schedule::FreeHingeSystem).
-dynamics::InertiaSample InitialInertia(const schedule::Profile& p);
-
 /// "{deploy_duration_scale=0.5, law=linear}" for messages (values as written, SI).
 std::string DescribeParameters(const SweepSpec& spec, const CaseParameters& p);
 
