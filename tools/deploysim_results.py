@@ -200,6 +200,13 @@ class Trajectory:
         return json.loads(text) if text else None
 
     @property
+    def warnings(self):
+        """The profile's warnings (the @warnings attribute, a JSON array of one-line
+        strings: docs/file_formats.md, "Warnings"); [] for a file written before it."""
+        text = self.attrs.get("warnings")
+        return json.loads(text) if text else []
+
+    @property
     def time(self):
         return self["time"]
 

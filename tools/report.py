@@ -36,8 +36,8 @@ the model text, the report's own clock and the wall time it measures around `dep
 simulate` (the file holds no wall time) carry data-src="<where>". data-value is in SI
 units (rad, rad/s) even where the cell shows degrees.
 
-Exit codes: 0 written; 1 bad input (deploysim's one-line message passed through, or -o
-naming an input, a missing deploysim); 2 bad command line; 3 the integration did not
+Exit codes: 0 written; 1 bad input or command line (deploysim's one-line message passed
+through, or -o naming an input, a missing deploysim); 3 the integration did not
 reach its end time; 5 a plot tool, the trajectory file or the output failed (4 is not
 used: it was two runs of one mission disagreeing, when the report ran it twice). On any
 error nothing is written (the report goes to a temporary file in the target folder,
@@ -71,7 +71,7 @@ TOOLS = os.path.dirname(os.path.abspath(__file__))
 PROG = "report"
 
 EXIT_BAD_INPUT = 1
-EXIT_USAGE = 2
+EXIT_USAGE = 1  # bad usage is bad input, as for every deploysim command
 EXIT_INTEGRATION = 3
 EXIT_TOOL = 5
 
@@ -579,6 +579,9 @@ def section_summary(c, h, ctx):
             + c.h5(hp("stages/max_flip_time_difference", worst_i), tag="span", cls=None,
                    unit="s", digits=2, suffix="\u00a0s") + " (section 3).")
     fs = stages[last]
+    # Legal inputs that are almost certainly not meant: first, so that no reader misses them.
+    for w in h.warnings:
+        items.append("Input warning: " + c.h5("@warnings", shown=esc(w), tag="span", cls="warn"))
     if h.outcome:
         items.append(outcome_item(c, h.outcome))
     items.append(f"Final stage \u201c{esc(fs['name'])}\u201d: spin axis "
@@ -1261,8 +1264,8 @@ def parse_args(argv):
                " \\\n      -o spring_report.html --deploysim build/release/bin/deploysim\n"
                "  /usr/bin/python3 tools/report.py deployment_profiles/smallsat_three_stage.yaml"
                " \\\n      -o three_stage.html --method rkmk-rkf78 --rtol 1e-12 --dt 0.05\n\n"
-               "Exit codes: 0 written; 1 bad input (deploysim's message passed through); 2 bad "
-               "command line;\n3 integration stopped early; 5 a plot tool, the trajectory "
+               "Exit codes: 0 written; 1 bad input or command line (deploysim's message "
+               "passed through);\n3 integration stopped early; 5 a plot tool, the trajectory "
                "file or the output failed\n(4 is not used). On an error no file is written.")
     ap.add_argument("profile", help="deployment profile (YAML)")
     ap.add_argument("-o", "--output", required=True, help="the report to write (HTML)")

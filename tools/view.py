@@ -11,8 +11,8 @@ run's samples are decimated (tools/deploysim_scene.py) and embedded as JSON. doc
 describes the scene, the controls, the event list and the page's test hooks
 (window.deploysimReady, window.deploysimSetTime(t), window.deploysimEvents, ...).
 
-Exit status: 0 written; 1 bad input (one line on stderr, no output file written);
-2 bad usage.
+Exit status: 0 written; 1 bad input or usage (one line on stderr, no output file
+written), as for every deploysim command.
 Needs Debian's python3-h5py, python3-numpy, python3-yaml and libjs-three.
 """
 import argparse
@@ -276,7 +276,11 @@ def main(argv):
                                     "cross-check file, the model its profile names)")
     ap.add_argument("--title", help="page title")
     ap.add_argument("--three", default=THREE_DIR, help="libjs-three folder (default %(default)s)")
-    a = ap.parse_args(argv)
+    try:
+        a = ap.parse_args(argv)
+    except SystemExit as e:
+        # argparse exits 2 on bad usage; deploysim's commands exit 1 for any bad input.
+        raise SystemExit(1 if e.code == 2 else e.code)
     try:
         for src in (a.result, a.model):
             if src and os.path.exists(a.output) and os.path.samefile(src, a.output):

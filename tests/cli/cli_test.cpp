@@ -301,6 +301,60 @@ TEST(CliTest, SelfReferencingAnchorIsAnError) {
   fs::remove_all(dir);
 }
 
+// A legal but unmeant input runs unchanged, with one warning line per input on stderr,
+// the same lines in the file's `warnings` attribute; --until ends the run where it says.
+TEST(CliTest, WarningsUntilAndMistypedCommands) {
+  const fs::path d = TempDir("warnings");
+  std::ifstream in(std::string(DEPLOYSIM_SOURCE_DIR) +
+                   "/deployment_profiles/smallsat_spring_deploy.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "release: {at: 60}";
+  text.replace(text.find(from), from.size(), "release: {at: 900}");
+  text.replace(text.find("model: ../models/"), 17,
+               "model: " + std::string(DEPLOYSIM_SOURCE_DIR) + "/models/");
+  std::ofstream(d / "late.yaml") << text;
+  const CliRun r = RunCli("simulate '" + (d / "late.yaml").string() + "' -q --until 100 -o '" +
+                              (d / "late.h5").string() + "'",
+                          d);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
+  EXPECT_EQ(r.err.rfind("deploysim: warning: " + (d / "late.yaml").string() +
+                            ": hinges.wing_plus_x.free.release.at = 900: at or after the run's "
+                            "end (until = 100 s)",
+                        0),
+            0u)
+      << r.err;
+  const io::TrajectoryFile f = io::ReadTrajectoryFile((d / "late.h5").string());
+  EXPECT_DOUBLE_EQ(f.trajectory.time.back(), 100.0);
+  const std::string json = f.attributes.at("warnings");
+  EXPECT_NE(json.find("release.at = 900"), std::string::npos) << json;
+  EXPECT_NE(json.find("released at the earliest at 902 s"), std::string::npos) << json;
+
+  const CliRun typo = RunCli("simulat x.yaml", d);
+  EXPECT_EQ(typo.exit_code, 1);
+  EXPECT_EQ(typo.err,
+            "deploysim: error: unknown command 'simulat' (did you mean 'simulate'?) (see "
+            "deploysim --help)\n");
+  const CliRun sweep = RunCli(
+      "simulate '" + std::string(DEPLOYSIM_SOURCE_DIR) + "/sweeps/smallsat_duration_spin.yaml'", d);
+  EXPECT_EQ(sweep.exit_code, 1);
+  EXPECT_NE(sweep.err.find("this is a sweep file (it has base:), not a deployment profile: run "
+                           "it with `deploysim sweep "),
+            std::string::npos)
+      << sweep.err;
+  // A stage profile ends in a hold or is held past its last stage; never inside a move.
+  const std::string stage =
+      "'" + std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/smallsat_three_stage.yaml'";
+  const CliRun inside = RunCli("analyze " + stage + " --until 70", d);
+  EXPECT_EQ(inside.exit_code, 1);
+  EXPECT_NE(inside.err.find("until = 70 (override): inside the move stage"), std::string::npos)
+      << inside.err;
+  const CliRun longer = RunCli("analyze " + stage + " --until 700 --json", d);
+  EXPECT_EQ(longer.exit_code, 0) << longer.err;
+  EXPECT_NE(longer.out.find("\"t_end\": 700"), std::string::npos);
+  fs::remove_all(d);
+}
+
 }  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim

@@ -281,8 +281,9 @@ void ConfigureApp(CLI::App& app) {
       "File formats: docs/file_formats.md. Plots: /usr/bin/python3 tools/plot_trajectory.py "
       "OUT.h5\n"
       "Exit status (every command): 0 done; 1 bad input or usage (one line on stderr, no "
-      "output written); 3 simulate: the integration did not reach the end; 4 crosscheck: the "
-      "models disagree; 130 interrupted (Ctrl-C).");
+      "output written); 3 simulate, report: the integration did not reach the end; 4 "
+      "crosscheck: the models disagree; 5 report: a plot tool or the output failed; 130 "
+      "interrupted (Ctrl-C).");
 }
 
 // The deployment profile argument of simulate, analyze and crosscheck.

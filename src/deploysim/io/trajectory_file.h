@@ -105,7 +105,7 @@ struct TrajectoryFile {
   /// Root attributes (all strings): deploysim_version, schema_version, profile_name,
   /// profile_source, profile_text, model_name, model_source, model_text, integrator,
   /// integrator_settings, mode, coupling, termination, termination_message, statistics,
-  /// max_h_N_drift.
+  /// max_h_N_drift, outcome and warnings (JSON).
   std::map<std::string, std::string> attributes;
   /// `units` attribute of every dataset, by absolute path ("/H_B", "/events/flip_time").
   std::map<std::string, std::string> units;
