@@ -197,6 +197,11 @@ def spring_tumble(runs):
             f"unlatched")
 
 
+def _outcomes(c):
+    """"flipping 194, bounded 121, ..." of a sweep's cases."""
+    return ", ".join(f"{k} {v}" for k, v in zip(*np.unique(c["outcome"], return_counts=True)))
+
+
 # ---- sweeps/smallsat_duration_spin.yaml ----
 
 def duration_findings(runs):
@@ -209,9 +214,7 @@ def duration_findings(runs):
     late = flipped & (c["first_flip_after_deploy"] > 0)
     after = c["first_flip_after_deploy"][late] * rpm[late]
     half = c["predicted_flip_half_period"][~flipped] / 60.0
-    classes = ", ".join(f"{k} {v}" for k, v in
-                        zip(*np.unique(c["outcome"], return_counts=True)))
-    return (f"{n} cases; outcomes: {classes}; final momentum cone {g3(np.min(c['final_cone_angle']) * DEG)}"
+    return (f"{n} cases; outcomes: {_outcomes(c)}; final momentum cone {g3(np.min(c['final_cone_angle']) * DEG)}"
             f" deg and more; `will_flip` = 1 in {np.sum(c['will_flip'] == 1)} of {n}. The "
             f"time from the deployment's end to the first flip, times the spin rate, lies in "
             f"{g3(after.min())}-{g3(after.max())} s rpm ({np.sum(flipped & ~late)} cases flip "
@@ -228,12 +231,11 @@ def damper_findings(runs):
     n = c["outcome"].size
     d = c["damping"] if "damping" in c else c[[k for k in c if k.startswith("damping")][0]]
     t = c["time_to_tumble"]
-    classes = ", ".join(f"{k} {v}" for k, v in zip(*np.unique(c["outcome"], return_counts=True)))
     weak = t[d == d.min()]
     ds = np.unique(d)
     fastest = [np.median(t[d == x]) for x in ds]
     best = ds[int(np.nanargmin(fastest))]
-    return (f"{n} cases; outcomes: {classes}; time to tumble {g3(np.nanmin(t))} s to "
+    return (f"{n} cases; outcomes: {_outcomes(c)}; time to tumble {g3(np.nanmin(t))} s to "
             f"{g3(np.nanmax(t) / 3600.0)} h ({g3(np.nanmin(weak) / 3600.0)}-"
             f"{g3(np.nanmax(weak) / 3600.0)} h at {g3(d.min())} N m s/rad); the median is "
             f"shortest at {g3(best)} N m s/rad ({g3(np.nanmin(fastest))} s) and "

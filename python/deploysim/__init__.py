@@ -27,6 +27,7 @@ Bad input raises ValueError with the CLI's one-line message ("<source>: <key> = 
 with KeyboardInterrupt.
 """
 
+import json as _json
 import os as _os
 import shutil as _shutil
 import subprocess as _subprocess
@@ -210,6 +211,12 @@ class SimulationResult:
       termination, reached_end, message, max_h_N_drift, wall_seconds [s],
       energy_initial, energy_final [J], max_spin_axis_angle [rad], panel_names,
       spin_axis_B, profile (the Profile as run)
+      outcome            the verdict measured from the motion, a dict: the HDF5 file's
+                         @outcome (docs/file_formats.md, "The outcome"); outcome["headline"]
+                         is the sentence the CLI prints after "verdict: " (None where JSON
+                         has null)
+      warnings           list of one-line strings: the profile's legal but almost certainly
+                         unmeant inputs (docs/file_formats.md, "Warnings"), as the CLI prints
     """
 
     stage_units = STAGE_UNITS
@@ -231,6 +238,7 @@ class SimulationResult:
             columns[k] = v
         self.events = EventTable(columns, EVENT_UNITS)
         self.danger_windows = Table(raw.pop("danger_windows"), {"t_begin": "s", "t_end": "s"})
+        self.outcome = _json.loads(raw.pop("outcome_json"))
         for k, v in raw.items():
             setattr(self, k, v)
         self.units.update(_RESULT_UNITS)

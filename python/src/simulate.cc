@@ -15,6 +15,7 @@
 #include "deploysim/analysis/mission.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/io/trajectory_file.h"
+#include "deploysim/schedule/profile_warnings.h"
 #include "trajectory_arrays.h"
 
 namespace py = pybind11;
@@ -149,6 +150,10 @@ py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
   d["final_time"] = r.final_state.t;
   d["final_J_B"] = Mat(r.final_J_B);
   d["profile"] = r.profile;
+  // The verdict as the trajectory file and `analyze --json` hold it (JSON, parsed in
+  // Python), and the profile's input warnings.
+  d["outcome_json"] = analysis::OutcomeJson(r.outcome);
+  d["warnings"] = schedule::ProfileWarnings(r.profile);
   return d;
 }
 

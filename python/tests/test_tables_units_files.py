@@ -189,3 +189,18 @@ def test_no_command_is_a_clear_error(monkeypatch, tmp_path):
         deploysim.cli_path()
     with pytest.raises(RuntimeError, match="no deploysim command"):
         deploysim.view(tmp_path / "x.h5", tmp_path / "x.html")
+
+
+def test_outcome_and_warnings_are_the_clis(cli, tmp_path):
+    """The verdict record and the input warnings, as `analyze --json` gives them."""
+    profile = MAIN_JOB
+    r = deploysim.simulate(str(profile))
+    ref = json.loads(cli("analyze", profile, "--json").stdout)
+    assert r.outcome == ref["outcome"]
+    assert r.outcome["headline"].startswith("Flips every 129.6 s about +y")
+    assert r.warnings == ref["warnings"] == []
+    late = tmp_path / "late.yaml"
+    late.write_text(profile.read_text().replace("release: {at: 60}", "release: {at: 900}")
+                    .replace("model: ../models/", f"model: {SOURCE_DIR}/models/"))
+    w = deploysim.simulate(str(late)).warnings
+    assert len(w) == 2 and "hinges.wing_plus_x.free.release.at = 900" in w[0], w
