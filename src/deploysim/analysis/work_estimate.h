@@ -31,7 +31,7 @@
 namespace deploysim::analysis {
 
 /// Largest number of turns of the body (sum over the stages of max |w| * duration / 2 pi)
-/// a run may ask for. 1e6 turns are 116 days at 10 rpm; they keep the flips of any stage
+/// a run may ask for. 1e6 turns are 69 days at 10 rpm; they keep the flips of any stage
 /// (<= 2 per turn, +1) 5x below FreeBodySolution::kMaxFlips and the steps of `exact`
 /// (8 per period) below the integrator's max_steps.
 inline constexpr double kMaxTurns = 1e6;
