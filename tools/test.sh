@@ -3,7 +3,9 @@
 # Usage: tools/test.sh [release|asan|tsan]
 #   release (default): optimised, warnings as errors; the whole suite, then
 #            tools/check_install.sh (install, and build examples/ against the package)
-#   asan:    AddressSanitizer + UndefinedBehaviorSanitizer, the whole suite
+#   asan:    AddressSanitizer + UndefinedBehaviorSanitizer, the whole suite but the tools'
+#            checks of documents and pages (label tools: they re-run the same binary paths
+#            the cli tests cover, 5-10x slower under the sanitizers)
 #   tsan:    ThreadSanitizer, only what runs threads: the sweep tests (runner, thread
 #            pool, MPI) and the libraries below them
 set -euo pipefail
