@@ -284,7 +284,7 @@ def _refuse_output_over_inputs(output, profile, csv):
 
 
 def simulate(profile, method=None, rtol=None, atol=None, step=None, dt=None, coupling=None,
-             mode=None, progress=None, output=None, csv=False):
+             mode=None, progress=None, output=None, csv=False, until=None):
     """Run a deployment profile; returns a SimulationResult (numpy arrays, stage analysis).
 
     profile : a Profile, a profile file's path, or a dict (profile_from_dict)
@@ -293,6 +293,8 @@ def simulate(profile, method=None, rtol=None, atol=None, step=None, dt=None, cou
     step    : fixed step [s] (initial step of adaptive methods)
     dt      : output sampling interval [s]
     coupling: 'quasi-rigid' | 'exact'; mode: 'tensor' | 'geometry'
+    until   : end the run at this time [s], as ``--until`` (a stage profile: in a hold
+              stage, at a stage end, or held past its last stage)
     progress: optional callable(fraction) called with the fraction done in [0, 1]
     output  : optional trajectory file (HDF5) written during the same run, the file of
               ``deploysim simulate -o OUTPUT``; csv=True also writes OUTPUT.csv. Written
@@ -305,9 +307,9 @@ def simulate(profile, method=None, rtol=None, atol=None, step=None, dt=None, cou
     RuntimeError if the integration does not reach the end.
     """
     profile = _as_profile(profile)
-    if any(x is not None for x in (method, rtol, atol, step, dt, coupling, mode)):
+    if any(x is not None for x in (method, rtol, atol, step, dt, coupling, mode, until)):
         profile = profile.with_overrides(method=method, rtol=rtol, atol=atol, step=step, dt=dt,
-                                         coupling=coupling, mode=mode)
+                                         coupling=coupling, mode=mode, until=until)
     if output is not None:
         _refuse_output_over_inputs(output, profile, csv)
     raw = _deploysim._simulate(profile, progress,

@@ -128,7 +128,7 @@ void RegisterProfiles(py::module_& m) {
           [](const schedule::Profile& p, std::optional<std::string> method,
              std::optional<double> rtol, std::optional<double> atol, std::optional<double> step,
              std::optional<double> dt, std::optional<std::string> coupling,
-             std::optional<std::string> mode) {
+             std::optional<std::string> mode, std::optional<double> until) {
             io::ProfileOverrides o;
             o.method = std::move(method);
             o.rtol = rtol;
@@ -137,6 +137,7 @@ void RegisterProfiles(py::module_& m) {
             o.output_dt = dt;
             o.coupling = std::move(coupling);
             o.mode = std::move(mode);
+            o.until = until;
             schedule::Profile q = p;
             io::ApplyOverrides(q, o);
             return q;
@@ -144,9 +145,10 @@ void RegisterProfiles(py::module_& m) {
           py::arg("method") = py::none(), py::arg("rtol") = py::none(),
           py::arg("atol") = py::none(), py::arg("step") = py::none(), py::arg("dt") = py::none(),
           py::arg("coupling") = py::none(), py::arg("mode") = py::none(),
+          py::arg("until") = py::none(),
           "A copy with the run settings overridden, as the CLI's --method, --rtol, --atol, "
-          "--step [s], --dt [s], --coupling, --mode do, and re-validated (ValueError with "
-          "the CLI's message otherwise).")
+          "--step [s], --dt [s], --coupling, --mode, --until [s] do, and re-validated "
+          "(ValueError with the CLI's message otherwise).")
       .def("__repr__", [](const schedule::Profile& p) {
         return "<deploysim.Profile '" + p.name + "' from " + p.source + ", model '" + p.model.name +
                "', " + p.integrator.method + ">";

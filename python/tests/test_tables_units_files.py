@@ -202,5 +202,8 @@ def test_outcome_and_warnings_are_the_clis(cli, tmp_path):
     late = tmp_path / "late.yaml"
     late.write_text(profile.read_text().replace("release: {at: 60}", "release: {at: 900}")
                     .replace("model: ../models/", f"model: {SOURCE_DIR}/models/"))
-    w = deploysim.simulate(str(late)).warnings
+    short = deploysim.simulate(str(late), until=100)
+    assert short.time[-1] == 100.0
+    w = short.warnings
     assert len(w) == 2 and "hinges.wing_plus_x.free.release.at = 900" in w[0], w
+    assert "(until = 100 s)" in w[0]
