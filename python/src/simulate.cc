@@ -218,8 +218,7 @@ void RegisterSimulate(py::module_& m) {
             });
           } catch (const PythonStop&) {
           }
-          if (files && !poll.stopped() &&
-              r.termination == integrators::Termination::kReachedEnd) {
+          if (files && !poll.stopped() && r.termination == integrators::Termination::kReachedEnd) {
             files->Finish(r);
             files->Commit();
           }
