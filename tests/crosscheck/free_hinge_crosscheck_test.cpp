@@ -187,6 +187,16 @@ TEST(FreeHingeCrosscheckTest, PendulumDamperMajorAxisRule) {
             analysis::AxisRole::kMajor);
 }
 
+// Two flexible booms (4 segments each; one bending in two planes through massless links,
+// which Simbody takes as massless bodies) on a hub spinning about z with 5 deg of nutation,
+// damping ratio 0.02: the chain of spring-damper hinges is the same mechanism in both.
+TEST(FreeHingeCrosscheckTest, FlexibleBoomsOnASpinningHub) {
+  const model::Model m = BoomSpinner(4, 0.02);
+  const double w = 1.0;  // [rad/s]
+  Check(Tight(HingeProfile(m, AppendagePlans(m), math::Vec3(w * std::tan(5 * kDeg), 0.0, w), 20.0)),
+        "flexible booms");
+}
+
 }  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::crosscheck

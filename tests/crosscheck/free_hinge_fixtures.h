@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "deploysim/math/types.h"
+#include "deploysim/model/flexible_beam.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/model/model.h"
 #include "deploysim/schedule/profile.h"
@@ -154,6 +155,40 @@ inline model::Model PendulumDamperSpinner() {
                    {MakePanel("damper", -1, math::Vec3(0.3, 0, 0), math::Vec3::UnitY(),
                               math::Vec3(0.5, 0, 0), 10.0, math::Vec3(0.1, 0.1, 0.1))},
                    Eigen::VectorXd::Zero(1));
+}
+
+/// A 60 kg hub (0.8 x 0.8 x 0.6 m) with two flexible booms (model/flexible_beam.h) along
+/// +-x: +x bends in two planes (EI 20 and 30 N m^2, massless links), -x in one (about y,
+/// EI 20). 2 m long, 0.2 kg/m, `segments` segments each, damping ratio `zeta`; every
+/// bending hinge straight ("initial").
+inline model::Model BoomSpinner(int segments, double zeta) {
+  model::Model m =
+      MakeModel("boom_spinner", 60.0, math::Vec3(0.8, 0.8, 0.6), {}, Eigen::VectorXd());
+  for (int side : {+1, -1}) {
+    model::BeamSpec s;
+    s.name = side > 0 ? "boom_px" : "boom_mx";
+    s.root_point = math::Vec3(0.4 * side, 0.0, 0.05);
+    s.direction = math::Vec3(side, 0.0, 0.0);
+    s.length = 2.0;
+    s.mass_per_length = 0.2;
+    s.radius = 0.01;
+    s.planes = {model::BeamPlane{math::Vec3::UnitY(), 20.0}};
+    if (side > 0) s.planes.push_back(model::BeamPlane{math::Vec3::UnitZ(), 30.0});
+    s.damping_ratio = zeta;
+    s.segments = segments;
+    m.appendages.push_back(model::AddBeam(m.hinged, s, "boom_spinner"));
+  }
+  m.configurations[0].hinge_angles =
+      Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m.hinged.panels.size()));
+  return m;
+}
+
+/// The plans of a model with appendages: its bending hinges free on their springs and
+/// dampers (schedule::SetAppendagePlans), every other hinge locked.
+inline std::vector<HingePlan> AppendagePlans(const model::Model& m) {
+  std::vector<HingePlan> plans(m.hinged.panels.size());
+  schedule::SetAppendagePlans(m, plans);
+  return plans;
 }
 
 }  // namespace deploysim::crosscheck::free_hinge_fixtures

@@ -698,9 +698,12 @@ TEST(ValidatedHingedBodyTest, LimitsTheDepthOfTheTree) {
   last.name = "one_too_many";
   last.parent = kMaxPanelDepth - 1;
   b.panels.push_back(last);
-  ExpectRejected(b, {"panels[64] (one_too_many).parent = link63: the chain from the hub to "
-                     "one_too_many has 65 panels",
-                     "(rule: a chain of panels from the hub has at most 64)"});
+  const std::string n_max = std::to_string(kMaxPanelDepth);
+  ExpectRejected(
+      b, {"panels[" + n_max + "] (one_too_many).parent = link" +
+              std::to_string(kMaxPanelDepth - 1) + ": the chain from the hub to one_too_many has " +
+              std::to_string(kMaxPanelDepth + 1) + " panels",
+          "(rule: a chain of panels from the hub has at most " + n_max + ")"});
 }
 
 TEST(MassPropertiesTest, RejectsBodiesThatAreNotTrees) {

@@ -7,6 +7,7 @@
 #include "deploysim/io/yaml_fields.h"
 #include "deploysim/io/yaml_reader.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/model/flexible_beam.h"
 #include "deploysim/model/mass_properties.h"
 
 namespace deploysim::io {
@@ -56,6 +57,7 @@ model::Hub ReadHub(const Fields& top) {
 }
 
 std::vector<model::Panel> ReadPanels(const Fields& top) {
+  if (!top.Has("panels") && top.Has("appendages")) return {};
   const std::vector<YamlNode> nodes =
       yaml::SequenceElements(top.doc(), top.Get("panels"), "panels", "panels");
   if (nodes.empty()) top.Fail("panels", "at least one panel is required");
@@ -102,6 +104,80 @@ std::vector<model::Panel> ReadPanels(const Fields& top) {
   return panels;
 }
 
+/// A panel named by `key` (a parent), or -1 when the key is absent (the hub).
+int ParentPanel(const Fields& f, const std::string& key, const std::vector<model::Panel>& panels) {
+  if (!f.Has(key)) return -1;
+  const std::string name = f.Text(key);
+  for (std::size_t j = 0; j < panels.size(); ++j) {
+    if (panels[j].name == name) return static_cast<int>(j);
+  }
+  std::vector<std::string> names;
+  for (const model::Panel& p : panels) names.push_back(p.name);
+  f.Fail(key,
+         "no panel of that name (rule: a panel of the file's panels, or left out for the "
+         "hub; panels: " +
+             yaml::ShortList(names) + ")");
+}
+
+/// `appendages[k]` of kind beam (model/flexible_beam.h; docs/file_formats.md).
+model::BeamSpec ReadBeam(const Fields& f,
+                         const std::string& name,
+                         const std::vector<model::Panel>& panels) {
+  model::BeamSpec s;
+  s.name = name;
+  s.parent = ParentPanel(f, "parent", panels);
+  s.root_point = f.Vector3("root");
+  s.direction = f.Vector3("direction");
+  if (f.Has("root_axis")) s.root_axis = f.Vector3("root_axis");
+  s.length = f.Number("length");
+  s.mass_per_length = f.Number("mass_per_length");
+  s.radius = f.Number("radius");
+  const std::vector<YamlNode> planes =
+      yaml::SequenceElements(f.doc(), f.Get("bending"), f.Key("bending"), "bending planes");
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    const Fields pf(f.doc(), planes[p], f.Key("bending[" + std::to_string(p) + "]"),
+                    {"axis", "EI"});
+    s.planes.push_back(model::BeamPlane{pf.Vector3("axis"), pf.Number("EI")});
+  }
+  s.damping_ratio = f.OptionalNumber("damping_ratio").value_or(0.0);
+  const std::string count = f.RequireExactlyOne({"segments", "frequency_tolerance"});
+  if (count == "segments") {
+    const double n = f.Number("segments");
+    if (!(n == std::floor(n) && n >= 2 && n <= model::kMaxBeamSegments)) {
+      f.Fail("segments",
+             "must be a whole number in [2, " + std::to_string(model::kMaxBeamSegments) + "]");
+    }
+    s.segments = static_cast<int>(n);
+  } else {
+    s.frequency_tolerance = f.Number("frequency_tolerance");
+  }
+  return s;
+}
+
+/// `appendages:` expanded into `body`'s panels (after the file's own).
+std::vector<model::Appendage> ReadAppendages(const Fields& top, model::HingedBody& body) {
+  std::vector<model::Appendage> out;
+  if (!top.Has("appendages")) return out;
+  const std::vector<YamlNode> nodes =
+      yaml::SequenceElements(top.doc(), top.Get("appendages"), "appendages", "appendages");
+  const std::vector<model::Panel> declared = body.panels;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const std::string key = "appendages[" + std::to_string(k) + "]";
+    const Fields f(
+        top.doc(), nodes[k], key,
+        {"name", "kind", "parent", "root", "direction", "root_axis", "length", "mass_per_length",
+         "radius", "bending", "damping_ratio", "segments", "frequency_tolerance"});
+    const std::string name = f.Name("name");
+    for (const model::Panel& p : body.panels) {
+      if (p.name == name) f.Fail("name", "also the name of a panel (rule: unique names)");
+    }
+    const std::string kind = f.Text("kind");
+    if (kind != "beam") f.Fail("kind", "unknown appendage kind (valid: beam)");
+    out.push_back(model::AddBeam(body, ReadBeam(f, name, declared), top.doc().path() + ": " + key));
+  }
+  return out;
+}
+
 model::Configuration ReadTensorConfiguration(const YamlDocument& doc,
                                              const std::string& name,
                                              const YamlNode& node) {
@@ -121,20 +197,34 @@ model::Configuration ReadTensorConfiguration(const YamlDocument& doc,
   return c;
 }
 
+/// A hinged configuration: one angle per panel of the file, then one per appendage (its
+/// root hinge); the appendages' bending hinges are straight (0).
 model::Configuration ReadHingedConfiguration(const YamlDocument& doc,
                                              const std::string& name,
                                              const YamlNode& node,
-                                             std::size_t panels) {
+                                             const model::Model& m,
+                                             std::size_t declared) {
   const Fields f(doc, node, yaml::JoinKey("configurations", name), {"hinge_angles_deg"});
   const YamlNode& angles = f.Get("hinge_angles_deg");
   const Eigen::VectorXd deg = yaml::ReadNumbers(doc, angles, f.Key("hinge_angles_deg"), -1);
-  if (static_cast<std::size_t>(deg.size()) != panels) {
-    f.Fail("hinge_angles_deg", "must have one hinge angle per panel (the model has " +
-                                   std::to_string(panels) + " panels, in panel order)");
+  const std::size_t given = declared + m.appendages.size();
+  if (static_cast<std::size_t>(deg.size()) != given) {
+    f.Fail("hinge_angles_deg",
+           "must have one hinge angle per panel (the model has " + std::to_string(declared) +
+               " panels, in panel order" +
+               (m.appendages.empty()
+                    ? std::string(")")
+                    : ", then one per appendage's root hinge: " + std::to_string(given) + ")"));
   }
   model::Configuration c;
   c.name = name;
-  c.hinge_angles = deg * kRadiansPerDegree;
+  c.hinge_angles = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m.hinged.panels.size()));
+  c.hinge_angles.head(static_cast<Eigen::Index>(declared)) =
+      deg.head(static_cast<Eigen::Index>(declared)) * kRadiansPerDegree;
+  for (std::size_t a = 0; a < m.appendages.size(); ++a) {
+    c.hinge_angles[m.appendages[a].root] =
+        deg[static_cast<Eigen::Index>(declared + a)] * kRadiansPerDegree;
+  }
   return c;
 }
 
@@ -148,8 +238,9 @@ model::Model LoadModel(const std::string& path) {
 model::Model ReadModelText(const std::string& text, const std::string& source) {
   const std::string& path = source;
   const YamlDocument doc(source, text);
-  const Fields top(doc, doc.root(), "",
-                   {"name", "description", "kind", "configurations", "hub", "panels"});
+  const Fields top(
+      doc, doc.root(), "",
+      {"name", "description", "kind", "configurations", "hub", "panels", "appendages"});
   model::Model m;
   m.source = path;
   m.text = doc.text();
@@ -157,9 +248,10 @@ model::Model ReadModelText(const std::string& text, const std::string& source) {
   m.description = top.OptionalText("description").value_or("");
 
   const std::string kind = top.Text("kind");
+  std::size_t declared = 0;  // the file's own panels
   if (kind == "tensors") {
     m.kind = model::ModelKind::kTensors;
-    for (const char* key : {"hub", "panels"}) {
+    for (const char* key : {"hub", "panels", "appendages"}) {
       if (top.Has(key)) top.Fail(key, "only allowed in models of kind: hinged");
     }
   } else if (kind == "hinged") {
@@ -167,6 +259,8 @@ model::Model ReadModelText(const std::string& text, const std::string& source) {
     model::HingedBody body;
     body.hub = ReadHub(top);
     body.panels = ReadPanels(top);
+    declared = body.panels.size();
+    m.appendages = ReadAppendages(top, body);
     m.hinged = model::ValidatedHingedBody(body, path);
   } else {
     top.Fail("kind", "unknown model kind (valid: tensors, hinged)");
@@ -178,10 +272,9 @@ model::Model ReadModelText(const std::string& text, const std::string& source) {
     if (const std::string problem = yaml::NameProblem(name); !problem.empty()) {
       doc.Fail(yaml::JoinKey("configurations", name), "configuration name: " + problem);
     }
-    m.configurations.push_back(
-        m.kind == model::ModelKind::kTensors
-            ? ReadTensorConfiguration(doc, name, node)
-            : ReadHingedConfiguration(doc, name, node, m.hinged.panels.size()));
+    m.configurations.push_back(m.kind == model::ModelKind::kTensors
+                                   ? ReadTensorConfiguration(doc, name, node)
+                                   : ReadHingedConfiguration(doc, name, node, m, declared));
   }
   return m;
 }

@@ -386,6 +386,16 @@ std::vector<schedule::HingeMove> ReadMoves(const Fields& plan, const std::string
   return moves;
 }
 
+/// The appendage whose bending hinge panel k is, or null.
+const model::Appendage* BendingHingeOf(const model::Model& m, int k) {
+  for (const model::Appendage& a : m.appendages) {
+    for (int h : a.hinges) {
+      if (h == k) return &a;
+    }
+  }
+  return nullptr;
+}
+
 /// One plan per panel, in panel order; panels not listed are locked.
 std::vector<schedule::HingePlan> ReadHinges(const Fields& top, const model::Model& m) {
   const YamlDocument& doc = top.doc();
@@ -394,6 +404,13 @@ std::vector<schedule::HingePlan> ReadHinges(const Fields& top, const model::Mode
     const std::string key = yaml::JoinKey("hinges", name);
     const int k = FindPanel(m, name);
     if (k < 0) doc.Fail(key, node, NoSuchPanel(m));
+    if (const model::Appendage* a = BendingHingeOf(m, k)) {
+      doc.Fail(key, node,
+               "a bending hinge of appendage " + a->name +
+                   ": its spring and damper come from the model's EI and damping_ratio (rule: "
+                   "a profile moves an appendage by its root hinge, " +
+                   a->name + ")");
+    }
     const Fields f(doc, node, key, {"free", "prescribed", "locked"});
     const int given = int{f.Has("free")} + int{f.Has("prescribed")} + int{f.Has("locked")};
     if (given != 1) {
@@ -419,6 +436,7 @@ std::vector<schedule::HingePlan> ReadHinges(const Fields& top, const model::Mode
       }
     }
   }
+  schedule::SetAppendagePlans(m, plans);
   return plans;
 }
 
@@ -527,6 +545,12 @@ schedule::Profile ReadProfileText(const std::string& text,
     p.until = top.Number("until");
     p.hinges = ReadHinges(top, p.model);
   } else {
+    if (!p.model.appendages.empty()) {
+      top.Fail("stages",
+               "model '" + yaml::ShortValue(p.model.name) + "' has a flexible appendage (" +
+                   p.model.appendages.front().name +
+                   "), whose bending needs the free-hinge dynamics: give hinges, not stages");
+    }
     p.mode = ReadMode(top, p.model);
     p.coupling = ReadCoupling(top, p.mode);
     p.initial = ReadInitial(top, false, p.model);

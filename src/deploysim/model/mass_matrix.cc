@@ -111,7 +111,8 @@ void ComputeMassMatrix(const HingedBody& /*body*/,
                        const PanelTree& tree,
                        const TreePose& pose,
                        const std::vector<int>& columns,
-                       Eigen::MatrixXd& M) {
+                       Eigen::MatrixXd& M,
+                       bool hub_held) {
   const int m = static_cast<int>(columns.size());
   M.resize(3 + m, 3 + m);
   M.setZero();
@@ -152,7 +153,7 @@ void ComputeMassMatrix(const HingedBody& /*body*/,
   }
   for (int a = 0; a < m; ++a) {
     for (int b = a; b < m; ++b) {
-      M(3 + a, 3 + b) -= g[a].dot(g[b]) / pose.mass;
+      if (!hub_held) M(3 + a, 3 + b) -= g[a].dot(g[b]) / pose.mass;
       M(3 + b, 3 + a) = M(3 + a, 3 + b);
     }
     M.block<1, 3>(3 + a, 0) = M.block<3, 1>(0, 3 + a).transpose();

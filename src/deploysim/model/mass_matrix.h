@@ -89,11 +89,14 @@ void ComputePose(const HingedBody& body,
 /// The mass matrix over (w_NB_B, theta'_columns): (3 + m) x (3 + m), m = columns.size(),
 /// formulas in the file comment. Symmetric positive definite for a valid body (all
 /// masses > 0). `M` is resized (no allocation when it already has the size).
+/// hub_held: the hub held still in translation as well (a clamped root): the hinges' block
+/// leaves out the CoM-shift term -g_k . g_l / M (used for a clamped beam's frequencies).
 void ComputeMassMatrix(const HingedBody& body,
                        const PanelTree& tree,
                        const TreePose& pose,
                        const std::vector<int>& columns,
-                       Eigen::MatrixXd& M);
+                       Eigen::MatrixXd& M,
+                       bool hub_held = false);
 
 /// Velocities of every part for body angular velocity w and hinge rates theta_dot (one
 /// per panel; zero for hinges at rest), file comment.

@@ -97,6 +97,31 @@ void CheckInertia(const Mat3& J, const std::string& what) {
   if (!err.empty()) throw std::invalid_argument(err);
 }
 
+/// A generated panel (model.h Appendage) of zero inertia: a massless link (mass 0, CoM on
+/// its hinge, with a child: the child's mass keeps the mass matrix definite) or a point
+/// mass (mass > 0, its CoM off its hinge axis). Returns false for any other panel (checked
+/// as usual); throws for a zero-inertia panel that is neither.
+bool CheckMasslessOrPoint(const HingedBody& body, std::size_t k, const std::string& label) {
+  const Panel& p = body.panels[k];
+  if (!p.body.inertia_cm.isZero(0.0) || !std::isfinite(p.body.mass)) return false;
+  if (p.body.mass == 0.0) {
+    bool has_child = false;
+    for (const Panel& q : body.panels) has_child = has_child || q.parent == static_cast<int>(k);
+    if (p.com_offset_B.isZero(0.0) && has_child) return true;
+    throw std::invalid_argument(label +
+                                ".mass = 0: a massless link must have its CoM on its hinge and "
+                                "a child (rule: mass > 0, or a link between two hinges)");
+  }
+  if (p.body.mass > 0.0 && p.body.mass <= kMaxPartMass &&
+      p.com_offset_B.cross(p.hinge_axis_B).norm() > 0.0) {
+    return true;
+  }
+  throw std::invalid_argument(label +
+                              ".inertia = 0: a point mass must have mass > 0 and its CoM "
+                              "off its hinge axis (rule: positive definite inertia, or a point "
+                              "mass off the axis)");
+}
+
 /// How a panel is named in a list or as a value: its name, or panels[k] if it has none.
 std::string PanelName(const HingedBody& body, std::size_t k) {
   const std::string& name = body.panels[k].name;
@@ -371,8 +396,10 @@ HingedBody ValidatedHingedBody(HingedBody body, const std::string& where) {
   for (std::size_t k = 0; k < body.panels.size(); ++k) {
     Panel& p = body.panels[k];
     const std::string label = PanelLabel(where, k, p);
-    CheckMass(p.body.mass, label);
-    CheckInertia(p.body.inertia_cm, label + ".inertia");
+    if (!CheckMasslessOrPoint(body, k, label)) {
+      CheckMass(p.body.mass, label);
+      CheckInertia(p.body.inertia_cm, label + ".inertia");
+    }
     p.body.inertia_cm = Symmetrized(p.body.inertia_cm);
     CheckPosition(p.hinge_point_B, label + ".hinge_point");
     CheckPosition(p.com_offset_B, label + ".com_offset");

@@ -69,9 +69,10 @@ inline constexpr double kMaxCoordinate = 1e6;
 /// than any folded array or boom has. It bounds the cost of ComputeMassProperties (each
 /// panel's chain is walked) and the distance of a part from B's origin
 /// (kMaxPanelDepth * sqrt(3) kMaxCoordinate).
-inline constexpr int kMaxPanelDepth = 64;
+inline constexpr int kMaxPanelDepth = 256;
 
-/// Checks masses finite and in (0, kMaxPartMass], positions finite with components within
+/// Checks masses finite and in (0, kMaxPartMass] (a generated massless link or point mass
+/// excepted: model.h Appendage), positions finite with components within
 /// kMaxCoordinate, finite vectors, valid inertias (math::InertiaTensor::Check:
 /// finite, symmetric, positive definite, triangle inequality), hinge axes of non-zero
 /// length, unique non-empty panel names, and the panel tree: every parent is -1 (the hub)

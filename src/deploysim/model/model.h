@@ -53,6 +53,27 @@ struct HingedBody {
   std::vector<Panel> panels;
 };
 
+/// What a flexible element (model/flexible_beam.h) or a slosh pendulum (model/slosh.h)
+/// generated: panels of the body whose hinges are free from the run's start, each with
+/// the spring and damper the element's physics gives. A generated panel may be massless
+/// (a link joining two hinges at one point: mass 0, inertia 0, CoM on its hinge, with a
+/// child) or a point mass (inertia 0); ValidatedHingedBody accepts these only so.
+struct Appendage {
+  enum class Kind { kBeam, kSlosh };
+  std::string name;
+  Kind kind = Kind::kBeam;
+  /// Its root panel: the beam's stub on its root hinge, which a profile may move like any
+  /// panel (deploy the beam), or -1 (a slosh pendulum has none).
+  int root = -1;
+  std::vector<int> hinges;        ///< the generated free hinges (panel indices)
+  std::vector<double> stiffness;  ///< [N m/rad] per hinge (its spring, rest angle 0)
+  std::vector<double> damping;    ///< [N m s/rad] per hinge
+  int segments = 0;               ///< a beam's N
+  /// A beam's clamped chain: the first bending frequencies [rad/s] per plane (up to 3),
+  /// and Euler-Bernoulli's for the same beam.
+  std::vector<std::vector<double>> chain_frequencies, beam_frequencies;
+};
+
 enum class ModelKind {
   kTensors,  ///< Named inertia tensors (one for a plain rigid body).
   kHinged,   ///< Hub + hinged panels; configurations are hinge angles.
@@ -73,6 +94,8 @@ struct Model {
   ModelKind kind = ModelKind::kTensors;
   HingedBody hinged;                          ///< Only for kHinged.
   std::vector<Configuration> configurations;  ///< In file order; names unique.
+  /// Flexible elements, expanded into panels after the file's own (kHinged only).
+  std::vector<Appendage> appendages;
 
   /// The configuration called `name`; throws std::invalid_argument listing the valid ones.
   const Configuration& configuration(const std::string& name) const;

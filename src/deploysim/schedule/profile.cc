@@ -669,4 +669,16 @@ void ValidateProfile(const Profile& p) {
   ValidateNumerics(p, where);
 }
 
+void SetAppendagePlans(const model::Model& m, std::vector<HingePlan>& plans) {
+  for (const model::Appendage& a : m.appendages) {
+    for (std::size_t i = 0; i < a.hinges.size(); ++i) {
+      HingePlan& plan = plans.at(static_cast<std::size_t>(a.hinges[i]));
+      plan = HingePlan();
+      plan.kind = HingePlan::Kind::kFree;
+      plan.drive.spring.stiffness = a.stiffness[i];
+      plan.drive.damping = a.damping[i];
+    }
+  }
+}
+
 }  // namespace deploysim::schedule

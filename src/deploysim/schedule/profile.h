@@ -161,4 +161,9 @@ inline constexpr double kMinStageDurationFraction = 1e-8;
 /// `hinges.wing_plus_x.free.latch.angle_deg`, angles shown in degrees).
 void ValidateProfile(const Profile& p);
 
+/// Sets the plans of the model's appendages' bending hinges (model.h Appendage): free from
+/// the start, on the spring (rest angle 0) and damper the model generated. `plans` has one
+/// plan per panel of m.hinged.
+void SetAppendagePlans(const model::Model& m, std::vector<HingePlan>& plans);
+
 }  // namespace deploysim::schedule
