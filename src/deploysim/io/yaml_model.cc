@@ -1,5 +1,6 @@
 // LoadModel: model files (docs/file_formats.md, "Models").
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -140,6 +141,13 @@ model::BeamSpec ReadBeam(const Fields& f,
     s.planes.push_back(model::BeamPlane{pf.Vector3("axis"), pf.Number("EI")});
   }
   s.damping_ratio = f.OptionalNumber("damping_ratio").value_or(0.0);
+  if (f.Has("modes")) {
+    const double k = f.Number("modes");
+    if (!(k == std::floor(k) && k >= 1 && k <= model::kMaxBeamSegments)) {
+      f.Fail("modes", "must be a whole number in [1, segments]");
+    }
+    s.modes = static_cast<int>(k);
+  }
   const std::string count = f.RequireExactlyOne({"segments", "frequency_tolerance"});
   if (count == "segments") {
     const double n = f.Number("segments");
@@ -154,6 +162,41 @@ model::BeamSpec ReadBeam(const Fields& f,
   return s;
 }
 
+/// The keys of each appendage kind (docs/file_formats.md, "Appendages").
+const std::vector<std::string> kBeamKeys = {"name",
+                                            "kind",
+                                            "parent",
+                                            "root",
+                                            "direction",
+                                            "root_axis",
+                                            "length",
+                                            "mass_per_length",
+                                            "radius",
+                                            "bending",
+                                            "damping_ratio",
+                                            "segments",
+                                            "frequency_tolerance",
+                                            "modes"};
+
+std::vector<std::string> AllAppendageKeys() {
+  std::vector<std::string> keys;
+  for (const std::vector<std::string>* kind : {&kBeamKeys}) {
+    for (const std::string& k : *kind) {
+      if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+    }
+  }
+  return keys;
+}
+
+/// An appendage's `name`: a valid name, unique among the panels (generated ones included).
+std::string AppendageName(const Fields& f, const model::HingedBody& body) {
+  const std::string name = f.Name("name");
+  for (const model::Panel& p : body.panels) {
+    if (p.name == name) f.Fail("name", "also the name of a panel (rule: unique names)");
+  }
+  return name;
+}
+
 /// `appendages:` expanded into `body`'s panels (after the file's own).
 std::vector<model::Appendage> ReadAppendages(const Fields& top, model::HingedBody& body) {
   std::vector<model::Appendage> out;
@@ -163,17 +206,17 @@ std::vector<model::Appendage> ReadAppendages(const Fields& top, model::HingedBod
   const std::vector<model::Panel> declared = body.panels;
   for (std::size_t k = 0; k < nodes.size(); ++k) {
     const std::string key = "appendages[" + std::to_string(k) + "]";
-    const Fields f(
-        top.doc(), nodes[k], key,
-        {"name", "kind", "parent", "root", "direction", "root_axis", "length", "mass_per_length",
-         "radius", "bending", "damping_ratio", "segments", "frequency_tolerance"});
-    const std::string name = f.Name("name");
-    for (const model::Panel& p : body.panels) {
-      if (p.name == name) f.Fail("name", "also the name of a panel (rule: unique names)");
+    const std::string where = top.doc().path() + ": " + key;
+    // The kind first, among every kind's keys; then the mapping again with its kind's own.
+    const Fields any(top.doc(), nodes[k], key, AllAppendageKeys());
+    const std::string kind = any.Text("kind");
+    if (kind == "beam") {
+      const Fields f(top.doc(), nodes[k], key, kBeamKeys);
+      const std::string name = AppendageName(f, body);
+      out.push_back(model::AddBeam(body, ReadBeam(f, name, declared), where));
+    } else {
+      any.Fail("kind", "unknown appendage kind (valid: beam)");
     }
-    const std::string kind = f.Text("kind");
-    if (kind != "beam") f.Fail("kind", "unknown appendage kind (valid: beam)");
-    out.push_back(model::AddBeam(body, ReadBeam(f, name, declared), top.doc().path() + ": " + key));
   }
   return out;
 }

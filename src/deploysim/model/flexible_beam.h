@@ -57,6 +57,9 @@ struct BeamSpec {
   /// When segments is 0: the smallest N whose clamped chain gives the first two bending
   /// frequencies of every plane within this relative error of Euler-Bernoulli's.
   double frequency_tolerance = 0.0;
+  /// 0: the chain's every hinge is a coordinate. K > 0: the chain moves only in the span of
+  /// its first K clamped modes per plane (a Ritz reduction of the chain, Appendage::modes).
+  int modes = 0;
 };
 
 /// Most segments of one beam: a 2-plane beam of kMaxBeamSegments is a chain of
