@@ -10,6 +10,7 @@
 #include "deploysim/math/inertia.h"
 #include "deploysim/model/flexible_beam.h"
 #include "deploysim/model/mass_properties.h"
+#include "deploysim/model/slosh.h"
 
 namespace deploysim::io {
 
@@ -178,14 +179,56 @@ const std::vector<std::string> kBeamKeys = {"name",
                                             "frequency_tolerance",
                                             "modes"};
 
+const std::vector<std::string> kSloshKeys = {
+    "name",    "kind",          "parent",    "pivot",         "direction",
+    "axis",    "mass",          "length",    "fixed_mass",    "fixed_point",
+    "damping", "damping_ratio", "spin_rate", "spin_rate_rpm", "spin_radius"};
+
 std::vector<std::string> AllAppendageKeys() {
   std::vector<std::string> keys;
-  for (const std::vector<std::string>* kind : {&kBeamKeys}) {
+  for (const std::vector<std::string>* kind : {&kBeamKeys, &kSloshKeys}) {
     for (const std::string& k : *kind) {
       if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
     }
   }
   return keys;
+}
+
+/// `appendages[k]` of kind slosh (model/slosh.h; docs/file_formats.md): the ranges are
+/// model::AddSlosh's, which names the keys in its messages.
+model::SloshSpec ReadSlosh(const Fields& f,
+                           const std::string& name,
+                           const std::vector<model::Panel>& panels) {
+  constexpr double kRadPerSecondPerRpm = 2.0 * 3.14159265358979323846 / 60.0;
+  model::SloshSpec s;
+  s.name = name;
+  s.parent = ParentPanel(f, "parent", panels);
+  s.pivot = f.Vector3("pivot");
+  s.direction = f.Vector3("direction");
+  if (f.Has("axis")) s.axis = f.Vector3("axis");
+  s.mass = f.Number("mass");
+  s.length = f.Number("length");
+  if (f.Has("fixed_mass") != f.Has("fixed_point")) {
+    f.Fail(f.Has("fixed_mass") ? "fixed_mass" : "fixed_point",
+           "fixed_mass [kg] and fixed_point [m] come together (rule: both or neither)");
+  }
+  if (f.Has("fixed_mass")) {
+    s.fixed_mass = f.Number("fixed_mass");
+    s.fixed_point = f.Vector3("fixed_point");
+  }
+  s.damping = f.OptionalNumber("damping");
+  s.damping_ratio = f.OptionalNumber("damping_ratio");
+  if (f.Has("spin_rate") && f.Has("spin_rate_rpm")) {
+    f.Fail("spin_rate_rpm", "give spin_rate [rad/s] or spin_rate_rpm, not both");
+  }
+  s.spin_rate = f.OptionalNumber("spin_rate");
+  if (f.Has("spin_rate_rpm")) {
+    const double rpm = f.Number("spin_rate_rpm");
+    if (!(rpm > 0.0)) f.Fail("spin_rate_rpm", "must be > 0 [rpm]");
+    s.spin_rate = rpm * kRadPerSecondPerRpm;
+  }
+  s.spin_radius = f.OptionalNumber("spin_radius");
+  return s;
 }
 
 /// An appendage's `name`: a valid name, unique among the panels (generated ones included).
@@ -214,8 +257,12 @@ std::vector<model::Appendage> ReadAppendages(const Fields& top, model::HingedBod
       const Fields f(top.doc(), nodes[k], key, kBeamKeys);
       const std::string name = AppendageName(f, body);
       out.push_back(model::AddBeam(body, ReadBeam(f, name, declared), where));
+    } else if (kind == "slosh") {
+      const Fields f(top.doc(), nodes[k], key, kSloshKeys);
+      const std::string name = AppendageName(f, body);
+      out.push_back(model::AddSlosh(body, ReadSlosh(f, name, declared), where));
     } else {
-      any.Fail("kind", "unknown appendage kind (valid: beam)");
+      any.Fail("kind", "unknown appendage kind (valid: beam, slosh)");
     }
   }
   return out;
@@ -240,8 +287,9 @@ model::Configuration ReadTensorConfiguration(const YamlDocument& doc,
   return c;
 }
 
-/// A hinged configuration: one angle per panel of the file, then one per appendage (its
-/// root hinge); the appendages' bending hinges are straight (0).
+/// A hinged configuration: one angle per panel of the file, then one per appendage with a
+/// root hinge (a beam's; a slosh pendulum has none), in appendage order; the appendages'
+/// generated hinges are at rest (0: a beam straight, a pendulum along its direction).
 model::Configuration ReadHingedConfiguration(const YamlDocument& doc,
                                              const std::string& name,
                                              const YamlNode& node,
@@ -250,23 +298,28 @@ model::Configuration ReadHingedConfiguration(const YamlDocument& doc,
   const Fields f(doc, node, yaml::JoinKey("configurations", name), {"hinge_angles_deg"});
   const YamlNode& angles = f.Get("hinge_angles_deg");
   const Eigen::VectorXd deg = yaml::ReadNumbers(doc, angles, f.Key("hinge_angles_deg"), -1);
-  const std::size_t given = declared + m.appendages.size();
+  std::vector<int> roots;  // the appendages' root hinges, in appendage order
+  for (const model::Appendage& a : m.appendages) {
+    if (a.root >= 0) roots.push_back(a.root);
+  }
+  const std::size_t given = declared + roots.size();
   if (static_cast<std::size_t>(deg.size()) != given) {
-    f.Fail("hinge_angles_deg",
-           "must have one hinge angle per panel (the model has " + std::to_string(declared) +
-               " panels, in panel order" +
-               (m.appendages.empty()
-                    ? std::string(")")
-                    : ", then one per appendage's root hinge: " + std::to_string(given) + ")"));
+    f.Fail(
+        "hinge_angles_deg",
+        "must have one hinge angle per panel (the model has " + std::to_string(declared) +
+            " panels, in panel order" +
+            (roots.empty()
+                 ? std::string(")")
+                 : ", then one per appendage with a root hinge (" + std::to_string(roots.size()) +
+                       "; a slosh pendulum has none): " + std::to_string(given) + ")"));
   }
   model::Configuration c;
   c.name = name;
   c.hinge_angles = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m.hinged.panels.size()));
   c.hinge_angles.head(static_cast<Eigen::Index>(declared)) =
       deg.head(static_cast<Eigen::Index>(declared)) * kRadiansPerDegree;
-  for (std::size_t a = 0; a < m.appendages.size(); ++a) {
-    c.hinge_angles[m.appendages[a].root] =
-        deg[static_cast<Eigen::Index>(declared + a)] * kRadiansPerDegree;
+  for (std::size_t a = 0; a < roots.size(); ++a) {
+    c.hinge_angles[roots[a]] = deg[static_cast<Eigen::Index>(declared + a)] * kRadiansPerDegree;
   }
   return c;
 }
