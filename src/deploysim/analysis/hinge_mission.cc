@@ -240,7 +240,10 @@ HingeRun::HingeRun(const schedule::Profile& profile,
       options_(options),
       t0_(profile.t_begin()),
       t1_(profile.t_end()),
-      sys_(body_, plans_, profile.model.configuration(profile.initial.configuration).hinge_angles),
+      sys_(body_,
+           plans_,
+           profile.model.configuration(profile.initial.configuration).hinge_angles,
+           schedule::ModalGroupsOf(profile.model)),
       plans_rate0_(profile.initial.hinge_rates),
       y_(HingeInitialState(profile, sys_, body_)),
       t_(t0_),
@@ -279,6 +282,13 @@ HingeRun::HingeRun(const schedule::Profile& profile,
     } else if (p.drive.release.kind == schedule::Release::Kind::kAtTime) {
       release_time_[static_cast<std::size_t>(k)] = std::max(t0_, p.drive.release.time);
     }
+  }
+  // Modal coordinates are in the shape state from the start: the appendages at their
+  // angles, at the hinges' initial rates.
+  if (sys_.modal_count() > 0) {
+    const Eigen::VectorXd rates0 =
+        plans_rate0_.size() > 0 ? plans_rate0_ : Eigen::VectorXd::Zero(theta0.size());
+    x_ = sys_.ShapeState(t0_, y_.H_B, theta0, rates0);
   }
   // The stiffest hinge rate times the run's length: the radians its swing can cover.
   project_energy_ = profile.has_free_hinge() &&
@@ -319,6 +329,13 @@ PhaseInfo HingeRun::Describe(double t) const {
   for (int k : sys_.free_hinges()) {
     free_list += (free_list.empty() ? "" : ", ") + name(k);
     ph.dissipative = ph.dissipative || Dissipates(plans_[static_cast<std::size_t>(k)].drive);
+  }
+  for (const schedule::ModalGroup& g : sys_.modal_groups()) {
+    free_list += (free_list.empty() ? "" : ", ") + g.name + " (" + std::to_string(g.basis.cols()) +
+                 " modes)";
+    for (int k : g.hinges) {
+      ph.dissipative = ph.dissipative || Dissipates(plans_[static_cast<std::size_t>(k)].drive);
+    }
   }
   for (int k = 0; k < n_; ++k) {
     const HingePlan& p = plans_[static_cast<std::size_t>(k)];
@@ -666,7 +683,7 @@ SegmentEnd HingeRun::FreeSegment(double t_next) {
       xm[a] -= h;
       g[a] = (energy(xp) - energy(xm)) / (2.0 * h);
       w[a] = tol.atol + tol.rtol * std::abs(th);
-      g[m + a] = s.theta_dot[sys_.free_hinges()[static_cast<std::size_t>(a)]];
+      g[m + a] = s.coordinate_rates[a];
       w[m + a] = tol.atol * M_ + tol.rtol * std::abs(y.x[m + a]);
     }
     const double reach2 = g.cwiseProduct(w).squaredNorm();

@@ -17,6 +17,7 @@
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/model/model.h"
 #include "deploysim/schedule/deployment_schedule.h"
+#include "deploysim/schedule/free_hinge_system.h"
 #include "deploysim/schedule/hinge_motion.h"
 
 namespace deploysim::analysis {
@@ -148,13 +149,55 @@ struct HingeRates {
   double stiffest = 0.0;
   std::vector<double> own;      ///< per panel (0 unless free)
   std::vector<double> inertia;  ///< per panel: its effective inertia S_aa (0 unless free)
+  /// Per panel: its modal group's index (schedule::ModalGroupsOf), -1 for none.
+  std::vector<int> group;
+  /// Per modal group: its stiffest coordinate's own rate (its hinges' own rate too).
+  std::vector<double> group_rate;
+  int coordinates = 0;  ///< free hinges outside the groups plus the groups' coordinates
 };
+
+/// The map T from the coordinates to the hinge rates over `cols`: the identity for a
+/// hinge outside the groups, a group's basis on its hinges' rows (FreeHingeSystem's
+/// modal coordinates). Fills rates.group.
+Eigen::MatrixXd CoordinateMap(const std::vector<int>& cols,
+                              const std::vector<schedule::ModalGroup>& groups,
+                              HingeRates& rates) {
+  const auto m = static_cast<Eigen::Index>(cols.size());
+  Eigen::Index n = 0;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    for (int k : groups[g].hinges) rates.group[static_cast<std::size_t>(k)] = static_cast<int>(g);
+    n += groups[g].basis.cols();
+  }
+  std::vector<Eigen::Index> first(groups.size(), 0);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    n += rates.group[static_cast<std::size_t>(cols[static_cast<std::size_t>(a)])] < 0 ? 1 : 0;
+  }
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(m, n);
+  Eigen::Index c = 0;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    first[g] = c;
+    c += groups[g].basis.cols();
+  }
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const int k = cols[static_cast<std::size_t>(a)];
+    const int g = rates.group[static_cast<std::size_t>(k)];
+    if (g < 0) {
+      T(a, c++) = 1.0;
+      continue;
+    }
+    const schedule::ModalGroup& mg = groups[static_cast<std::size_t>(g)];
+    const auto row = std::find(mg.hinges.begin(), mg.hinges.end(), k) - mg.hinges.begin();
+    T.row(a).segment(first[static_cast<std::size_t>(g)], mg.basis.cols()) = mg.basis.row(row);
+  }
+  return T;
+}
 
 HingeRates FreeHingeRates(const schedule::Profile& profile, double spin) {
   HingeRates out;
   const model::Model& model = profile.model;
   out.own.assign(profile.hinges.size(), 0.0);
   out.inertia.assign(profile.hinges.size(), 0.0);
+  out.group.assign(profile.hinges.size(), -1);
   if (model.kind != model::ModelKind::kHinged) return out;
   std::vector<int> cols;
   for (std::size_t k = 0; k < profile.hinges.size(); ++k) {
@@ -186,19 +229,41 @@ HingeRates FreeHingeRates(const schedule::Profile& profile, double spin) {
     out.own[k] = std::sqrt(K[a] / S(a, a)) + kDecayWeight * C[a] / S(a, a);
     out.inertia[k] = S(a, a);
   }
+  // In the coordinates the run integrates (modal groups: their modes' coordinates).
+  const std::vector<schedule::ModalGroup> groups = schedule::ModalGroupsOf(model);
+  const Eigen::MatrixXd T = CoordinateMap(cols, groups, out);
+  out.coordinates = static_cast<int>(T.cols());
+  const Eigen::MatrixXd Sc = T.transpose() * S * T;
+  const Eigen::MatrixXd Kc = T.transpose() * K.asDiagonal() * T;
+  const Eigen::MatrixXd Cc = T.transpose() * C.asDiagonal() * T;
+  out.group_rate.assign(groups.size(), 0.0);
+  for (Eigen::Index j = 0; j < T.cols(); ++j) {
+    for (Eigen::Index a = 0; a < m; ++a) {
+      const int g = out.group[static_cast<std::size_t>(cols[static_cast<std::size_t>(a)])];
+      if (g < 0 || T(a, j) == 0.0) continue;
+      double& r = out.group_rate[static_cast<std::size_t>(g)];
+      r = std::max(r, std::sqrt(Kc(j, j) / Sc(j, j)) + kDecayWeight * Cc(j, j) / Sc(j, j));
+    }
+  }
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const int g = out.group[static_cast<std::size_t>(cols[static_cast<std::size_t>(a)])];
+    if (g >= 0)
+      out.own[static_cast<std::size_t>(cols[static_cast<std::size_t>(a)])] =
+          out.group_rate[static_cast<std::size_t>(g)];
+  }
   double freq = 0.0, decay = 0.0;
-  if (m <= 256) {
+  if (T.cols() <= 256) {
     // The generalized eigenvalues of (K, S), (C, S): S is SPD (the mass matrix is).
     using Solver = Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd>;
-    const Solver ek(Eigen::MatrixXd(K.asDiagonal()), S, Eigen::EigenvaluesOnly);
-    const Solver ec(Eigen::MatrixXd(C.asDiagonal()), S, Eigen::EigenvaluesOnly);
+    const Solver ek(Kc, Sc, Eigen::EigenvaluesOnly);
+    const Solver ec(Cc, Sc, Eigen::EigenvaluesOnly);
     freq = std::sqrt(std::max(0.0, ek.eigenvalues().maxCoeff()));
     decay = std::max(0.0, ec.eigenvalues().maxCoeff());
   } else {
     // A long chain: the diagonal bound (the eigen solve would cost more than it saves).
-    for (Eigen::Index a = 0; a < m; ++a) {
-      freq = std::max(freq, std::sqrt(K[a] / S(a, a)));
-      decay = std::max(decay, C[a] / S(a, a));
+    for (Eigen::Index a = 0; a < Sc.rows(); ++a) {
+      freq = std::max(freq, std::sqrt(Kc(a, a) / Sc(a, a)));
+      decay = std::max(decay, Cc(a, a) / Sc(a, a));
     }
   }
   out.stiffest = freq + kDecayWeight * decay;
@@ -380,8 +445,12 @@ WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
   StageWork w;
   w.duration = profile.t_end() - profile.t_begin();
   w.max_rate = out.momentum / I_parts;
+  const HingeRates rates = FreeHingeRates(profile, out.momentum / I_parts);
+  // A modal group turns its hinges at its stiffest coordinate's rate at most.
+  for (double r : rates.group_rate) w.max_rate += r;
   for (std::size_t k = 0; k < profile.hinges.size() && k < model.hinged.panels.size(); ++k) {
     const schedule::HingePlan& h = profile.hinges[k];
+    if (rates.group[k] >= 0) continue;
     const double I_k = smallest_moment(model.hinged.panels[k].body.inertia_cm);
     double rate = 0.0;
     if (h.kind == schedule::HingePlan::Kind::kPrescribed) {
@@ -412,14 +481,11 @@ WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
   out.fixed_steps = w.fixed_steps;
   out.stages.push_back(w);
   // Steps: the spin over the whole run, the free hinges while they move.
-  const HingeRates rates = FreeHingeRates(profile, out.momentum / I_parts);
   out.hinge_rate = rates.stiffest;
   out.free_time = FreeTime(profile, rates);
   const double segments = Segments(profile, rates);
-  int free_plans = 0;
-  for (const schedule::HingePlan& h : profile.hinges) {
-    free_plans += h.kind == schedule::HingePlan::Kind::kFree ? 1 : 0;
-  }
+  // The shape state's coordinates (a modal group's count as its modes).
+  int free_plans = rates.coordinates;
   const bool lie = info.lie_group || profile.integrator.method == "exact";
   // A Lie-group method resolves H_B's motion in the body: before the release, and once the
   // latching hinges have latched (a deployment can make the spin axis intermediate).

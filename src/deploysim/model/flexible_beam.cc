@@ -78,6 +78,10 @@ BeamSpec Checked(BeamSpec spec, const std::string& where) {
     Fail(where, "segments = " + std::to_string(spec.segments) + ": must be in [2, " +
                     std::to_string(kMaxBeamSegments) + "]");
   }
+  if (spec.modes < 0 || (spec.segments > 0 && spec.modes > spec.segments)) {
+    Fail(where, "modes = " + std::to_string(spec.modes) +
+                    ": must be at most the segments (rule: 1 <= modes <= segments)");
+  }
   if (spec.segments == 0 && !(spec.frequency_tolerance > 0.0 && spec.frequency_tolerance < 0.5)) {
     Fail(where, "frequency_tolerance = " + FormatNumber(spec.frequency_tolerance) +
                     ": must be in (0, 0.5) (or give segments)");
@@ -155,14 +159,19 @@ Chain StandAlone(const BeamSpec& spec, int n) {
   return c;
 }
 
-/// The clamped chain's first `count` frequencies in plane p.
-std::vector<double> PlaneFrequencies(const Chain& c, const BeamSpec& spec, int p, int count) {
+/// The clamped chain's modes in plane p.
+ClampedModes PlaneModes(const Chain& c, const BeamSpec& spec, int p) {
   const double k = spec.planes[static_cast<std::size_t>(p)].bending_stiffness /
                    (spec.length / static_cast<double>(c.hinges[0].size()));
   const std::vector<int>& cols = c.hinges[static_cast<std::size_t>(p)];
-  const Eigen::VectorXd w = ClampedFrequencies(
-      c.body, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(c.body.panels.size())), cols,
-      std::vector<double>(cols.size(), k));
+  return ComputeClampedModes(c.body,
+                             Eigen::VectorXd::Zero(static_cast<Eigen::Index>(c.body.panels.size())),
+                             cols, std::vector<double>(cols.size(), k));
+}
+
+/// The clamped chain's first `count` frequencies in plane p.
+std::vector<double> PlaneFrequencies(const Chain& c, const BeamSpec& spec, int p, int count) {
+  const Eigen::VectorXd w = PlaneModes(c, spec, p).frequencies;
   std::vector<double> out;
   for (Eigen::Index i = 0; i < std::min<Eigen::Index>(count, w.size()); ++i) out.push_back(w[i]);
   return out;
@@ -231,6 +240,13 @@ Eigen::VectorXd ClampedFrequencies(const HingedBody& body,
                                    const Eigen::VectorXd& theta,
                                    const std::vector<int>& columns,
                                    const std::vector<double>& stiffness) {
+  return ComputeClampedModes(body, theta, columns, stiffness).frequencies;
+}
+
+ClampedModes ComputeClampedModes(const HingedBody& body,
+                                 const Eigen::VectorXd& theta,
+                                 const std::vector<int>& columns,
+                                 const std::vector<double>& stiffness) {
   const PanelTree tree(body);
   TreePose pose;
   ComputePose(body, tree, theta, pose);
@@ -240,16 +256,28 @@ Eigen::VectorXd ClampedFrequencies(const HingedBody& body,
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(m, m);
   for (Eigen::Index i = 0; i < m; ++i) K(i, i) = stiffness[static_cast<std::size_t>(i)];
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, M.bottomRightCorner(m, m),
-                                                                      Eigen::EigenvaluesOnly);
+                                                                      Eigen::ComputeEigenvectors);
   if (eig.info() != Eigen::Success) {
-    throw std::runtime_error("ClampedFrequencies: the generalized eigenproblem did not converge");
+    throw std::runtime_error("ClampedModes: the generalized eigenproblem did not converge");
   }
-  return eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  ClampedModes out;
+  out.frequencies = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  out.shapes = eig.eigenvectors();
+  for (Eigen::Index j = 0; j < m; ++j) {
+    Eigen::Index at = 0;
+    out.shapes.col(j).cwiseAbs().maxCoeff(&at);
+    out.shapes.col(j) /= out.shapes(at, j);
+  }
+  return out;
 }
 
 Appendage AddBeam(HingedBody& body, const BeamSpec& raw, const std::string& where) {
   const BeamSpec spec = Checked(raw, where);
   const int n = spec.segments > 0 ? spec.segments : SegmentsFor(spec, where);
+  if (spec.modes > n) {
+    Fail(where, "modes = " + std::to_string(spec.modes) + ": more than the chain's " +
+                    std::to_string(n) + " segments (rule: 1 <= modes <= segments)");
+  }
   const double l = spec.length / n;
   Appendage app;
   app.name = spec.name;
@@ -273,6 +301,18 @@ Appendage AddBeam(HingedBody& body, const BeamSpec& raw, const std::string& wher
       app.hinges.push_back(hinges[p][static_cast<std::size_t>(j)]);
       app.stiffness.push_back(k[p]);
       app.damping.push_back(c[p]);
+    }
+  }
+  if (spec.modes > 0) {
+    // The first `modes` clamped modes of each plane, on that plane's rows.
+    const auto planes = static_cast<Eigen::Index>(spec.planes.size());
+    const Eigen::Index kk = spec.modes;
+    app.modes = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(app.hinges.size()), planes * kk);
+    for (Eigen::Index p = 0; p < planes; ++p) {
+      const ClampedModes cm = PlaneModes(alone, spec, static_cast<int>(p));
+      for (Eigen::Index j = 0; j < n; ++j) {
+        app.modes.row(j * planes + p).segment(p * kk, kk) = cm.shapes.row(j).head(kk);
+      }
     }
   }
   return app;

@@ -89,6 +89,13 @@ double CantileverFrequency(const BeamSpec& spec, int plane, int n);
 /// Wang, J. Appl. Mech. 49 (1982) 197-202; Hodges and Rutkowski, AIAA J. 19 (1981)).
 double SouthwellCoefficient(double hub_radius_over_length);
 
+/// The clamped modes of a chain of free hinges (ComputeClampedModes).
+struct ClampedModes {
+  Eigen::VectorXd frequencies;  ///< [rad/s], ascending
+  /// One column per mode (the hinge angles over `columns`), scaled to 1 at its largest.
+  Eigen::MatrixXd shapes;
+};
+
 /// The bending frequencies [rad/s], ascending, of a chain of free hinges with springs
 /// `stiffness` (one per column) with the hub held still (clamped): the generalized
 /// eigenvalues of K v = omega^2 M v, M the hinges' block of the mass matrix at `theta`.
@@ -96,5 +103,11 @@ Eigen::VectorXd ClampedFrequencies(const HingedBody& body,
                                    const Eigen::VectorXd& theta,
                                    const std::vector<int>& columns,
                                    const std::vector<double>& stiffness);
+
+/// ClampedFrequencies with the mode shapes.
+ClampedModes ComputeClampedModes(const HingedBody& body,
+                                 const Eigen::VectorXd& theta,
+                                 const std::vector<int>& columns,
+                                 const std::vector<double>& stiffness);
 
 }  // namespace deploysim::model

@@ -192,6 +192,49 @@ void ComputeVelocity(const HingedBody& /*body*/,
   vel.V_c = m_u / pose.mass;
 }
 
+void ComputeMassMatrixInSpeeds(const HingedBody& body,
+                               const PanelTree& tree,
+                               const TreePose& pose,
+                               const Eigen::MatrixXd& speeds,
+                               std::vector<TreeVelocity>& fields,
+                               Eigen::MatrixXd& M) {
+  const auto c = static_cast<std::size_t>(speeds.cols());
+  const int n = tree.size();
+  fields.resize(c);
+  // Per speed: the parts' velocities relative to the system CoM and I_i Omega_i (the
+  // latter kept in U_B, no longer needed once u_B - V_c is formed).
+  Eigen::VectorXd rates(n);
+  for (std::size_t a = 0; a < c; ++a) {
+    const auto col = speeds.col(static_cast<Eigen::Index>(a));
+    rates = col.tail(n);
+    ComputeVelocity(body, tree, pose, col.head<3>(), rates, fields[a]);
+    TreeVelocity& f = fields[a];
+    f.hub.u_B -= f.V_c;
+    f.hub.U_B = pose.hub.I_B * f.hub.Omega_B;
+    for (int i = 0; i < n; ++i) {
+      TreeVelocity::Part& v = f.panels[static_cast<std::size_t>(i)];
+      v.u_B -= f.V_c;
+      v.U_B = pose.panels[static_cast<std::size_t>(i)].I_B * v.Omega_B;
+    }
+  }
+  M.resize(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(c));
+  for (std::size_t a = 0; a < c; ++a) {
+    for (std::size_t b = a; b < c; ++b) {
+      const TreeVelocity& fa = fields[a];
+      const TreeVelocity& fb = fields[b];
+      double sum = pose.hub.mass * fa.hub.u_B.dot(fb.hub.u_B) + fa.hub.Omega_B.dot(fb.hub.U_B);
+      for (int i = 0; i < n; ++i) {
+        const TreeVelocity::Part& va = fa.panels[static_cast<std::size_t>(i)];
+        const TreeVelocity::Part& vb = fb.panels[static_cast<std::size_t>(i)];
+        sum += pose.panels[static_cast<std::size_t>(i)].mass * va.u_B.dot(vb.u_B) +
+               va.Omega_B.dot(vb.U_B);
+      }
+      M(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) = sum;
+      M(static_cast<Eigen::Index>(b), static_cast<Eigen::Index>(a)) = sum;
+    }
+  }
+}
+
 double KineticEnergy(const TreePose& pose, const TreeVelocity& vel) {
   auto part_energy = [&](const TreePose::Part& p, const TreeVelocity::Part& v) {
     const Vec3 V = v.u_B - vel.V_c;

@@ -98,6 +98,23 @@ void ComputeMassMatrix(const HingedBody& body,
                        Eigen::MatrixXd& M,
                        bool hub_held = false);
 
+/// Forward declaration for ComputeMassMatrixInSpeeds.
+struct TreeVelocity;
+
+/// The mass matrix over generalized speeds that are combinations of (w_NB_B, theta'):
+/// speed c moves the system as w = speeds.col(c).head<3>(), theta' = speeds.col(c).tail(n)
+/// (n panels), and M_cd = sum over the parts i of m_i V_i^c . V_i^d + Omega_i^c . I_i
+/// Omega_i^d, V_i^c the velocity of part i's CoM relative to the system CoM under speed c
+/// (ComputeVelocity). It equals T^T M T for M over (w, every hinge) and T = speeds, at
+/// O(c n + c^2 n) instead of O(n m^2) for m hinge columns: the form for a few speeds that
+/// move many hinges (modal coordinates). `fields` is scratch (one velocity per speed).
+void ComputeMassMatrixInSpeeds(const HingedBody& body,
+                               const PanelTree& tree,
+                               const TreePose& pose,
+                               const Eigen::MatrixXd& speeds,
+                               std::vector<TreeVelocity>& fields,
+                               Eigen::MatrixXd& M);
+
 /// Velocities of every part for body angular velocity w and hinge rates theta_dot (one
 /// per panel; zero for hinges at rest), file comment.
 struct TreeVelocity {

@@ -72,6 +72,11 @@ struct Appendage {
   /// A beam's clamped chain: the first bending frequencies [rad/s] per plane (up to 3),
   /// and Euler-Bernoulli's for the same beam.
   std::vector<std::vector<double>> chain_frequencies, beam_frequencies;
+  /// Empty: every generated hinge is a coordinate of its own. Otherwise the hinges move
+  /// only as theta = modes q (one row per hinge of `hinges`, one column per coordinate q:
+  /// a beam's first clamped modes per plane, each scaled to 1 at its largest hinge angle),
+  /// a Ritz reduction of the chain (schedule::FreeHingeSystem's modal coordinates).
+  Eigen::MatrixXd modes;
 };
 
 enum class ModelKind {

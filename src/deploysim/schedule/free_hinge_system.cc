@@ -156,12 +156,24 @@ FreeHingeSystem::Merged FreeHingeSystem::MergeLockedLeaves(const model::HingedBo
   return out;
 }
 
+std::vector<ModalGroup> ModalGroupsOf(const model::Model& m) {
+  std::vector<ModalGroup> out;
+  for (const model::Appendage& a : m.appendages) {
+    if (a.modes.size() == 0) continue;
+    out.push_back(ModalGroup{a.name, a.hinges, a.modes});
+  }
+  return out;
+}
+
 FreeHingeSystem::FreeHingeSystem(const model::HingedBody& body,
                                  const std::vector<HingePlan>& plans,
-                                 const Eigen::VectorXd& initial_angles)
-    : FreeHingeSystem(MergeLockedLeaves(body, plans, initial_angles), initial_angles) {}
+                                 const Eigen::VectorXd& initial_angles,
+                                 const std::vector<ModalGroup>& modal)
+    : FreeHingeSystem(MergeLockedLeaves(body, plans, initial_angles), initial_angles, modal) {}
 
-FreeHingeSystem::FreeHingeSystem(Merged merged, const Eigen::VectorXd& full_angles)
+FreeHingeSystem::FreeHingeSystem(Merged merged,
+                                 const Eigen::VectorXd& full_angles,
+                                 const std::vector<ModalGroup>& modal)
     : body_(std::move(merged.body)),
       tree_(body_),
       plans_(std::move(merged.plans)),
@@ -190,6 +202,38 @@ FreeHingeSystem::FreeHingeSystem(Merged merged, const Eigen::VectorXd& full_angl
   slip_.assign(static_cast<std::size_t>(n), 0);
   theta_.resize(n);
   theta_dot_.resize(n);
+  // Modal groups: their hinges (free plans, never merged) and the block-diagonal basis.
+  groups_ = modal;
+  is_modal_.assign(static_cast<std::size_t>(n), 0);
+  Eigen::Index rows = 0, cols = 0;
+  for (const ModalGroup& g : groups_) {
+    if (g.basis.rows() != static_cast<Eigen::Index>(g.hinges.size()) || g.basis.cols() < 1) {
+      throw std::invalid_argument("FreeHingeSystem: modal group " + g.name +
+                                  ": its basis must have one row per hinge and a column");
+    }
+    rows += g.basis.rows();
+    cols += g.basis.cols();
+  }
+  phi_ = Eigen::MatrixXd::Zero(rows, cols);
+  modal_theta0_.resize(rows);
+  rows = cols = 0;
+  for (const ModalGroup& g : groups_) {
+    for (int k : g.hinges) {
+      const int r = Computed(k);
+      if (plans_[static_cast<std::size_t>(r)].kind != HingePlan::Kind::kFree ||
+          is_modal_[static_cast<std::size_t>(r)]) {
+        throw std::invalid_argument("FreeHingeSystem: modal group " + g.name + ": hinge " +
+                                    std::to_string(k) + " is not free or in two groups");
+      }
+      is_modal_[static_cast<std::size_t>(r)] = 1;
+      modal_theta0_[static_cast<Eigen::Index>(modal_.size())] = angles_[r];
+      modal_.push_back(r);
+      modal_orig_.push_back(k);
+    }
+    phi_.block(rows, cols, g.basis.rows(), g.basis.cols()) = g.basis;
+    rows += g.basis.rows();
+    cols += g.basis.cols();
+  }
 }
 
 int FreeHingeSystem::Computed(int k) const {
@@ -212,15 +256,18 @@ Eigen::VectorXd FreeHingeSystem::Expand(const Eigen::VectorXd& computed, bool ra
 
 bool FreeHingeSystem::IsFree(int k) const {
   const int r = red_of_[static_cast<std::size_t>(k)];
-  return r >= 0 && is_free_[static_cast<std::size_t>(r)] != 0;
+  return r >= 0 && (is_free_[static_cast<std::size_t>(r)] != 0 ||
+                    is_modal_[static_cast<std::size_t>(r)] != 0);
 }
 
 void FreeHingeSystem::Lock(int k, double angle) { LockComputed(Computed(k), angle); }
 
 void FreeHingeSystem::LockComputed(int r, double angle) {
   const int k = orig_of_[static_cast<std::size_t>(r)];
-  if (plans_[static_cast<std::size_t>(r)].kind == HingePlan::Kind::kPrescribed) {
-    throw std::logic_error("FreeHingeSystem::Lock: hinge " + std::to_string(k) + " is prescribed");
+  if (plans_[static_cast<std::size_t>(r)].kind == HingePlan::Kind::kPrescribed ||
+      is_modal_[static_cast<std::size_t>(r)]) {
+    throw std::logic_error("FreeHingeSystem::Lock: hinge " + std::to_string(k) +
+                           " is prescribed or moves with modal coordinates");
   }
   angles_[r] = angle;
   if (is_free_[static_cast<std::size_t>(r)]) {
@@ -240,7 +287,7 @@ void FreeHingeSystem::Free(int k) { FreeComputed(Computed(k)); }
 void FreeHingeSystem::FreeComputed(int r) {
   const int k = orig_of_[static_cast<std::size_t>(r)];
   if (plans_[static_cast<std::size_t>(r)].kind != HingePlan::Kind::kFree ||
-      is_free_[static_cast<std::size_t>(r)]) {
+      is_free_[static_cast<std::size_t>(r)] || is_modal_[static_cast<std::size_t>(r)]) {
     throw std::logic_error("FreeHingeSystem::Free: hinge " + std::to_string(k) +
                            " is not a locked free hinge");
   }
@@ -271,14 +318,18 @@ Eigen::VectorXd FreeHingeSystem::Free(
     int k, double t, const math::Vec3& H_B, const Eigen::VectorXd& x, double rate) {
   Snapshot before = Snap(t, H_B, x);
   const int m = free_count();
+  const int mh = static_cast<int>(free_.size());  // the new hinge's place: after the hinges
+  const int mq = modal_count();
   Free(k);
   before.theta_dot[k] = rate;
   const Eigen::VectorXd full = ShapeState(t, H_B, before.theta, before.theta_dot);
   Eigen::VectorXd nx(2 * (m + 1));
-  nx.head(m) = x.head(m);
-  nx[m] = full[m];
-  nx.segment(m + 1, m) = x.tail(m);
-  nx[2 * m + 1] = full[2 * m + 1];
+  nx.head(mh) = x.head(mh);
+  nx[mh] = full[mh];
+  nx.segment(mh + 1, mq) = x.segment(mh, mq);
+  nx.segment(m + 1, mh) = x.segment(m, mh);
+  nx[m + 1 + mh] = full[m + 1 + mh];
+  nx.segment(m + 2 + mh, mq) = x.segment(m + mh, mq);
   return nx;
 }
 
@@ -298,8 +349,17 @@ void FreeHingeSystem::Setup(double t, const Eigen::VectorXd& x, dynamics::Side s
       theta_[k] = angles_[k];
     }
   }
-  for (int a = 0; a < m; ++a) theta_[free_[static_cast<std::size_t>(a)]] = x[a];
+  const int mh = static_cast<int>(free_.size());
+  for (int a = 0; a < mh; ++a) theta_[free_[static_cast<std::size_t>(a)]] = x[a];
+  if (!modal_.empty()) {
+    // The modal hinges at theta_0 + basis q (q: entries mh .. m - 1).
+    const Eigen::VectorXd th = modal_theta0_ + phi_ * x.segment(mh, m - mh);
+    for (std::size_t i = 0; i < modal_.size(); ++i) {
+      theta_[modal_[i]] = th[static_cast<Eigen::Index>(i)];
+    }
+  }
   cols_.assign(free_.begin(), free_.end());
+  cols_.insert(cols_.end(), modal_.begin(), modal_.end());
   cols_.insert(cols_.end(), moving_.begin(), moving_.end());
   if (!pose_valid_ || theta_ != pose_theta_) {
     model::ComputePose(body_, tree_, theta_, pose_);
@@ -311,9 +371,79 @@ void FreeHingeSystem::Setup(double t, const Eigen::VectorXd& x, dynamics::Side s
 
 void FreeHingeSystem::UpdateMassMatrix() const {
   if (mass_valid_ && cols_ == mass_cols_) return;
-  model::ComputeMassMatrix(body_, tree_, pose_, cols_, M_);
+  if (modal_.empty()) {
+    model::ComputeMassMatrix(body_, tree_, pose_, cols_, M_);
+  } else {
+    // In the coordinates (w, free hinges, q, moving) directly, from each coordinate's
+    // velocity field (model::ComputeMassMatrixInSpeeds): the hinge-column matrix would
+    // cost O(n m^2) for the m modal hinges.
+    const int n = tree_.size();
+    const int mh = static_cast<int>(free_.size()), nk = modal_count();
+    const int nq = static_cast<int>(moving_.size());
+    speeds_.setZero(3 + n, 3 + mh + nk + nq);
+    speeds_.topLeftCorner<3, 3>().setIdentity();
+    for (int a = 0; a < mh; ++a) speeds_(3 + free_[static_cast<std::size_t>(a)], 3 + a) = 1.0;
+    for (std::size_t i = 0; i < modal_.size(); ++i) {
+      speeds_.row(3 + modal_[i]).segment(3 + mh, nk) = phi_.row(static_cast<Eigen::Index>(i));
+    }
+    for (int b = 0; b < nq; ++b) {
+      speeds_(3 + moving_[static_cast<std::size_t>(b)], 3 + mh + nk + b) = 1.0;
+    }
+    model::ComputeMassMatrixInSpeeds(body_, tree_, pose_, speeds_, fields_, M_);
+  }
   mass_cols_ = cols_;
   mass_valid_ = true;
+}
+
+Eigen::VectorXd FreeHingeSystem::CoordinateRates() const {
+  const int mh = static_cast<int>(free_.size());
+  Eigen::VectorXd r(mh + modal_count());
+  for (int a = 0; a < mh; ++a) r[a] = theta_dot_[free_[static_cast<std::size_t>(a)]];
+  if (modal_count() > 0) r.tail(modal_count()) = q_dot_;
+  return r;
+}
+
+Eigen::VectorXd FreeHingeSystem::CoordinateForces(double t,
+                                                  dynamics::Side side,
+                                                  const Eigen::VectorXd& x) const {
+  const int mh = static_cast<int>(free_.size());
+  Eigen::VectorXd f(mh + modal_count());
+  for (int a = 0; a < mh; ++a) {
+    const int k = free_[static_cast<std::size_t>(a)];
+    f[a] = Torque(k, t, side, x[a], theta_dot_[k]);
+  }
+  if (!modal_.empty()) {
+    Eigen::VectorXd qh(static_cast<Eigen::Index>(modal_.size()));
+    for (std::size_t i = 0; i < modal_.size(); ++i) {
+      const int k = modal_[i];
+      qh[static_cast<Eigen::Index>(i)] = Torque(k, t, side, theta_[k], theta_dot_[k]);
+    }
+    f.tail(modal_count()).noalias() = phi_.transpose() * qh;
+  }
+  return f;
+}
+
+Eigen::VectorXd FreeHingeSystem::ProjectGradient(const Eigen::VectorXd& g_hinges) const {
+  if (modal_.empty()) return g_hinges;
+  const Eigen::Index mh = static_cast<Eigen::Index>(free_.size());
+  const Eigen::Index g = phi_.rows(), k = phi_.cols();
+  const Eigen::Index rest = g_hinges.size() - mh - g;
+  Eigen::VectorXd out(mh + k + rest);
+  out.head(mh) = g_hinges.head(mh);
+  out.segment(mh, k).noalias() = phi_.transpose() * g_hinges.segment(mh, g);
+  out.tail(rest) = g_hinges.tail(rest);
+  return out;
+}
+
+void FreeHingeSystem::HingeRatesOf(const Eigen::VectorXd& z, Eigen::VectorXd& rates) const {
+  const int mh = static_cast<int>(free_.size());
+  for (int a = 0; a < mh; ++a) rates[free_[static_cast<std::size_t>(a)]] = z[3 + a];
+  if (!modal_.empty()) {
+    const Eigen::VectorXd th = phi_ * z.segment(3 + mh, modal_count());
+    for (std::size_t i = 0; i < modal_.size(); ++i) {
+      rates[modal_[i]] = th[static_cast<Eigen::Index>(i)];
+    }
+  }
 }
 
 void FreeHingeSystem::Solve(const Vec3& H_B, const Eigen::VectorXd& x) const {
@@ -348,7 +478,8 @@ void FreeHingeSystem::Solve(const Vec3& H_B, const Eigen::VectorXd& x) const {
   }
   if (!solved) sol_.setConstant(std::numeric_limits<double>::quiet_NaN());
   w_ = sol_.head<3>();
-  for (int a = 0; a < m; ++a) theta_dot_[free_[static_cast<std::size_t>(a)]] = sol_[3 + a];
+  HingeRatesOf(sol_, theta_dot_);
+  q_dot_ = sol_.segment(3 + static_cast<Eigen::Index>(free_.size()), modal_count());
 }
 
 void FreeHingeSystem::Evaluate(double t,
@@ -361,14 +492,22 @@ void FreeHingeSystem::Evaluate(double t,
   Setup(t, x, side);
   Solve(H_B, x);
   model::ComputeVelocity(body_, tree_, pose_, w_, theta_dot_, vel_);
-  model::KineticEnergyGradient(tree_, pose_, vel_, free_, grad_);
   const bool ledger = x.size() == 2 * m + kLedgerTerms;
   x_dot.resize(ledger ? 2 * m + kLedgerTerms : 2 * m);
-  for (int a = 0; a < m; ++a) {
-    const int k = free_[static_cast<std::size_t>(a)];
-    const double rate = theta_dot_[k];
-    x_dot[a] = rate;
-    x_dot[m + a] = grad_[a] + Torque(k, t, side, x[a], rate);
+  if (modal_.empty()) {
+    model::KineticEnergyGradient(tree_, pose_, vel_, free_, grad_);
+    for (int a = 0; a < m; ++a) {
+      const int k = free_[static_cast<std::size_t>(a)];
+      const double rate = theta_dot_[k];
+      x_dot[a] = rate;
+      x_dot[m + a] = grad_[a] + Torque(k, t, side, x[a], rate);
+    }
+  } else {
+    std::vector<int> wrt(free_.begin(), free_.end());
+    wrt.insert(wrt.end(), modal_.begin(), modal_.end());
+    model::KineticEnergyGradient(tree_, pose_, vel_, wrt, grad_);
+    x_dot.head(m) = CoordinateRates();
+    x_dot.segment(m, m) = ProjectGradient(grad_) + CoordinateForces(t, side, x);
   }
   if (ledger) {
     const Powers p = PowersNow(t, side, H_B, x);
@@ -382,7 +521,7 @@ FreeHingeSystem::Powers FreeHingeSystem::PowersNow(double t,
                                                    const Vec3& H_B,
                                                    const Eigen::VectorXd& x) const {
   Powers p;
-  for (int a = 0; a < free_count(); ++a) {
+  for (int a = 0; a < static_cast<int>(free_.size()); ++a) {
     const int k = free_[static_cast<std::size_t>(a)];
     const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
     const double rate = theta_dot_[k];
@@ -396,6 +535,14 @@ FreeHingeSystem::Powers FreeHingeSystem::PowersNow(double t,
           ServoTorque(d.motor, servo_ref_[static_cast<std::size_t>(k)].At(t, side), x[a], rate);
     }
     p.motor += motor * rate;
+  }
+  for (int k : modal_) {  // a spring and a damper each
+    const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
+    const double rate = theta_dot_[k];
+    const NonConservativeParts q = NonConservativeTorqueParts(d, rate, 0);
+    p.damper += q.damper * rate;
+    p.friction += q.friction * rate;
+    p.motor += q.motor * rate;
   }
   if (!moving_.empty()) p.drive = DrivePower(t, side, H_B, x);
   return p;
@@ -433,13 +580,16 @@ double FreeHingeSystem::DrivePower(double t,
   // g over (free, moving) at the velocities z (w = z.head<3>(), free rates z.tail(m), the
   // moving prescribed hinges at v_sign v).
   std::vector<int> wrt(free_.begin(), free_.end());
+  wrt.insert(wrt.end(), modal_.begin(), modal_.end());
   wrt.insert(wrt.end(), moving_.begin(), moving_.end());
   auto half_form = [&](const Eigen::VectorXd& z, double v_sign, Eigen::VectorXd& g) {
     drive_rates_.setZero(tree_.size());
-    for (int a = 0; a < m; ++a) drive_rates_[free_[static_cast<std::size_t>(a)]] = z[3 + a];
+    HingeRatesOf(z, drive_rates_);
     for (int b = 0; b < q; ++b) drive_rates_[moving_[static_cast<std::size_t>(b)]] = v_sign * v[b];
     model::ComputeVelocity(body_, tree_, pose_, z.head<3>(), drive_rates_, drive_vel_);
-    model::KineticEnergyGradient(tree_, pose_, drive_vel_, wrt, g);
+    Eigen::VectorXd gh;
+    model::KineticEnergyGradient(tree_, pose_, drive_vel_, wrt, gh);
+    g = ProjectGradient(gh);
   };
   half_form(xa, 0.0, drive_gx_);
   half_form(ya, -1.0, drive_gy_);
@@ -452,11 +602,11 @@ double FreeHingeSystem::DrivePower(double t,
     power += (drive_gy_[m + b] - drive_gx_[m + b]) * v[b] + Sv[b] * accel;
   }
   power += ya.head<3>().dot(H_B.cross(w_));
+  const Eigen::VectorXd rates = CoordinateRates();
+  const Eigen::VectorXd forces = CoordinateForces(t, side, x);
   for (int a = 0; a < m; ++a) {
-    const int k = free_[static_cast<std::size_t>(a)];
-    const double rate = theta_dot_[k];
-    const double p_dot = g_uv[a] + Torque(k, t, side, x[a], rate);
-    power += ya[3 + a] * p_dot - rate * (drive_gx_[a] - g_uv[a] - drive_gy_[a]);
+    const double p_dot = g_uv[a] + forces[a];
+    power += ya[3 + a] * p_dot - rates[a] * (drive_gx_[a] - g_uv[a] - drive_gy_[a]);
   }
   return power;
 }
@@ -489,7 +639,8 @@ dynamics::InertiaSample FreeHingeSystem::Evaluate(double t, dynamics::Side side)
   if (!free_.empty()) {
     throw std::logic_error("FreeHingeSystem: evaluated as an inertia source with free hinges");
   }
-  Setup(t, Eigen::VectorXd(), side);
+  // Modal coordinates at 0 (the appendages at their angles theta_0, at rest).
+  Setup(t, Eigen::VectorXd::Zero(2 * free_count()), side);
   if (sample_valid_ && theta_ == sample_theta_ && theta_dot_ == sample_theta_dot_) return sample_;
   const model::MassProperties mp = model::ComputeMassProperties(body_, theta_, theta_dot_);
   dynamics::InertiaSample s;
@@ -506,7 +657,7 @@ dynamics::InertiaSample FreeHingeSystem::Evaluate(double t, dynamics::Side side)
 }
 
 bool FreeHingeSystem::IsRigidOn(double t0, double t1) const {
-  if (!free_.empty()) return false;
+  if (free_count() > 0) return false;
   for (const PrescribedHinge& p : prescribed_) {
     if (!p.IsAtRestOn(t0, t1)) return false;
   }
@@ -525,9 +676,11 @@ FreeHingeSystem::Snapshot FreeHingeSystem::Snap(double t,
   s.theta = Expand(theta_, false);
   s.theta_dot = Expand(theta_dot_, true);
   s.J_B = M_.block<3, 3>(0, 0);
-  Eigen::VectorXd rates(static_cast<Eigen::Index>(cols_.size()));
-  for (std::size_t b = 0; b < cols_.size(); ++b) {
-    rates[static_cast<Eigen::Index>(b)] = theta_dot_[cols_[b]];
+  s.coordinate_rates = CoordinateRates();
+  Eigen::VectorXd rates(m + static_cast<Eigen::Index>(moving_.size()));
+  rates.head(m) = s.coordinate_rates;
+  for (std::size_t b = 0; b < moving_.size(); ++b) {
+    rates[m + static_cast<Eigen::Index>(b)] = theta_dot_[moving_[b]];
   }
   s.h_rel_B = M_.block(0, 3, 3, rates.size()) * rates;
   Eigen::VectorXd v(3 + rates.size());
@@ -537,8 +690,9 @@ FreeHingeSystem::Snapshot FreeHingeSystem::Snap(double t,
     const HingePlan& p = plans_[static_cast<std::size_t>(k)];
     if (p.kind == HingePlan::Kind::kFree) s.spring_energy += SpringEnergy(p.drive, theta_[k]);
   }
-  for (int a = 0; a < m; ++a) {
-    const int k = free_[static_cast<std::size_t>(a)];
+  std::vector<int> moved(free_.begin(), free_.end());
+  moved.insert(moved.end(), modal_.begin(), modal_.end());
+  for (int k : moved) {
     const FreeDrive& d = plans_[static_cast<std::size_t>(k)].drive;
     double q = NonConservativeTorque(d, theta_dot_[k], slip_[static_cast<std::size_t>(k)]);
     if (d.motor.kind == Motor::Kind::kServo) {
@@ -566,10 +720,21 @@ Eigen::VectorXd FreeHingeSystem::ShapeState(double t,
                                             const Eigen::VectorXd& theta_dot,
                                             dynamics::Side side) const {
   const int m = free_count();
-  Eigen::VectorXd x(2 * m);
-  for (int a = 0; a < m; ++a) {
-    x[a] = theta[free_orig_[static_cast<std::size_t>(a)]];
-    x[m + a] = 0.0;
+  const int mh = static_cast<int>(free_.size());
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * m);
+  for (int a = 0; a < mh; ++a) x[a] = theta[free_orig_[static_cast<std::size_t>(a)]];
+  // Modal coordinates: the least-squares fit of the hinges' angles and rates (exact when
+  // they lie in the basis's span, as a straight beam at rest does).
+  Eigen::VectorXd q_rate;
+  if (!modal_.empty()) {
+    Eigen::VectorXd th(phi_.rows()), thd(phi_.rows());
+    for (std::size_t i = 0; i < modal_orig_.size(); ++i) {
+      th[static_cast<Eigen::Index>(i)] = theta[modal_orig_[i]];
+      thd[static_cast<Eigen::Index>(i)] = theta_dot[modal_orig_[i]];
+    }
+    const auto fit = phi_.colPivHouseholderQr();
+    x.segment(mh, modal_count()) = fit.solve(th - modal_theta0_);
+    q_rate = fit.solve(thd);
   }
   Setup(t, x, side);
   // Full velocity vector over (w, cols_): the free hinges' rates as given, the
@@ -583,10 +748,18 @@ Eigen::VectorXd FreeHingeSystem::ShapeState(double t,
                    ? theta_dot[orig_of_[static_cast<std::size_t>(k)]]
                    : theta_dot_[k];
   }
+  if (!modal_.empty()) {
+    // cols_ is (free, modal hinges, moving); M_ is over (free, q, moving).
+    const Eigen::Index g = phi_.rows();
+    Eigen::VectorXd r(mh + modal_count() + (c - mh - g));
+    r << rates.head(mh), q_rate, rates.tail(c - mh - g);
+    rates = r;
+  }
+  const Eigen::Index cr = rates.size();
   const Mat3 J = M_.block<3, 3>(0, 0);
-  const Vec3 w = J.llt().solve(H_B - M_.block(0, 3, 3, c) * rates);
+  const Vec3 w = J.llt().solve(H_B - M_.block(0, 3, 3, cr) * rates);
   for (int a = 0; a < m; ++a) {
-    x[m + a] = (M_.block<1, 3>(3 + a, 0) * w)(0) + M_.row(3 + a).tail(c).dot(rates);
+    x[m + a] = (M_.block<1, 3>(3 + a, 0) * w)(0) + M_.row(3 + a).tail(cr).dot(rates);
   }
   return x;
 }
@@ -629,7 +802,8 @@ double FreeHingeSystem::HoldingTorque(int k,
   Snapshot now = Snap(t, H_B, x.head(2 * m));
   now.theta_dot[k] = 0.0;
   const Eigen::VectorXd xp = p.ShapeState(t, H_B, now.theta, now.theta_dot);
-  return -p.Acceleration(m, t, H_B, xp) / p.InverseMass(t, H_B, xp, m);
+  const int a = static_cast<int>(p.free_.size()) - 1;  // k, after the probe's other hinges
+  return -p.Acceleration(a, t, H_B, xp) / p.InverseMass(t, H_B, xp, a);
 }
 
 double FreeHingeSystem::Acceleration(int a,

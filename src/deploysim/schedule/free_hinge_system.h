@@ -18,6 +18,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "deploysim/dynamics/inertia_source.h"
@@ -29,6 +30,18 @@
 
 namespace deploysim::schedule {
 
+/// Hinges that move together as theta = theta_0 + basis q (a flexible appendage reduced to
+/// its first modes, model::Appendage::modes): their plans are free (spring, damper), and q
+/// are coordinates of the shape state from the start.
+struct ModalGroup {
+  std::string name;         ///< the appendage's, for messages and phase names
+  std::vector<int> hinges;  ///< model panel indices
+  Eigen::MatrixXd basis;    ///< hinges.size() x K
+};
+
+/// The modal groups of a model's appendages (those with modes).
+std::vector<ModalGroup> ModalGroupsOf(const model::Model& m);
+
 class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::InertiaSource {
  public:
   /// `body` valid (model::ValidatedHingedBody: unit axes), one plan per panel, the angles
@@ -39,9 +52,16 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   /// energy gradient run over the panels that can move and their ancestors only (a tree
   /// of 2048 panels with one free is a chain of 12). Every interface below still speaks
   /// of the model's panels by their index.
+  ///
+  /// Modal coordinates (`modal`): the shape state is laid out as (theta_f, q, p_f, p_q):
+  /// the free hinges' angles, then every group's coordinates q; their momenta in the same
+  /// order. free_count() counts both; free_hinges() lists the hinges only (state entries
+  /// 0 .. free_hinges().size() - 1 of each half). A modal group's hinges count as free
+  /// (IsFree) from the start and are never locked.
   FreeHingeSystem(const model::HingedBody& body,
                   const std::vector<HingePlan>& plans,
-                  const Eigen::VectorXd& initial_angles);
+                  const Eigen::VectorXd& initial_angles,
+                  const std::vector<ModalGroup>& modal = {});
 
   /// The model's panels (merged or not).
   int panel_count() const { return static_cast<int>(red_of_.size()); }
@@ -73,7 +93,12 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   }
 
   // dynamics::ShapeSystem
-  int free_count() const override { return static_cast<int>(free_.size()); }
+  int free_count() const override { return static_cast<int>(free_.size()) + modal_count(); }
+  /// The modal coordinates (after the free hinges in each half of the shape state).
+  int modal_count() const { return static_cast<int>(phi_.cols()); }
+  /// The modal groups' hinges (model indices), in the rows' order of their bases.
+  const std::vector<int>& modal_hinges() const { return modal_orig_; }
+  const std::vector<ModalGroup>& modal_groups() const { return groups_; }
   void Evaluate(double t,
                 const math::Vec3& H_B,
                 const Eigen::VectorXd& x,
@@ -84,7 +109,8 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
   std::vector<double> Breakpoints(double t0, double t1) const override;
 
   // dynamics::InertiaSource, valid while no hinge is free (throws std::logic_error
-  // otherwise): J_B, dJ_B/dt, h_rel_B, T_rel of the locked and prescribed hinges at t.
+  // otherwise): J_B, dJ_B/dt, h_rel_B, T_rel of the locked and prescribed hinges at t (modal
+  // coordinates at 0, at rest).
   dynamics::InertiaSample Evaluate(double t,
                                    dynamics::Side side = dynamics::Side::kRight) const override;
   bool IsRigidOn(double t0, double t1) const override;
@@ -114,6 +140,8 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
     /// along the flow while no prescribed hinge moves.
     double power = 0.0;
     Powers powers;  ///< [W] by source, the prescribed drives' included
+    /// [rad/s] the rate of each coordinate of the shape state (free hinges, then modal).
+    Eigen::VectorXd coordinate_rates;
   };
   Snapshot Snap(double t,
                 const math::Vec3& H_B,
@@ -178,7 +206,9 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
 
  private:
   struct Merged;
-  FreeHingeSystem(Merged merged, const Eigen::VectorXd& full_angles);
+  FreeHingeSystem(Merged merged,
+                  const Eigen::VectorXd& full_angles,
+                  const std::vector<ModalGroup>& modal);
   static Merged MergeLockedLeaves(const model::HingedBody& body,
                                   const std::vector<HingePlan>& plans,
                                   const Eigen::VectorXd& angles);
@@ -212,8 +242,30 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
                     const math::Vec3& H_B,
                     const Eigen::VectorXd& x) const;
 
+  /// The coordinates' rates (free hinges' theta', then q') from the last Solve.
+  Eigen::VectorXd CoordinateRates() const;
+  /// The generalized forces on the coordinates at the state of the last Setup and Solve:
+  /// free hinges' drive torques, then basis^T (the modal hinges' spring and damper).
+  Eigen::VectorXd CoordinateForces(double t, dynamics::Side side, const Eigen::VectorXd& x) const;
+  /// Gradient dT/d(coordinates) from the hinges' gradient over (free_, modal_, extra...):
+  /// the modal block projected by basis^T, the rest as is.
+  Eigen::VectorXd ProjectGradient(const Eigen::VectorXd& g_hinges) const;
+  /// Hinge rates over tree_ from coordinate velocities z = (w, coordinates, ...): free
+  /// hinges z[3 + a], modal hinges basis z.segment(3 + mh, K).
+  void HingeRatesOf(const Eigen::VectorXd& z, Eigen::VectorXd& rates) const;
+
   model::HingedBody body_;
   model::PanelTree tree_;
+  // Modal coordinates: the groups, their hinges (computed indices and model indices), the
+  // block-diagonal basis (rows: modal_, columns: q) and the hinges' angles at q = 0.
+  std::vector<ModalGroup> groups_;
+  std::vector<int> modal_, modal_orig_;
+  std::vector<char> is_modal_;  // per computed panel
+  Eigen::MatrixXd phi_;
+  Eigen::VectorXd modal_theta0_;
+  mutable Eigen::MatrixXd speeds_;  // the coordinates as directions of (w, every hinge)
+  mutable std::vector<model::TreeVelocity> fields_;
+  mutable Eigen::VectorXd q_dot_;
   std::vector<HingePlan> plans_;
   std::vector<PrescribedHinge> prescribed_;  // per panel (empty moves unless prescribed)
   std::vector<PrescribedHinge> servo_ref_;   // per panel: a servo motor's planned motion
