@@ -217,6 +217,13 @@ class SimulationResult:
                          has null)
       warnings           list of one-line strings: the profile's legal but almost certainly
                          unmeant inputs (docs/file_formats.md, "Warnings"), as the CLI prints
+      body               a hinged model's body as the run moved it, a dict: the HDF5 file's
+                         @body (docs/file_formats.md, "The body"): hub, panels (the
+                         appendages' generated ones included), appendages; None for a
+                         tensors model
+      appendages         body["appendages"] (empty list without a body): per flexible
+                         appendage name, kind, root, hinges, stiffness, damping, segments,
+                         planes, damping_ratio, chain_frequencies, beam_frequencies
     """
 
     stage_units = STAGE_UNITS
@@ -239,6 +246,9 @@ class SimulationResult:
         self.events = EventTable(columns, EVENT_UNITS)
         self.danger_windows = Table(raw.pop("danger_windows"), {"t_begin": "s", "t_end": "s"})
         self.outcome = _json.loads(raw.pop("outcome_json"))
+        body = raw.pop("body_json")
+        self.body = None if body is None else _json.loads(body)
+        self.appendages = [] if self.body is None else self.body["appendages"]
         for k, v in raw.items():
             setattr(self, k, v)
         self.units.update(_RESULT_UNITS)

@@ -14,6 +14,7 @@
 #include "convert.h"
 #include "deploysim/analysis/mission.h"
 #include "deploysim/integrators/integrate.h"
+#include "deploysim/io/body_json.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/schedule/profile_warnings.h"
 #include "trajectory_arrays.h"
@@ -154,6 +155,11 @@ py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
   // Python), and the profile's input warnings.
   d["outcome_json"] = analysis::OutcomeJson(r.outcome);
   d["warnings"] = schedule::ProfileWarnings(r.profile);
+  // The body as the run moved it (the file's @body; appendages expanded): None for a
+  // tensors model.
+  d["body_json"] = r.profile.model.kind == model::ModelKind::kHinged
+                       ? py::object(py::str(io::BodyJson(r.profile.model)))
+                       : py::object(py::none());
   return d;
 }
 

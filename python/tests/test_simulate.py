@@ -1,6 +1,8 @@
 """simulate() against `deploysim simulate`'s HDF5 file: every shipped profile, every
 dataset, bit for bit (the same integrator settings: the profile's own)."""
 
+import json
+
 import h5py
 import numpy as np
 import pytest
@@ -99,6 +101,49 @@ def test_simulate_equals_cli_hdf5(path, cli, tmp_path):
         assert r.units["flips"] == f["events/flip_time"].attrs["units"]
         assert f.attrs["termination"] == r.termination
         assert f.attrs["profile_text"] == r.profile.text
+        # The body as the run moved it: the file's @body (hinged models only).
+        assert r.body == (json.loads(f.attrs["body"]) if "body" in f.attrs else None)
+
+
+# A hub with a two-plane and a one-plane beam (docs/file_formats.md, "The body").
+BOOMS_MODEL = """name: booms
+kind: hinged
+hub: {mass: 50.0, box: [0.8, 0.8, 0.6]}
+appendages:
+  - {name: boom_px, kind: beam, root: [0.4, 0, 0], direction: [1, 0, 0], length: 2.0,
+     mass_per_length: 0.2, radius: 0.01, bending: [{axis: [0, 1, 0], EI: 20},
+     {axis: [0, 0, 1], EI: 20}], damping_ratio: 0.01, segments: 4}
+  - {name: boom_mx, kind: beam, root: [-0.4, 0, 0], direction: [-1, 0, 0], length: 2.0,
+     mass_per_length: 0.2, radius: 0.01, bending: [{axis: [0, 1, 0], EI: 20}],
+     damping_ratio: 0.01, segments: 3}
+configurations:
+  straight: {hinge_angles_deg: [0, 0]}
+"""
+BOOMS_PROFILE = """name: booms
+model: booms.yaml
+initial: {configuration: straight, spin: {axis: z, rate_rpm: 10, nutation_deg: 5}}
+until: 1
+hinges: {}
+"""
+
+
+def test_result_body_has_the_appendages_as_the_file(cli, tmp_path):
+    (tmp_path / "booms.yaml").write_text(BOOMS_MODEL)
+    profile = tmp_path / "p.yaml"
+    profile.write_text(BOOMS_PROFILE)
+    r = deploysim.simulate(deploysim.load_profile(profile))
+    # stubs, 4 x (link, segment), 3 segments
+    assert len(r.body["panels"]) == r.hinge_angles.shape[1] == 2 + 2 * 4 + 3
+    assert [p["name"] for p in r.body["panels"]] == r.panel_names
+    assert [(a["name"], a["kind"], a["segments"], a["planes"], len(a["hinges"]))
+            for a in r.appendages] == [("boom_px", "beam", 4, 2, 8), ("boom_mx", "beam", 3, 1, 3)]
+    shapes = [p["drawn"]["shape"] for p in r.body["panels"]]
+    assert shapes.count("none") == 4 and shapes.count("rod") == 2 + 4 + 3
+    assert r.appendages[0]["damping_ratio"] == pytest.approx([0.01, 0.01], rel=1e-12)
+    out = tmp_path / "run.h5"
+    cli("simulate", profile, "-o", out, "-q")
+    with h5py.File(out, "r") as f:
+        assert json.loads(f.attrs["body"]) == r.body
 
 
 def test_result_arrays_have_the_documented_shapes():

@@ -107,7 +107,7 @@ TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
     SCOPED_TRACE(name);
     const fs::path out = d / (name + ".h5");
     const CliRun r =
-        RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
+        RunCli("simulate '" + entry.path().string() + "' -o '" + out.string() + "'", d);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const io::TrajectoryFile f = io::ReadTrajectoryFile(out.string());
     const analysis::Trajectory& tr = f.trajectory;
@@ -212,7 +212,7 @@ TEST(CliTest, MalformedProfilesFailCleanly) {
     }
     const fs::path out = d / "out.h5";
     const CliRun r =
-        RunCli("simulate '" + entry.path().string() + "' -q -o '" + out.string() + "'", d);
+        RunCli("simulate '" + entry.path().string() + "' -o '" + out.string() + "'", d);
     SCOPED_TRACE(entry.path().filename().string());
     ++count;
     EXPECT_NE(r.exit_code, 0);
@@ -264,7 +264,7 @@ TEST(CliTest, OutputNeverReplacesAnInput) {
   const auto model_size = size_of(model);
   for (const fs::path& target : {profile, model}) {
     const CliRun r =
-        RunCli("simulate '" + profile.string() + "' -q -o '" + target.string() + "'", dir);
+        RunCli("simulate '" + profile.string() + "' -o '" + target.string() + "'", dir);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_NE(r.err.find("output is the input file"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -293,7 +293,7 @@ TEST(CliTest, SelfReferencingAnchorIsAnError) {
     f << "a: &a [*a]\n";
   }
   const CliRun r = RunCli(
-      "simulate '" + (dir / "x.yaml").string() + "' -q -o '" + (dir / "o.h5").string() + "'", dir);
+      "simulate '" + (dir / "x.yaml").string() + "' -o '" + (dir / "o.h5").string() + "'", dir);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("an alias refers to a node that contains it"), std::string::npos) << r.err;
   EXPECT_LT(r.err.size(), 300u) << r.err;
@@ -352,6 +352,80 @@ TEST(CliTest, WarningsUntilAndMistypedCommands) {
   const CliRun longer = RunCli("analyze " + stage + " --until 700 --json", d);
   EXPECT_EQ(longer.exit_code, 0) << longer.err;
   EXPECT_NE(longer.out.find("\"t_end\": 700"), std::string::npos);
+  fs::remove_all(d);
+}
+
+}  // namespace DEPLOYSIM_TEST_UNIT
+}  // namespace
+}  // namespace deploysim
+
+namespace deploysim {
+namespace {
+namespace DEPLOYSIM_TEST_UNIT {
+
+// A wing of its own (spring-deployed, latched) and two beams: the text names each beam
+// once instead of its bending hinges (release lines, the locked-panels line, the phase
+// names), while the file and --json keep every hinge's release.
+TEST(CliTest, SummaryGroupsTheAppendagesBendingHinges) {
+  const fs::path d = TempDir("appendages");
+  std::ofstream(d / "booms.yaml") << R"(name: booms
+kind: hinged
+hub: {mass: 50.0, box: [0.8, 0.8, 0.6]}
+panels:
+  - {name: wing, mass: 2.0, box: [0.6, 0.4, 0.02], hinge_point: [0, 0.4, 0.3],
+     hinge_axis: [1, 0, 0], com_offset: [0, 0.3, 0.01]}
+appendages:
+  - {name: boom_px, kind: beam, root: [0.4, 0, 0], direction: [1, 0, 0], length: 2.0,
+     mass_per_length: 0.2, radius: 0.01, bending: [{axis: [0, 1, 0], EI: 20},
+     {axis: [0, 0, 1], EI: 20}], damping_ratio: 0.01, segments: 6}
+  - {name: boom_mx, kind: beam, root: [-0.4, 0, 0], direction: [-1, 0, 0], length: 2.0,
+     mass_per_length: 0.2, radius: 0.01, bending: [{axis: [0, 1, 0], EI: 20}],
+     damping_ratio: 0.01, segments: 6}
+configurations:
+  stowed: {hinge_angles_deg: [-60, 0, 0]}
+)";
+  std::ofstream(d / "p.yaml") << R"(name: booms
+model: booms.yaml
+initial: {configuration: stowed, spin: {axis: z, rate_rpm: 10, nutation_deg: 5}}
+until: 4
+output: {dt: 0.02}
+hinges:
+  wing:
+    free:
+      release: {at: 1}
+      spring: {stiffness: 2.0, rest_angle_deg: 10}
+      latch: {angle_deg: 0}
+)";
+  const CliRun r =
+      RunCli("simulate '" + (d / "p.yaml").string() + "' -o '" + (d / "out.h5").string() + "'", d);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("appendages: boom_px (beam: 6 segments, 2 planes, 12 bending hinges), "
+                       "boom_mx (beam: 6 segments, 1 plane, 6 bending hinges)\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("(18 bending hinges of the appendages, free from t = 0 s, not listed"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find(" free: boom_px (12), boom_mx (6) "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" free: boom_px (12), boom_mx (6), wing "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("panels locked (latch, jam or rest on a stop): wing "), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("s (latch), boom_px never, boom_mx never\n"), std::string::npos) << r.out;
+  // No generated hinge is named anywhere in the text; the wing's own events are listed.
+  EXPECT_EQ(r.out.find("boom_px_1"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("boom_mx_1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  wing        release"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  wing        latch"), std::string::npos) << r.out;
+  // The file keeps every release, and the stage names with every hinge.
+  const io::TrajectoryFile f = io::ReadTrajectoryFile((d / "out.h5").string());
+  const auto releases =
+      std::count_if(f.hinge_events.begin(), f.hinge_events.end(), [](const io::HingeEventRow& e) {
+        return e.event.kind == analysis::HingeEvent::Kind::kRelease;
+      });
+  EXPECT_EQ(releases, 18 + 1);
+  ASSERT_FALSE(f.stages.empty());
+  EXPECT_NE(f.stages.front().name.find("boom_px_1a, boom_px_1b"), std::string::npos);
+  EXPECT_EQ(f.attributes.count("body"), 1u);
   fs::remove_all(d);
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -60,11 +61,104 @@ std::string PanelName(const analysis::MissionResult& r, int panel) {
   return panels[static_cast<std::size_t>(panel)].name;
 }
 
+/// Per panel of the model: the index of the appendage whose bending hinge it is (a
+/// generated free hinge, model::Appendage::hinges), or -1 (the model file's own panels and
+/// an appendage's root stub, which a profile deploys like any panel).
+std::vector<int> BendingHingeOwners(const model::Model& m) {
+  std::vector<int> owner(m.hinged.panels.size(), -1);
+  for (std::size_t i = 0; i < m.appendages.size(); ++i) {
+    for (int h : m.appendages[i].hinges) {
+      if (h >= 0 && static_cast<std::size_t>(h) < owner.size()) {
+        owner[static_cast<std::size_t>(h)] = static_cast<int>(i);
+      }
+    }
+  }
+  return owner;
+}
+
+/// One list of panel names ("a, b, c") with each appendage's bending hinges replaced by
+/// the appendage's name and their count, where its first hinge was: "wing, boom_px (12)".
+std::string GroupedList(const model::Model& m,
+                        const std::map<std::string, int>& owner,
+                        const std::string& list) {
+  std::vector<std::string> shown;
+  std::vector<int> count(m.appendages.size(), 0);
+  std::vector<std::size_t> slot(m.appendages.size(), std::string::npos);
+  for (std::size_t pos = 0; pos <= list.size();) {
+    const std::size_t end = std::min(list.find(", ", pos), list.size());
+    const std::string item = list.substr(pos, end - pos);
+    const auto it = owner.find(item);
+    if (it == owner.end()) {
+      shown.push_back(item);
+    } else {
+      const auto a = static_cast<std::size_t>(it->second);
+      if (slot[a] == std::string::npos) {
+        slot[a] = shown.size();
+        shown.emplace_back();
+      }
+      ++count[a];
+    }
+    pos = end + 2;
+  }
+  for (std::size_t a = 0; a < slot.size(); ++a) {
+    if (slot[a] != std::string::npos) {
+      shown[slot[a]] = fmt::format("{} ({})", m.appendages[a].name, count[a]);
+    }
+  }
+  std::string out;
+  for (std::size_t i = 0; i < shown.size(); ++i) out += (i ? ", " : "") + shown[i];
+  return out;
+}
+
+/// A hinge profile's phase name as the text shows it: each list of panels ("free: a, b;
+/// moved: c", analysis/hinge_mission.cc) with an appendage's bending hinges named once,
+/// by the appendage and their count ("free: boom_px (12), boom_mx (6)"). The name itself
+/// (the HDF5 file's /stages/name, --json) keeps every hinge.
+std::string PhaseLabel(const model::Model& m, const std::string& name) {
+  std::map<std::string, int> owner;  // a bending hinge's panel name -> its appendage
+  const std::vector<int> owners = BendingHingeOwners(m);
+  for (std::size_t k = 0; k < owners.size(); ++k) {
+    if (owners[k] >= 0) owner[m.hinged.panels[k].name] = owners[k];
+  }
+  if (owner.empty()) return name;
+  std::string out;
+  for (std::size_t pos = 0; pos <= name.size();) {
+    const std::size_t end = std::min(name.find("; ", pos), name.size());
+    const std::string part = name.substr(pos, end - pos);
+    const std::size_t colon = part.find(": ");
+    out += (pos ? "; " : "");
+    out += colon == std::string::npos
+               ? part
+               : part.substr(0, colon + 2) + GroupedList(m, owner, part.substr(colon + 2));
+    pos = end + 2;
+  }
+  return out;
+}
+
+/// "appendages: boom_px (beam: 6 segments, 2 planes, 12 bending hinges), ..." for a model
+/// with appendages, else empty.
+std::string AppendagesLine(const model::Model& m) {
+  std::string o;
+  for (const model::Appendage& a : m.appendages) {
+    o += o.empty() ? "appendages: " : ", ";
+    if (a.kind == model::Appendage::Kind::kBeam) {
+      const std::size_t planes = a.chain_frequencies.size();
+      o += fmt::format("{} (beam: {} segments, {} plane{}, {} bending hinges)", a.name, a.segments,
+                       planes, planes == 1 ? "" : "s", a.hinges.size());
+    } else {
+      o += fmt::format("{} (slosh pendulum: {} hinges)", a.name, a.hinges.size());
+    }
+  }
+  return o.empty() ? o : o + "\n";
+}
+
 /// The stage column's width: 18 for stage profiles, wider for the longer names of a
 /// hinge profile's phases ("free: wing_plus_x, wing_minus_x"), at most 48.
 std::size_t StageNameWidth(const analysis::MissionResult& r) {
   std::size_t w = 18;
-  for (const auto& s : r.stages) w = std::max(w, std::min<std::size_t>(s.name.size(), 48));
+  for (const auto& s : r.stages) {
+    w = std::max(w, std::min<std::size_t>(PhaseLabel(r.profile.model, s.name).size(), 48));
+  }
   return w;
 }
 
@@ -171,6 +265,7 @@ std::string FormatSummary(const analysis::MissionResult& r) {
   o += fmt::format("deploysim analysis of '{}' ({}; model '{}', mode {}, coupling {})\n", p.name,
                    p.source, p.model.name, schedule::ToString(p.mode),
                    schedule::ToString(p.coupling));
+  o += AppendagesLine(p.model);
   o += fmt::format("integrator {}: {} steps, {} rejected, {} rhs evaluations, {:.3g} s wall; {}\n",
                    p.integrator.method, r.stats.steps, r.stats.rejected, r.stats.evaluations,
                    r.wall_seconds, r.message);
@@ -220,12 +315,12 @@ std::string FormatSummary(const analysis::MissionResult& r) {
     const std::string regime = s.rigid           ? s.regime
                                : s.law == "free" ? "(free hinges)"
                                                  : "(deploying)";
-    o +=
-        fmt::format("{:>{}}  {:<{}} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>14} {:>14} {:>9}\n",
-                    row.index, index_width, s.name.substr(0, name_width), name_width, s.law,
-                    Num(row.first->t_begin), Num(s.t_end), analysis::ToString(s.spin_axis_end),
-                    regime, s.rigid ? Num(s.one_minus_k2) : "-", Num(s.separatrix_distance),
-                    s.rigid ? Num(s.predicted_flip_half_period) : "-", flips);
+    o += fmt::format(
+        "{:>{}}  {:<{}} {:<13} {:>9} {:>9}  {:<13} {:<14} {:>10} {:>14} {:>14} {:>9}\n", row.index,
+        index_width, PhaseLabel(p.model, s.name).substr(0, name_width), name_width, s.law,
+        Num(row.first->t_begin), Num(s.t_end), analysis::ToString(s.spin_axis_end), regime,
+        s.rigid ? Num(s.one_minus_k2) : "-", Num(s.separatrix_distance),
+        s.rigid ? Num(s.predicted_flip_half_period) : "-", flips);
   }
   if (merged) {
     o += "\n(a-b: consecutive phases of the same free hinges, split at stop impacts; spin axis, "
@@ -261,6 +356,56 @@ std::string FormatSummary(const analysis::MissionResult& r) {
   return o;
 }
 
+/// "panels locked (latch, jam or rest on a stop): wing 61.2 s (latch), boom never": per
+/// panel when it locked and how (the locking event at that time); the appendages' bending
+/// hinges left out (free springs, they never lock). Empty for stage profiles.
+std::string LockedLine(const analysis::MissionResult& r) {
+  const std::vector<int> owner = BendingHingeOwners(r.profile.model);
+  std::string locked;
+  for (std::size_t k = 0; k < r.latch_times.size(); ++k) {
+    if (k < owner.size() && owner[k] >= 0) continue;
+    const double t = r.latch_times[k];
+    locked += locked.empty() ? "" : ", ";
+    locked += PanelName(r, static_cast<int>(k)) + " ";
+    if (std::isnan(t)) {
+      locked += "never";
+      continue;
+    }
+    std::string how;
+    for (const analysis::HingeEvent& e : r.hinge_events) {
+      if (e.panel == static_cast<int>(k) && e.t == t &&
+          e.kind != analysis::HingeEvent::Kind::kRelease &&
+          e.kind != analysis::HingeEvent::Kind::kStop) {
+        how = analysis::ToString(e.kind);
+      }
+    }
+    locked += fmt::format("{} s{}", Num(t), how.empty() ? "" : " (" + how + ")");
+  }
+  if (r.latch_times.empty() || locked.empty()) return "";
+  return "panels locked (latch, jam or rest on a stop): " + locked + "\n";
+}
+
+/// The hinge events the timeline lists: all but the releases of the appendages' bending
+/// hinges at the run's start (free from the start by construction; AppendagesLine names
+/// them once). The file and --json keep them. `hidden`: how many were left out.
+std::vector<analysis::HingeEvent> ListedEvents(const analysis::MissionResult& r,
+                                               std::size_t& hidden) {
+  const std::vector<int> owner = BendingHingeOwners(r.profile.model);
+  const double t0 = r.profile.t_begin();
+  std::vector<analysis::HingeEvent> out;
+  hidden = 0;
+  for (const analysis::HingeEvent& e : r.hinge_events) {
+    const bool bending = e.panel >= 0 && static_cast<std::size_t>(e.panel) < owner.size() &&
+                         owner[static_cast<std::size_t>(e.panel)] >= 0;
+    if (bending && e.kind == analysis::HingeEvent::Kind::kRelease && e.t <= t0) {
+      ++hidden;
+      continue;
+    }
+    out.push_back(e);
+  }
+  return out;
+}
+
 std::string FormatTimeline(const analysis::MissionResult& r) {
   if (!r.profile.is_hinge_profile() && r.hinge_events.empty()) return "";
   std::size_t name_width = 5;  // "panel"
@@ -282,7 +427,14 @@ std::string FormatTimeline(const analysis::MissionResult& r) {
                      release ? "-" : Num(e.w_jump_B.norm() * kDegPerRad),
                      release ? "-" : Num(e.energy_dissipated));
   };
-  const auto& events = r.hinge_events;
+  std::size_t hidden = 0;
+  const std::vector<analysis::HingeEvent> events = ListedEvents(r, hidden);
+  if (hidden > 0) {
+    o += fmt::format(
+        "  ({} bending hinges of the appendages, free from t = {} s, not listed: their "
+        "releases are in --json and the HDF5 file)\n",
+        hidden, Num(r.profile.t_begin()));
+  }
   for (std::size_t i = 0; i < events.size();) {
     // A run of stop impacts of one panel (bounces, which with restitution e < 1 can number
     // a hundred before the panel rests): the first kStopsShown, one summary line, the last.
@@ -310,30 +462,11 @@ std::string FormatTimeline(const analysis::MissionResult& r) {
     i = j;
   }
   if (r.hinge_events.empty()) o += "  (no hinge events)\n";
+  if (!r.hinge_events.empty() && events.empty()) o += "  (no other hinge events)\n";
   double dissipated = 0.0;
   for (const analysis::HingeEvent& e : r.hinge_events) dissipated += e.energy_dissipated;
   o += fmt::format("energy dissipated in the events: {} J\n", Num(dissipated));
-  // Per panel: when it locked, and how (the locking event at that time).
-  std::string locked;
-  for (std::size_t k = 0; k < r.latch_times.size(); ++k) {
-    const double t = r.latch_times[k];
-    locked += k ? ", " : "";
-    locked += PanelName(r, static_cast<int>(k)) + " ";
-    if (std::isnan(t)) {
-      locked += "never";
-      continue;
-    }
-    std::string how;
-    for (const analysis::HingeEvent& e : r.hinge_events) {
-      if (e.panel == static_cast<int>(k) && e.t == t &&
-          e.kind != analysis::HingeEvent::Kind::kRelease &&
-          e.kind != analysis::HingeEvent::Kind::kStop) {
-        how = analysis::ToString(e.kind);
-      }
-    }
-    locked += fmt::format("{} s{}", Num(t), how.empty() ? "" : " (" + how + ")");
-  }
-  if (!r.latch_times.empty()) o += "panels locked (latch, jam or rest on a stop): " + locked + "\n";
+  o += LockedLine(r);
   if (r.spin_axis_45_crossings.empty()) {
     o += "spin axis 45 deg from h_N: never\n";
   } else {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "deploysim/io/atomic_file.h"
+#include "deploysim/io/body_json.h"
 #include "deploysim/io/hdf5_common.h"
 #include "deploysim/io/hdf5_writer.h"
 #include "deploysim/math/number_format.h"
@@ -291,6 +292,9 @@ void WriteAnalysis(Hdf5Writer& w, const analysis::MissionResult& r, bool geometr
   w.Attribute("/", "max_h_N_drift", FormatNumber(r.max_h_N_drift));
   if (!r.outcome.headline.empty()) w.Attribute("/", "outcome", analysis::OutcomeJson(r.outcome));
   w.Attribute("/", "warnings", schedule::ProfileWarningsJson(p));
+  // The body as the run moved it, appendages expanded (io/body_json.h): readers draw it
+  // from here, not from model_text.
+  if (p.model.kind == model::ModelKind::kHinged) w.Attribute("/", "body", BodyJson(p.model));
 }
 
 // ---- reading ----

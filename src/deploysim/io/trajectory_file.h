@@ -30,6 +30,8 @@ namespace deploysim::io {
 /// Version 2: /energy is the total kinetic energy (was 1/2 w.J w), /energy_rigid, the
 /// per-stage analysis in /stages, /danger_windows, /events/predicted_flip_time and the
 /// model_source and model_text attributes.
+/// The root attribute `body` (the expanded body of a hinged model, io/body_json.h) is an
+/// addition to version 2 as well: readers of older files draw from model_text instead.
 ///
 /// The free-hinge outputs are additions to version 2, not a version 3: no
 /// dataset or attribute of version 2 changed its name, shape, type, units or meaning
@@ -105,7 +107,8 @@ struct TrajectoryFile {
   /// Root attributes (all strings): deploysim_version, schema_version, profile_name,
   /// profile_source, profile_text, model_name, model_source, model_text, integrator,
   /// integrator_settings, mode, coupling, termination, termination_message, statistics,
-  /// max_h_N_drift, outcome and warnings (JSON).
+  /// max_h_N_drift, outcome and warnings (JSON), and for a hinged model body (JSON,
+  /// io/body_json.h; absent in files written before it).
   std::map<std::string, std::string> attributes;
   /// `units` attribute of every dataset, by absolute path ("/H_B", "/events/flip_time").
   std::map<std::string, std::string> units;
