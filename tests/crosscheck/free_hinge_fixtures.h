@@ -2,7 +2,8 @@
 
 /// Hub + panel models and hinge profiles for the free-hinge cross-check tests, built in C++
 /// (no YAML): the small satellite of models/smallsat.yaml, a two-segment chain and a
-/// branched tree with skew hinge axes, a pendulum-damper spinner (issue 9).
+/// branched tree with skew hinge axes, a pendulum-damper spinner (issue 9), flexible booms
+/// and a propellant tank's slosh pendulum on spinners.
 
 #include <Eigen/Core>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include "deploysim/model/flexible_beam.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/model/model.h"
+#include "deploysim/model/slosh.h"
 #include "deploysim/schedule/profile.h"
 
 namespace deploysim::crosscheck::free_hinge_fixtures {
@@ -190,5 +192,32 @@ inline std::vector<HingePlan> AppendagePlans(const model::Model& m) {
   schedule::SetAppendagePlans(m, plans);
   return plans;
 }
+
+/// A prolate spinner with a propellant tank (model/slosh.h): a 300 kg hub, 1 x 1 x 2 m
+/// (moments 125, 125, 50 kg m^2: z, the long axis, is its minor axis), with a tank 0.5 m
+/// off the axis along +x and 0.2 m above the middle: 30 kg of liquid fixed with the tank
+/// at 0.55 m, and a slosh pendulum (20 kg bob, L1 = 0.15 m, hanging outward along +x, the
+/// first hinge about z) with the damper `damping` [N m s/rad] on both hinges.
+inline model::Model SloshSpinner(double damping) {
+  model::Model m =
+      MakeModel("slosh_spinner", 300.0, math::Vec3(1.0, 1.0, 2.0), {}, Eigen::VectorXd());
+  model::SloshSpec s;
+  s.name = "tank";
+  s.pivot = math::Vec3(0.5, 0.0, 0.2);
+  s.direction = math::Vec3::UnitX();
+  s.axis = math::Vec3::UnitZ();
+  s.mass = 20.0;
+  s.length = 0.15;
+  s.fixed_mass = 30.0;
+  s.fixed_point = math::Vec3(0.55, 0.0, 0.2);
+  s.damping = damping;
+  m.appendages.push_back(model::AddSlosh(m.hinged, s, "slosh_spinner"));
+  m.configurations[0].hinge_angles =
+      Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m.hinged.panels.size()));
+  return m;
+}
+
+/// Spin about the slosh spinner's z axis at 3 rad/s (29 rpm) with 2 deg of nutation.
+inline math::Vec3 SloshSpinnerSpin() { return math::Vec3(3.0 * std::tan(2 * kDeg), 0.0, 3.0); }
 
 }  // namespace deploysim::crosscheck::free_hinge_fixtures
