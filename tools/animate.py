@@ -33,8 +33,12 @@ import deploysim_scene as scene  # noqa: E402
 # Box faces as corner indices; corners are (+-1/2, +-1/2, +-1/2) in bit order x, y, z.
 CORNERS = np.array([[(i >> 0 & 1) - .5, (i >> 1 & 1) - .5, (i >> 2 & 1) - .5] for i in range(8)])
 FACES = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-COLORS = {"hub": np.array([0.72, 0.63, 0.44]), "panel": np.array([0.16, 0.31, 0.63])}
-COLORS_2 = {"hub": np.array([0.60, 0.60, 0.66]), "panel": np.array([0.48, 0.23, 0.54])}
+# Per part kind (deploysim_scene.SHAPE_KINDS): beam segments light grey, a slosh bob blue;
+# a massless link ("link") is not drawn.
+COLORS = {"hub": np.array([0.72, 0.63, 0.44]), "panel": np.array([0.16, 0.31, 0.63]),
+          "beam": np.array([0.82, 0.82, 0.86]), "bob": np.array([0.25, 0.63, 0.88])}
+COLORS_2 = {"hub": np.array([0.60, 0.60, 0.66]), "panel": np.array([0.48, 0.23, 0.54]),
+            "beam": np.array([0.70, 0.60, 0.74]), "bob": np.array([0.55, 0.35, 0.70])}
 LIGHT = np.array([0.4, -0.5, 0.77])
 ROLE_COLORS = {"minor": "#33aa66", "intermediate": "#cc4444", "major": "#4477cc",
                "degenerate": "#888888"}
@@ -194,6 +198,8 @@ def render(run, out, fps, seconds, t0, t1, size, dpi=100):
             M = P @ Rs[si]  # B components -> plot frame
             palette = COLORS if si == 0 else COLORS_2
             for (c, R, d), kind in zip(boxes, kinds):
+                if kind == "link":
+                    continue
                 pts = o + (c + (CORNERS * d) @ R.T) @ M.T
                 for face in FACES:
                     quad = pts[list(face)]

@@ -9,6 +9,7 @@ the one place that knows how older files differ.
     run.samples                # every per-sample dataset at the root, by name
     run.attrs["integrator"]    # the root attributes, as str
     run.attr_fields("statistics")["steps"]      # "steps=..., rejected=..." as a dict
+    run.body, run.appendages    # the hinged body as the run moved it (@body), or None
     run.stages, run.hinge_events                # the tables, one dict per row
     run.danger_windows, run.latch_times, run.panel_names
 
@@ -205,6 +206,21 @@ class Trajectory:
         strings: docs/file_formats.md, "Warnings"); [] for a file written before it."""
         text = self.attrs.get("warnings")
         return json.loads(text) if text else []
+
+    @property
+    def body(self):
+        """A hinged model's body as the run moved it (the @body attribute, JSON:
+        docs/file_formats.md, "The body": hub, panels with the appendages' generated ones,
+        appendages), or None (a tensors model, or a file written before it: the body is
+        then the model text's)."""
+        text = self.attrs.get("body")
+        return json.loads(text) if text else None
+
+    @property
+    def appendages(self):
+        """body["appendages"]: one dict per flexible appendage ([] without a body)."""
+        b = self.body
+        return b["appendages"] if b else []
 
     @property
     def time(self):

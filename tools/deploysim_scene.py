@@ -4,7 +4,10 @@ tools/animate.py (MP4/GIF): read a trajectory or cross-check file, rebuild the d
 body from the model and decimate the samples to what the eye needs.
 
 One place for each rule (docs/viewer.md):
-- the body is drawn as boxes: a `hinged` model's hub and panels at their hinge angles
+- the body is drawn as boxes: a `hinged` model's hub and panels at their hinge angles, as
+  the trajectory's @body has them (docs/file_formats.md, "The body": the appendages'
+  generated panels included, a beam's segments as thin rods, a slosh bob as a cube, a
+  massless link not at all), or the model text's for files written before it
   (docs/design.md 2.5: R_Bk = R_B,parent Rot(a_k, theta_k),
   hinge o_k = o_parent + R_B,parent p_k, CoM o_k + R_Bk r_k), every position relative to the system CoM c(t); an element given by
   `inertia:` instead of `box:` is drawn as its equivalent box; a `tensors` model (or a run in
@@ -165,8 +168,43 @@ def _element(d, what):
     raise SceneError(f"{what}: neither box nor inertia")
 
 
+# How a part of the body is drawn, by the `drawn` shape of the trajectory's @body
+# (docs/file_formats.md, "The body"): its kind in the pages (colour) and animation.
+SHAPE_KINDS = {"box": "panel", "rod": "beam", "sphere": "bob", "none": "link"}
+
+
+def _rod_axes(axis):
+    """Columns: the unit axis, then two unit vectors across it (a right-handed frame)."""
+    a = np.asarray(axis, dtype=float)
+    a = a / np.linalg.norm(a)
+    helper = np.eye(3)[int(np.argmin(np.abs(a)))]
+    b = np.cross(a, helper)
+    b /= np.linalg.norm(b)
+    return np.column_stack([a, b, np.cross(a, b)])
+
+
+def _drawn(m, I, drawn, what):
+    """(dims, V, kind) of a @body element: its `drawn` shape (a rod along its axis, a
+    sphere's bounding cube, nothing for a massless link) or its uniform box."""
+    shape = drawn.get("shape", "box") if isinstance(drawn, dict) else "box"
+    if shape not in SHAPE_KINDS:
+        raise SceneError(f"{what}.drawn.shape = {shape!r}: not one of {sorted(SHAPE_KINDS)}")
+    if shape == "rod":
+        r = float(drawn["radius"])
+        return (np.array([float(drawn["length"]), 2 * r, 2 * r]),
+                _rod_axes(_vec(drawn["axis"], what + ".drawn.axis")), "beam")
+    if shape == "sphere":
+        return np.full(3, 2 * float(drawn["radius"])), np.eye(3), "bob"
+    if shape == "none":
+        return np.zeros(3), np.eye(3), "link"
+    dims, V = equivalent_box(m, I)
+    return dims, V, "panel"
+
+
 class HingedModel:
-    """A `kind: hinged` model (docs/file_formats.md) as drawable parts."""
+    """A `kind: hinged` model (docs/file_formats.md) as drawable parts: from a trajectory's
+    @body (the body as the run moved it, appendages expanded: HingedModel.from_body) or,
+    for files written before it, from the model text's hub and panels."""
 
     def __init__(self, model):
         hub = model["hub"]
@@ -180,11 +218,48 @@ class HingedModel:
             m, I, dims, V = _element(p, what)
             a = _vec(p["hinge_axis"], what + ".hinge_axis")
             self.panels.append(dict(
-                name=str(p["name"]), mass=m, I=I, dims=dims, V=V,
+                name=str(p["name"]), mass=m, I=I, dims=dims, V=V, kind="panel",
                 p=_vec(p["hinge_point"], what + ".hinge_point"), a=a / np.linalg.norm(a),
                 r=_vec(p["com_offset"], what + ".com_offset"),
                 parent=self.names.index(p["parent"]) if "parent" in p else -1))
-        # Parents before children.
+        self.appendages = []
+        self._finish()
+
+    @classmethod
+    def from_body(cls, body, path="@body"):
+        """From a trajectory's @body (parsed JSON): every panel the run moved, each drawn
+        as its `drawn` shape says; appendages as body["appendages"]."""
+        self = cls.__new__(cls)
+        try:
+            hub = body["hub"]
+            self.hub_mass = float(hub["mass"])
+            self.hub_I = np.asarray(hub["inertia"], dtype=float)
+            self.hub_com = _vec(hub["com"], path + ".hub.com")
+            self.hub_dims, self.hub_V, _ = _drawn(self.hub_mass, self.hub_I, hub.get("drawn"),
+                                                  path + ".hub")
+            self.names = [str(p["name"]) for p in body["panels"]]
+            self.panels = []
+            for i, p in enumerate(body["panels"]):
+                what = f"{path}.panels[{i}]"
+                m, I = float(p["mass"]), np.asarray(p["inertia"], dtype=float)
+                dims, V, kind = _drawn(m, I, p.get("drawn"), what)
+                a = _vec(p["hinge_axis"], what + ".hinge_axis")
+                parent = int(p["parent"])
+                if not -1 <= parent < len(body["panels"]):
+                    raise SceneError(f"{what}.parent = {parent}: no such panel")
+                self.panels.append(dict(
+                    name=str(p["name"]), mass=m, I=I, dims=dims, V=V, kind=kind,
+                    p=_vec(p["hinge_point"], what + ".hinge_point"), a=a / np.linalg.norm(a),
+                    r=_vec(p["com_offset"], what + ".com_offset"), parent=parent,
+                    appendage=p.get("appendage")))
+            self.appendages = list(body.get("appendages", []))
+        except (KeyError, TypeError, ValueError) as e:
+            raise SceneError(f"{path}: not a body record ({type(e).__name__}: {e})") from None
+        self._finish()
+        return self
+
+    def _finish(self):
+        """The drawing order (parents before children) and the parts' names and kinds."""
         self.order, placed = [], set()
         while len(self.order) < len(self.panels):
             before = len(self.order)
@@ -195,7 +270,7 @@ class HingedModel:
             if len(self.order) == before:
                 raise SceneError("panels: the parents form a cycle")
         self.part_names = ["hub"] + self.names
-        self.part_kinds = ["hub"] + ["panel"] * len(self.panels)
+        self.part_kinds = ["hub"] + [p["kind"] for p in self.panels]
 
     def parts(self, angles):
         """Per part (hub first, then panels in model order): (mass, CoM in B, R_B part)."""
@@ -369,6 +444,7 @@ def _read_trajectory(path, model_path):
                    hinge_rates=tr.get("hinge_rates"), attrs={})
         model_text = open(model_path).read() if model_path is not None \
             else tr.attr("model_text")
+        run["body"] = tr.body
         run["stages"] = [dict(name=s["name"], t0=float(s["t_begin"]), t1=float(s["t_end"]),
                               role=s["spin_axis_role"]) for s in tr.stages]
         run["danger"] = [[a, b] for a, b in tr.danger_windows]
@@ -408,8 +484,12 @@ def read_run(path, model_path=None):
     model = _load_model(model_text, path)
     run["time"], run["sides"], run["model_name"] = t, sides, str(model.get("name", "?"))
     hinge = run["hinge"]
+    # The body as the run moved it where the file has it (appendages expanded by deploysim
+    # itself); else, or with --model, the model text's hub and panels.
+    body = run.pop("body", None) if model_path is None else None
     if model["kind"] == "hinged" and hinge is not None:
-        run["geometry"] = HingedModel(model)
+        run["geometry"] = (HingedModel.from_body(body, f"{path}: @body") if body is not None
+                           else HingedModel(model))
         if hinge.shape != (n, len(run["geometry"].panels)):
             raise SceneError(f"{path}: /hinge_angles has {hinge.shape[1]} columns, the model "
                              f"{len(run['geometry'].panels)} panels")
@@ -432,7 +512,69 @@ def read_run(path, model_path=None):
             s["angle"] = np.arccos(np.clip(Hn @ s_B, -1, 1))
     if run["kind"] == "crosscheck":
         run["stages"], run["danger"] = crosscheck_stages(run)
+    if run["geometry"] is not None and run["geometry"].appendages:
+        _group_appendages(run)
     return run
+
+
+# --- appendages ---------------------------------------------------------------------------
+def bending_owners(appendages):
+    """{panel index: appendage name} of the appendages' generated bending hinges (@body's
+    appendages[].hinges; a beam's root stub is an ordinary panel)."""
+    return {int(h): a["name"] for a in appendages for h in a["hinges"]}
+
+
+def phase_label(name, panel_names, appendages):
+    """A hinge profile's phase name as the pages show it, as the CLI's text does
+    (cli/report.cc PhaseLabel): each list of panels ("free: a, b; moved: c") with an
+    appendage's bending hinges named once, by the appendage and their count:
+    "free: boom_px (12), boom_mx (6)"."""
+    owner = {panel_names[k]: a for k, a in bending_owners(appendages).items()}
+    if not owner:
+        return name
+    parts = []
+    for part in name.split("; "):
+        head, sep, items = part.partition(": ")
+        if not sep:
+            parts.append(part)
+            continue
+        shown, count = [], {}
+        for item in items.split(", "):
+            a = owner.get(item)
+            if a is None:
+                shown.append(item)
+            else:
+                if a not in count:
+                    count[a] = 0
+                    shown.append(a)  # its slot, filled below
+                count[a] += 1
+        parts.append(head + sep + ", ".join(f"{x} ({count[x]})" if x in count else x
+                                            for x in shown))
+    return "; ".join(parts)
+
+
+def _group_appendages(run):
+    """The pages' view of a body with appendages: the phase names grouped (phase_label),
+    and the releases of the bending hinges at the run's start (free from the start by
+    construction) as one event per appendage, as the CLI's timeline states them once."""
+    g = run["geometry"]
+    for st in run["stages"]:
+        st["name"] = phase_label(st["name"], g.names, g.appendages)
+    owner = {g.names[k]: a for k, a in bending_owners(g.appendages).items()}
+    t0 = float(run["time"][0])
+    events, grouped = [], {}
+    for e in run["events"]:
+        a = owner.get(e["panel"])
+        if a is None or e["kind"] != "release" or e["t"] > t0:
+            events.append(e)
+            continue
+        if a not in grouped:
+            grouped[a] = dict(e, panel=a, count=0)
+            events.append(grouped[a])
+        grouped[a]["count"] += 1
+    for e in grouped.values():
+        e["text"] = f"{e['panel']}: {e['count']} bending hinges free from the start"
+    run["events"] = events
 
 
 def trail_seconds(run):
@@ -459,10 +601,17 @@ def axis_role(J, s_B):
 
 def moving_span(run):
     """(first, last) time at which a hinge angle changes (more than HINGE_MOTION rad
-    between samples), or None: no hinges, or none moves."""
+    between samples), or None: no hinges, or none moves. An appendage's bending hinges
+    do not count."""
     h = run["hinge"]
     if h is None or len(h) < 2:
         return None
+    g = run.get("geometry")
+    if g is not None and g.appendages:  # bending hinges flex all the time: not a deployment
+        owner = bending_owners(g.appendages)
+        h = h[:, [k for k in range(h.shape[1]) if k not in owner]]
+        if h.shape[1] == 0:
+            return None
     moving = np.nonzero(np.abs(np.diff(h, axis=0)).max(axis=1) > HINGE_MOTION)[0]
     if len(moving) == 0:
         return None

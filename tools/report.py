@@ -66,6 +66,7 @@ import tempfile
 import time
 
 from deploysim_results import TrajectoryError, read_trajectory
+from deploysim_scene import bending_owners, phase_label
 
 TOOLS = os.path.dirname(os.path.abspath(__file__))
 PROG = "report"
@@ -258,7 +259,7 @@ def h5_value(h, pointer):
         if key and h.attr(name).startswith("{"):  # a JSON record: @outcome#linear.verdict
             v = json.loads(h.attr(name))
             for k in key.split("."):
-                v = v[k]
+                v = v[int(k)] if isinstance(v, list) else v[k]
             return v
         v = h.attr_fields(name)[key] if key else h.attr(name)
         for kind in (int, float):
@@ -651,7 +652,8 @@ def model_tables(model):
                    "</tr></thead><tbody>" + "".join(rows) + "</tbody></table>")
         confs = model.get("configurations", {}) or {}
         if confs:
-            names = [p.get("name", str(k)) for k, p in enumerate(panels)]
+            names = [p.get("name", str(k)) for k, p in enumerate(panels)] + [
+                str(a.get("name", "?")) for a in model.get("appendages", []) or []]
             crow = []
             for cn, cv in confs.items():
                 angles = (cv or {}).get("hinge_angles_deg", [])
@@ -677,6 +679,104 @@ def model_tables(model):
     return out
 
 
+DASH = "\u2014"
+
+
+def stage_label(h, i):
+    """Stage i's name as the text shows it: an appendage's bending hinges named once, by
+    the appendage and their count (deploysim_scene.phase_label, as the CLI's text)."""
+    return esc(phase_label(h["stages/name"][i], h.panel_names, h.appendages))
+
+
+def bending_hinges(h):
+    """The panel names of the appendages' generated bending hinges (the file's @body)."""
+    return {h.panel_names[k] for k in bending_owners(h.appendages)}
+
+
+def listed_events(h, ev):
+    """(index, event) of the hinge events the timeline lists: all but the releases of the
+    appendages' bending hinges at the run's start (free from the start by construction;
+    the note above the table counts them, the file keeps them)."""
+    bending, t0 = bending_hinges(h), float(h.time[0])
+    return [(e, x) for e, x in enumerate(ev)
+            if not (x["panel_name"] in bending and x["kind"] == "release" and x["time"] <= t0)]
+
+
+def appendage_row(c, i, a, p):
+    """Appendage i's row for bending plane p (a slosh pendulum: its hinges, p = 0)."""
+    at = f"@body#appendages.{i}."
+    cells = (f"<th>{esc(a['name'])}</th>" + c.h5(at + "kind", cls="t")
+             + c.h5(at + "segments")
+             + (c.src(f"{at}planes: plane {p + 1} of them", p + 1, str(p + 1))
+                if a["planes"] else f"<td class='t'>{DASH}</td>"))
+    if a["planes"]:
+        for n in (0, 1):
+            chain, beam = a["chain_frequencies"][p][n], a["beam_frequencies"][p][n]
+            cells += (c.h5(f"{at}chain_frequencies.{p}.{n}", unit="rad/s", digits=4)
+                      + c.h5(f"{at}beam_frequencies.{p}.{n}", unit="rad/s", digits=4)
+                      + c.derived(f"{at}chain_frequencies.{p}.{n} / "
+                                  f"{at}beam_frequencies.{p}.{n}", chain / beam,
+                                  fmt_num(100 * (chain / beam - 1), 2) + "\u00a0%", unit="1"))
+        cells += c.h5(f"{at}damping_ratio.{p}", unit="1", digits=3)
+    else:
+        cells += f"<td class='t'>{DASH}</td>" * 7
+    return "<tr>" + cells + c.h5(f"{at}damping.{p}", unit="N m s/rad", digits=4) + "</tr>"
+
+
+def appendage_table(c, h):
+    """The flexible appendages the run simulated (the file's @body): per appendage and
+    bending plane the clamped chain's first two frequencies against Euler-Bernoulli's and
+    the damping; then what the flexing did: the dampers' work in the energy ledger and
+    the linear nutation rate against the quasi-rigid energy-sink estimate (@outcome)."""
+    apps = h.appendages
+    if not apps:
+        return ""
+    rows = [appendage_row(c, i, a, p) for i, a in enumerate(apps)
+            for p in range(max(1, a["planes"]))]
+    out = ["<h3>Appendages</h3><table><caption>Flexible appendages (the run's body, "
+           "<code>@body</code>): clamped chain of rigid segments vs the Euler-Bernoulli "
+           "beam</caption><thead><tr><th>appendage</th><th>kind</th><th>segments</th>"
+           "<th>plane</th><th>\u03c9<sub>1</sub> chain [rad/s]</th>"
+           "<th>\u03c9<sub>1</sub> beam [rad/s]</th><th>chain/beam \u2212 1</th>"
+           "<th>\u03c9<sub>2</sub> chain [rad/s]</th><th>\u03c9<sub>2</sub> beam [rad/s]</th>"
+           "<th>chain/beam \u2212 1</th><th>\u03b6<sub>1</sub></th>"
+           "<th>damper per hinge [N m s/rad]</th></tr></thead><tbody>" + "".join(rows)
+           + "</tbody></table>"]
+    items = []
+    if "work_damper" in h:
+        n = len(h.time) - 1
+        w, e0 = float(h["work_damper"][n]), float(h["energy_total"][0])
+        items.append("Work of the dampers on the system over the run (energy ledger; "
+                     "&lt; 0: dissipated): "
+                     + c.h5(hp("work_damper", n), tag="span", cls=None, unit="J", digits=3,
+                            suffix="\u00a0J")
+                     + ", " + c.derived(f"{hp('work_damper', n)} / /energy_total#0", w / e0,
+                                        fmt_num(100 * w / e0, 3) + "\u00a0%", tag="span",
+                                        cls=None, unit="1")
+                     + " of the initial energy.")
+    o = h.outcome
+    if o is not None and o["linear"]["found"]:
+        quasi = o["linear"]["quasi_rigid_rate"]
+        items.append("Nutation rate of the final spin from the linearized equations (flexing "
+                     "included): "
+                     + c.h5("@outcome#linear.growth_rate", tag="span", cls=None, unit="1/s",
+                            digits=4, suffix="\u00a01/s")
+                     + "; quasi-rigid energy-sink estimate: "
+                     + (c.h5("@outcome#linear.quasi_rigid_rate", tag="span", cls=None,
+                             unit="1/s", digits=4, suffix="\u00a01/s")
+                        if quasi is not None else "none")
+                     + " (&lt; 0: the nutation decays).")
+    if items:
+        out.append("<ul>" + "".join(f"<li>{i}</li>" for i in items) + "</ul>")
+    out.append("<p class='note'><b>\u03c9<sub>n</sub> chain</b>: the n-th bending frequency "
+               "of the appendage's chain of segments with the hub held still; <b>beam</b>: "
+               "the uniform Euler-Bernoulli cantilever's (the chain converges to it as "
+               "1/N\u00b2). <b>\u03b6<sub>1</sub></b>: the first mode's damping ratio "
+               "(stiffness-proportional dampers, the same on every bending hinge of a "
+               "plane).</p>")
+    return "".join(out)
+
+
 def section_configuration(c, h, ctx):
     out = ['<section id="configuration"><h2>1. Configuration</h2>']
     model = ctx["model"] or {}
@@ -688,6 +788,7 @@ def section_configuration(c, h, ctx):
                + c.h5("@mode", tag="code", cls=None) + ", coupling "
                + c.h5("@coupling", tag="code", cls=None) + ".</p>")
     out += model_tables(model)
+    out.append(appendage_table(c, h))
     out.append(initial_state(c, h, ctx))
     rows = ["<tr><th>start</th><td class='t'>initial state</td>"
             + c.h5("/time#0", unit="s", dec=3)
@@ -697,7 +798,7 @@ def section_configuration(c, h, ctx):
     for i, s in enumerate(ctx["stages"]):
         rows.append(
             "<tr>" + c.h5(hp("stages/index", i), tag="th", cls=None)
-            + c.h5(hp("stages/name", i), cls="t")
+            + c.h5(hp("stages/name", i), cls="t", shown=stage_label(h, i))
             + c.h5(hp("stages/t_end", i), unit="s", dec=3)
             + "".join(c.h5(hp("stages/moments_end", i, k), unit="kg m^2", digits=6)
                       for k in range(3))
@@ -749,7 +850,8 @@ def stability_row(c, i, s):
         flips += " / " + c.h5(p("predicted_flip_count"), tag="span", cls=None)
     half = p("predicted_flip_half_period")
     return (
-        "<tr>" + c.h5(p("index"), tag="th", cls=None) + c.h5(p("name"), cls="t")
+        "<tr>" + c.h5(p("index"), tag="th", cls=None)
+        + c.h5(p("name"), cls="t", shown=stage_label(c.h, i))
         + c.h5(p("law"), cls="t")
         + "<td class='n'>" + c.h5(p("t_begin"), tag="span", cls=None, unit="s", dec=3)
         + "\u2013<br>" + c.h5(p("t_end"), tag="span", cls=None, unit="s", dec=3) + "</td>"
@@ -852,20 +954,20 @@ def flip_rows(c, h, ctx):
             n = min(preds, key=lambda k: abs(tp[k] - t))
             matched.add(n)
             d = float(t - tp[n])
-            cells += (c.h5(hp("stages/name", i), cls="t")
+            cells += (c.h5(hp("stages/name", i), cls="t", shown=stage_label(h, i))
                       + c.h5(hp("events/predicted_flip_time", n), unit="s", dec=6)
                       + c.derived(f"{hp('events/flip_time', f)} - "
                                   f"{hp('events/predicted_flip_time', n)}", d, fmt_num(d, 3),
                                   unit="s"))
         else:
-            cells += (c.h5(hp("stages/name", i), cls="t")
+            cells += (c.h5(hp("stages/name", i), cls="t", shown=stage_label(h, i))
                       + "<td class='t'>(no closed form: deploying)</td><td class='t'>\u2014</td>")
         rows.append(cells + "</tr>")
     for i, s in enumerate(stages):
         for n in s["predicted_flip_rows"]:
             if n not in matched:
                 rows.append("<tr><th>\u2014</th><td class='t warn'>not located</td>"
-                            + c.h5(hp("stages/name", i), cls="t")
+                            + c.h5(hp("stages/name", i), cls="t", shown=stage_label(h, i))
                             + c.h5(hp("events/predicted_flip_time", n), unit="s", dec=6)
                             + "<td class='t'>\u2014</td></tr>")
     return rows
@@ -890,7 +992,7 @@ def section_flips(c, h, ctx):
         if not s["predicted_flip_count"] and not s["observed_flip_count"]:
             continue
         srow.append("<tr>" + c.h5(hp("stages/index", i), tag="th", cls=None)
-                    + c.h5(hp("stages/name", i), cls="t")
+                    + c.h5(hp("stages/name", i), cls="t", shown=stage_label(h, i))
                     + c.h5(hp("stages/observed_flip_count", i))
                     + c.h5(hp("stages/predicted_flip_count", i))
                     + c.h5(hp("stages/max_flip_time_difference", i), unit="s", digits=3)
@@ -926,13 +1028,19 @@ def hinge_event_row(c, e, ev):
 def hinge_timeline(c, h, ctx):
     """The hinge event table and the panels' lock times of a free-hinge profile."""
     ev = ctx["events"]
-    rows = [hinge_event_row(c, e, x) for e, x in enumerate(ev)]
+    listed = listed_events(h, ev)
+    rows = [hinge_event_row(c, e, x) for e, x in listed]
     total = sum(e["energy_dissipated"] for e in ev)
     rows.append("<tr><th colspan='8' style='text-align:right'>energy dissipated in all "
                 "events [J]</th>"
                 + c.derived("sum /events/hinge/energy_dissipated", total,
                             "<b>" + fmt_num(total, 4) + "</b>", unit="J") + "</tr>")
-    out = ["<table><caption>Hinge events in time order</caption><thead><tr>"
+    hidden = len(ev) - len(listed)
+    out = [] if not hidden else [
+        f"<p class='note'>The appendages' {hidden} bending hinges are free from the start: "
+        "their releases at t = " + c.h5("/time#0", tag="span", cls=None, unit="s")
+        + " s are in the file's <code>/events/hinge</code>, not listed here.</p>"]
+    out += ["<table><caption>Hinge events in time order</caption><thead><tr>"
            "<th>t [s]</th><th>panel</th><th>event</th><th>angle [deg]</th>"
            "<th>rate before [deg/s]</th><th>rate after [deg/s]</th>"
            "<th>impulse [N m s]</th><th>|hub w jump| [deg/s]</th>"
@@ -946,7 +1054,10 @@ def hinge_timeline(c, h, ctx):
            "go. <b>|hub w jump|</b>: the shock a latch gives the spacecraft (jump of "
            "the hub's angular velocity); angles 0 = deployed.</p>"]
     lrow = []
+    bending = bending_hinges(h)
     for k, (name, t) in enumerate(h.latch_times.items()):
+        if name in bending:  # free springs: they never lock
+            continue
         how = ""
         for e in ev:
             if e["panel_name"] == name and e["time"] == t and e["kind"] not in ("release", "stop"):

@@ -110,7 +110,8 @@ def event_list(run):
             rows.append(r)
             continue
         burst.pop(p, None)
-        text = f"{p} {WHAT.get(k, k)} at {_f1(a)} deg"
+        # An appendage's grouped releases come with their text (deploysim_scene).
+        text = e.get("text") or f"{p} {WHAT.get(k, k)} at {_f1(a)} deg"
         if k in ("latch", "jam", "stick"):
             text += f", {_f1(abs(rb))} deg/s"
             if e["impulse"]:
@@ -153,6 +154,26 @@ def event_list(run):
         r.pop("first_rate", None)
         r["t"], r["t_last"] = round(r["t"], 6), round(r["t_last"], 6)
     return rows
+
+
+def hinge_channels(geometry):
+    """The hinge chart's and readout's lines: (names, hinge columns summed per line). Every
+    panel's own hinge, except an appendage's bending hinges: per beam and bending plane
+    one line, the sum of the plane's hinge angles (the tip's slope relative to the root:
+    the beam's bend), named "<beam> bend" ("bend 1", "bend 2" for two planes)."""
+    owner = scene.bending_owners(geometry.appendages)
+    names = [n for k, n in enumerate(geometry.names) if k not in owner]
+    columns = [[k] for k in range(len(geometry.names)) if k not in owner]
+    for a in geometry.appendages:
+        if a["kind"] != "beam":  # a slosh pendulum's hinges, each its own line
+            names += [geometry.names[k] for k in a["hinges"]]
+            columns += [[k] for k in a["hinges"]]
+            continue
+        planes = max(1, int(a["planes"]))
+        for p in range(planes):
+            names.append(f"{a['name']} bend" + (f" {p + 1}" if planes > 1 else ""))
+            columns.append(list(a["hinges"][p::planes]))
+    return names, columns
 
 
 def deployment_window(run):
@@ -198,11 +219,18 @@ def build_data(run, title=None):
     n_sides = len(sides)
     hinge = None
     if run["geometry"] is not None:
+        lines_names, columns = hinge_channels(run["geometry"])
         rates = run.get("hinge_rates")
-        hinge = dict(names=run["geometry"].names, deg=_r(np.degrees(run["hinge"][idx]), 3),
-                     rate=None if rates is None else _r(np.degrees(rates[idx]), 3),
+
+        def lines(x):  # (kept samples, lines): each line the sum of its hinges' columns
+            return np.stack([x[idx][:, c].sum(axis=1) for c in columns], axis=1)
+        hinge = dict(names=lines_names, deg=_r(np.degrees(lines(run["hinge"])), 3),
+                     rate=None if rates is None else _r(np.degrees(lines(rates)), 3),
                      window=deployment_window(run))
-    if run["geometry"] is not None:
+    if run["geometry"] is not None and run["geometry"].appendages:
+        body = ("hub, panels and appendages (%s) at their hinge angles (model %s)"
+                % (", ".join(a["name"] for a in run["geometry"].appendages), run["model_name"]))
+    elif run["geometry"] is not None:
         body = "hub and panels at their hinge angles (model %s)" % run["model_name"]
     else:
         body = ("uniform box with the principal moments of J_B (model %s, tensor mode)"

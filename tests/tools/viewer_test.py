@@ -423,6 +423,128 @@ class ViewerTest(unittest.TestCase):
             self.assertEqual(list(ART.glob(".view-*")), [])
 
 
+class AppendageViewerTest(unittest.TestCase):
+    """A body with flexible appendages (tests/tools/data/soft_boom_swing.yaml: a two-plane
+    and a one-plane beam, one deployed while spinning): the scene draws it from the
+    file's @body, a beam as thin rods that bend as their hinges turn, a massless link not
+    at all; the page groups each beam's bending hinges."""
+
+    @classmethod
+    def setUpClass(cls):
+        sys.path.insert(0, str(SRC / "tools"))
+        import deploysim_scene
+        import view
+        cls.scene, cls.view = deploysim_scene, view
+        ART.mkdir(parents=True, exist_ok=True)
+        cls.h5, cls.html = ART / "booms.h5", ART / "booms.html"
+        r = run(DEPLOYSIM, "simulate", SRC / "tests/tools/data/soft_boom_swing.yaml", "-q",
+                "-o", cls.h5)
+        assert r.returncode == 0, r.stderr
+        cls.run_ = deploysim_scene.read_run(str(cls.h5))
+
+    def test_scene_draws_the_files_body(self):
+        """The parts are the file's @body panels (not the model text's, which lists none),
+        and at the file's hinge angles they have the file's J_B."""
+        g = self.run_["geometry"]
+        with h5py.File(self.h5, "r") as f:
+            body = json.loads(f.attrs["body"])
+            names = [x.decode() if isinstance(x, bytes) else x for x in f["panel_names"][()]]
+        self.assertEqual(g.names, names)
+        self.assertEqual([p["name"] for p in body["panels"]], names)
+        kinds = g.part_kinds
+        self.assertEqual(kinds.count("link"), 6)               # boom_px: one per joint
+        self.assertEqual(kinds.count("beam"), 2 + 6 + 6)       # stubs and segments
+        self.assertEqual([a["name"] for a in g.appendages], ["boom_px", "boom_mx"])
+        r, worst = self.run_, 0.0
+        for i in range(0, len(r["time"]), 13):
+            J, _ = g.inertia(r["hinge"][i])
+            worst = max(worst, np.abs(J - r["J"][i]).max() / np.abs(r["J"][i]).max())
+        print(f"\n  drawn body with appendages vs /J_B: max relative difference {worst:.2e}")
+        self.assertLess(worst, INERTIA_REL_TOL)
+
+    def test_a_bent_beam_is_posed_as_its_hinges_say(self):
+        """boom_mx (one plane, along -x, bending about y) with every bending hinge at a:
+        rod k (k hinges from the root) points along Rot(y, k a) (-x), and each rod starts
+        where the one before ends (a continuous beam of the beam's length)."""
+        g = self.run_["geometry"]
+        a = math.radians(8.0)
+        app = next(x for x in g.appendages if x["name"] == "boom_mx")
+        angles = np.zeros(len(g.names))
+        angles[app["hinges"]] = a
+        poses = g.poses(angles)
+        rods = [app["root"]] + app["hinges"]             # stub, then the segments
+        ends = []
+        for k, panel in enumerate(rods):
+            c, R, d = poses[1 + panel]                    # part 0 is the hub
+            axis = R[:, 0]
+            want = self.scene.axis_angle_matrix([0, 1, 0], k * a) @ np.array([-1.0, 0, 0])
+            self.assertLess(np.linalg.norm(axis - want), 1e-12, f"rod {k}")
+            self.assertAlmostEqual(d[1], 0.02, places=12)  # 2 x radius
+            ends.append((c - d[0] / 2 * axis, c + d[0] / 2 * axis))
+        for k in range(1, len(ends)):
+            self.assertLess(np.linalg.norm(ends[k][0] - ends[k - 1][1]), 1e-12, f"joint {k}")
+        length = sum(np.linalg.norm(e - b) for b, e in ends)
+        self.assertAlmostEqual(length, 2.0, places=12)
+        # Straight (all angles 0), the tip is 2 m out along -x from the root.
+        straight = g.poses(np.zeros(len(g.names)))
+        c, R, d = straight[1 + rods[-1]]
+        c0, R0, d0 = straight[1 + rods[0]]
+        tip, root = c + d[0] / 2 * R[:, 0], c0 - d0[0] / 2 * R0[:, 0]
+        self.assertLess(np.linalg.norm(tip - root - np.array([-2.0, 0, 0])), 1e-12)
+
+    def test_files_without_body_draw_from_the_model_text(self):
+        """The main job's file without @body (as written before it) draws the same boxes
+        from the model text."""
+        spring = ART / "spring_nobody.h5"
+        r = run(DEPLOYSIM, "simulate", SRC / "deployment_profiles/smallsat_spring_deploy.yaml",
+                "-q", "--until", "70", "-o", spring)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with_body = self.scene.read_run(str(spring))
+        with h5py.File(spring, "r+") as f:
+            del f.attrs["body"]
+        without = self.scene.read_run(str(spring))
+        for i in (0, len(with_body["time"]) - 1):
+            for (c1, R1, d1), (c2, R2, d2) in zip(self.scene.poses_at(with_body, i),
+                                                  self.scene.poses_at(without, i)):
+                self.assertLess(np.abs(c1 - c2).max(), 1e-12)
+                # The same box (its axes may come in another order from the inertia).
+                self.assertLess(np.abs((R1 * d1) @ (R1 * d1).T - (R2 * d2) @ (R2 * d2).T).max(),
+                                1e-12)
+
+    def test_page_groups_the_bending_hinges_and_shows_the_bend(self):
+        """The page's event list has one row per beam for its bending hinges' releases, the
+        stage names name each beam once, the hinge chart has a bend line per plane; in
+        the browser the page has no errors and the bending beam is drawn (screenshots
+        booms_t*.png)."""
+        data = self.view.build_data(self.run_)
+        starts = [e["text"] for e in data["events"] if e["t"] == 0.0]
+        self.assertEqual(starts, ["boom_px: 12 bending hinges free from the start",
+                                  "boom_mx: 6 bending hinges free from the start"])
+        self.assertEqual(data["stages"][0]["name"], "free: boom_px (12), boom_mx (6)")
+        self.assertEqual(data["hinge"]["names"],
+                         ["boom_px", "boom_mx", "boom_px bend 1", "boom_px bend 2", "boom_mx bend"])
+        self.assertIn("link", data["parts"]["kinds"])
+        # The bend: the sum of a plane's hinge angles, tens of degrees during the swing.
+        bend = np.array(data["hinge"]["deg"]).reshape(-1, 5)[:, 2]
+        self.assertGreater(np.abs(bend).max(), 20.0)
+        r = run(PY, SRC / "tools/view.py", self.h5, "-o", self.html)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        import headless_chromium
+        with headless_chromium.Browser(1280, 800) as b:
+            page = open_at(b, self.html, (1280, 800))
+            self.assertTrue(page.evaluate("window.deploysimReady === true"))
+            shots = []
+            for t in (0.1, 0.9):
+                page.evaluate(f"window.deploysimSetTime({t})")
+                shots.append(load_png(page.screenshot(ART / f"booms_t{t:g}.png")))
+            self.assertEqual(page.errors(), [])
+        view_w = shots[0].shape[1] * 820 // 1280   # the 3D view, left of the side panel
+        a, b = shots[0][120:640, :view_w], shots[1][120:640, :view_w]
+        changed = (np.abs(a - b).max(axis=2) > 0.1).mean()
+        print(f"  3D view pixels changed between 0.1 s and 0.9 s: {changed:.3f}")
+        self.assertGreater(changed, MIN_CHANGED_FRACTION / 10)
+
+
 class AnimationTest(unittest.TestCase):
     """A short, low-resolution MP4 of the wing nut's flips: duration, frame rate, motion."""
 
