@@ -180,9 +180,9 @@ const std::vector<std::string> kBeamKeys = {"name",
                                             "modes"};
 
 const std::vector<std::string> kSloshKeys = {
-    "name",    "kind",          "parent",    "pivot",         "direction",
-    "axis",    "mass",          "length",    "fixed_mass",    "fixed_point",
-    "damping", "damping_ratio", "spin_rate", "spin_rate_rpm", "spin_radius"};
+    "name",      "kind",          "parent",      "pivot",       "direction", "axis",
+    "mass",      "length",        "fixed_mass",  "fixed_point", "damping",   "damping_ratio",
+    "spin_rate", "spin_rate_rpm", "spin_radius", "tank"};
 
 std::vector<std::string> AllAppendageKeys() {
   std::vector<std::string> keys;
@@ -194,6 +194,35 @@ std::vector<std::string> AllAppendageKeys() {
   return keys;
 }
 
+/// `tank:` of a slosh appendage (model::SloshTank), instead of the pendulum's own keys:
+/// `{shape: cylinder, center, diameter, height, liquid_mass_full | density, fill_fraction}`.
+/// The ranges are model::AddSlosh's.
+void ReadTank(const Fields& f, model::SloshSpec& s) {
+  for (const char* key : {"pivot", "mass", "length", "fixed_mass", "fixed_point"}) {
+    if (f.Has(key)) {
+      f.Fail(key,
+             "the tank gives the pendulum (rule: tank, or pivot, mass, length and "
+             "optionally fixed_mass and fixed_point)");
+    }
+  }
+  const Fields t = f.Mapping("tank", {"shape", "center", "diameter", "height", "liquid_mass_full",
+                                      "density", "fill_fraction"});
+  if (t.Text("shape") != "cylinder") {
+    t.Fail("shape",
+           "unknown tank shape (valid: cylinder: upright, flat-bottomed, its axis "
+           "along direction)");
+  }
+  t.RequireExactlyOne("liquid_mass_full", "density");
+  model::SloshTank tank;
+  tank.center = t.Vector3("center");
+  tank.diameter = t.Number("diameter");
+  tank.height = t.Number("height");
+  tank.liquid_mass_full = t.OptionalNumber("liquid_mass_full");
+  tank.density = t.OptionalNumber("density");
+  tank.fill_fraction = t.Number("fill_fraction");
+  s.tank = tank;
+}
+
 /// `appendages[k]` of kind slosh (model/slosh.h; docs/file_formats.md): the ranges are
 /// model::AddSlosh's, which names the keys in its messages.
 model::SloshSpec ReadSlosh(const Fields& f,
@@ -203,11 +232,15 @@ model::SloshSpec ReadSlosh(const Fields& f,
   model::SloshSpec s;
   s.name = name;
   s.parent = ParentPanel(f, "parent", panels);
-  s.pivot = f.Vector3("pivot");
   s.direction = f.Vector3("direction");
   if (f.Has("axis")) s.axis = f.Vector3("axis");
-  s.mass = f.Number("mass");
-  s.length = f.Number("length");
+  if (f.Has("tank")) {
+    ReadTank(f, s);
+  } else {
+    s.pivot = f.Vector3("pivot");
+    s.mass = f.Number("mass");
+    s.length = f.Number("length");
+  }
   if (f.Has("fixed_mass") != f.Has("fixed_point")) {
     f.Fail(f.Has("fixed_mass") ? "fixed_mass" : "fixed_point",
            "fixed_mass [kg] and fixed_point [m] come together (rule: both or neither)");

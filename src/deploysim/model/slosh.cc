@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "deploysim/math/number_format.h"
 #include "deploysim/model/mass_properties.h"
@@ -61,8 +62,63 @@ void CheckDamping(const SloshSpec& s, const std::string& where) {
   }
 }
 
-/// The spec with unit direction and unit first axis (chosen if zero), checked.
+/// A tank's values within their ranges (SloshTank), with nothing it gives set besides.
+void CheckTank(const SloshSpec& s, const std::string& where) {
+  const SloshTank& t = *s.tank;
+  if (s.mass != 0.0 || s.length != 0.0 || s.fixed_mass != 0.0 || !s.pivot.isZero(0.0) ||
+      !s.fixed_point.isZero(0.0)) {
+    Fail(where,
+         "tank: gives mass, length, pivot, fixed_mass and fixed_point (rule: a tank or "
+         "those, not both)");
+  }
+  if (!Finite(t.center)) Fail(where, "tank.center: must be finite [m]");
+  for (const auto& [key, v] :
+       {std::pair<const char*, double>{"diameter", t.diameter}, {"height", t.height}}) {
+    if (!(std::isfinite(v) && v > 0.0 && v <= kMaxCoordinate)) {
+      Fail(where, std::string("tank.") + key + " = " + FormatNumber(v) + ": must be > 0 [m]");
+    }
+  }
+  if (!(t.fill_fraction > 0.0 && t.fill_fraction <= 1.0)) {
+    Fail(where, "tank.fill_fraction = " + FormatNumber(t.fill_fraction) + ": must be in (0, 1]");
+  }
+  if (t.liquid_mass_full.has_value() == t.density.has_value()) {
+    Fail(where, "tank: give exactly one of liquid_mass_full [kg] or density [kg/m^3]");
+  }
+  const double m = t.liquid_mass_full ? *t.liquid_mass_full : *t.density;
+  if (!(std::isfinite(m) && m > 0.0 && m <= kMaxPartMass)) {
+    Fail(where, std::string(t.liquid_mass_full ? "tank.liquid_mass_full" : "tank.density") + " = " +
+                    FormatNumber(m) + ": must be > 0");
+  }
+  const double liquid = CylinderTankPendulum(t).liquid_mass;
+  if (!(liquid <= kMaxPartMass)) {
+    Fail(where, "tank.density = " + FormatNumber(*t.density) +
+                    ": the liquid's mass must be at most " + FormatNumber(kMaxPartMass) + " [kg]");
+  }
+}
+
+/// The pendulum of the spec's tank placed in the parent's axes: the bottom is at
+/// center + H/2 direction (unit), a point z above it at bottom - z direction.
+void PlaceTank(SloshSpec& s) {
+  const SloshTank& t = *s.tank;
+  const SloshTankPendulum p = CylinderTankPendulum(t);
+  const Vec3 bottom = t.center + 0.5 * t.height * s.direction;
+  s.mass = p.mass;
+  s.length = p.length;
+  s.pivot = bottom - p.pivot_height * s.direction;
+  s.fixed_mass = p.fixed_mass;
+  s.fixed_point = bottom - p.fixed_height * s.direction;
+}
+
+/// The spec with unit direction and unit first axis (chosen if zero), checked; a tank's
+/// pendulum placed.
 SloshSpec Checked(SloshSpec s, const HingedBody& body, const std::string& where) {
+  if (s.tank) {
+    CheckTank(s, where);
+    const double dn = s.direction.norm();
+    if (!(std::isfinite(dn) && dn > 0.0)) Fail(where, "direction: must be finite and non-zero");
+    s.direction /= dn;
+    PlaceTank(s);
+  }
   if (!(std::isfinite(s.mass) && s.mass > 0.0 && s.mass <= kMaxPartMass)) {
     Fail(where, "mass = " + FormatNumber(s.mass) + ": must be > 0 [kg] (the pendulum's m1)");
   }
@@ -110,6 +166,28 @@ void AddPointMass(MassElement& into, Vec3& at, double m, const Vec3& x) {
 }
 
 }  // namespace
+
+SloshTankPendulum CylinderTankPendulum(const SloshTank& t) {
+  constexpr double kTwoXi1 = 3.68;  // 2 xi_1, xi_1 = 1.841 the first root of J1'
+  constexpr double kMassDivisor = 4.4;
+  constexpr double kPi = 3.14159265358979323846;
+  const double d = t.diameter;
+  const double h = t.fill_fraction * t.height;
+  SloshTankPendulum p;
+  p.liquid_height = h;
+  p.liquid_mass = t.liquid_mass_full ? t.fill_fraction * *t.liquid_mass_full
+                                     : t.density.value() * kPi * d * d / 4.0 * h;
+  const double x = kTwoXi1 * h / d;
+  p.mass = p.liquid_mass * d / (kMassDivisor * h) * std::tanh(x);
+  p.length = d / kTwoXi1 / std::tanh(x);
+  p.fixed_mass = p.liquid_mass - p.mass;
+  p.liquid_com_height = 0.5 * h;
+  const double h1 = 0.5 * h - d / kTwoXi1 * std::tanh(0.5 * x);  // above the liquid's CoM
+  p.bob_height = p.liquid_com_height + h1;
+  p.pivot_height = p.bob_height + p.length;
+  p.fixed_height = p.liquid_com_height - p.mass * h1 / p.fixed_mass;
+  return p;
+}
 
 double SloshInPlaneFrequency(double spin_rate, double spin_radius, double length) {
   return std::abs(spin_rate) * std::sqrt(spin_radius / length);

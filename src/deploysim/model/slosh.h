@@ -59,6 +59,49 @@
 
 namespace deploysim::model {
 
+/// A tank that gives a slosh pendulum its parameters (SloshSpec::tank): an upright circular
+/// cylinder with a flat bottom, its axis along the spec's `direction`, the bottom on the
+/// side `direction` points to (the liquid's "down": outward from the spin axis in a
+/// spinner), filled to the fraction f of its volume. The liquid's depth is h = f H and its
+/// mass m_liquid = f liquid_mass_full, or density pi d^2 / 4 h. From the first slosh mode
+/// (NASA SP-106, Abramson 1966, ch. 6; Dodge 2000, ch. 3; 3.68 = 2 xi_1, xi_1 = 1.841):
+///   m1 = m_liquid (d / 4.4 h) tanh(3.68 h / d),   L1 = (d / 3.68) coth(3.68 h / d);
+///   the bob at the height of the spring-mass analogue's mass (the pendulum of the same
+///   force and moment has its bob there), h1 = h/2 - (d / 3.68) tanh(1.84 h / d) above the
+///   liquid's centre of mass, so the pivot is at h1 + L1 = h/2 + (d / 3.68) csch(3.68 h / d)
+///   above it ((d / 3.68) csch(3.68 h / d) above the free surface: coth 2a - tanh a =
+///   csch 2a);
+///   m0 = m_liquid - m1 at h0 = -m1 h1 / m0 above the liquid's centre of mass. The handbook
+///   fixes h0 with every mode so that the model's centre of mass is the liquid's; with the
+///   first mode alone (the second has 3 % of m1) the same condition gives this h0, which
+///   keeps the liquid's centre of mass at rest exactly. m0 is a point mass: the liquid's
+///   own rotational inertia (less than that of the liquid frozen) is left out.
+struct SloshTank {
+  math::Vec3 center = math::Vec3::Zero();  ///< [m] the cylinder's centre, on its axis at
+                                           ///< mid-height (parent's axes, from its origin)
+  double diameter = 0.0;                   ///< d [m] > 0
+  double height = 0.0;                     ///< H [m] > 0, bottom to top inside
+  /// Exactly one: the liquid's mass when full [kg] > 0, or its density [kg/m^3] > 0.
+  std::optional<double> liquid_mass_full;
+  std::optional<double> density;
+  double fill_fraction = 0.0;  ///< f in (0, 1]: the share of the volume the liquid fills
+};
+
+/// The pendulum of a tank (SloshTank), heights along -direction (up).
+struct SloshTankPendulum {
+  double liquid_mass = 0.0;    ///< m_liquid [kg]
+  double liquid_height = 0.0;  ///< h [m]
+  double mass = 0.0;           ///< m1 [kg]
+  double length = 0.0;         ///< L1 [m]
+  double fixed_mass = 0.0;     ///< m0 [kg]
+  /// [m] above the tank's bottom: the liquid's centre of mass (h/2), the bob, the pivot,
+  /// and m0.
+  double liquid_com_height = 0.0, bob_height = 0.0, pivot_height = 0.0, fixed_height = 0.0;
+};
+
+/// The formulas of SloshTank for a tank of valid values (AddSlosh checks them).
+SloshTankPendulum CylinderTankPendulum(const SloshTank& tank);
+
 /// An equivalent slosh pendulum, as an analyst has it. Positions are in the parent's axes
 /// from the parent's origin (model.h Panel: B's origin for the hub, the parent's hinge
 /// point for a panel).
@@ -76,6 +119,9 @@ struct SloshSpec {
   double length = 0.0;                          ///< L1 [m] > 0
   double fixed_mass = 0.0;                      ///< m0 [kg] >= 0, rigid with the tank
   math::Vec3 fixed_point = math::Vec3::Zero();  ///< [m] where m0 sits
+  /// Instead of mass, length, pivot, fixed_mass and fixed_point (which must then be left at
+  /// 0): the tank they follow from (SloshTank), placed on expansion.
+  std::optional<SloshTank> tank;
   /// Exactly one of: the hinges' damper c [N m s/rad] >= 0, or the damping ratio zeta in
   /// [0, 1) with the spin rate Omega [rad/s] > 0 and the pivot's distance r [m] >= 0 from
   /// the spin axis at which omega_out is evaluated (c = 2 zeta omega_out m1 L1^2).
@@ -102,7 +148,9 @@ double SloshDamping(const SloshSpec& spec);
 /// hinges with spring 0 and damper c each. Throws std::invalid_argument "<where>.<key> =
 /// <value>: <rule>" for a spec outside its ranges (mass > 0, length > 0, fixed_mass >= 0,
 /// damping >= 0, damping_ratio in [0, 1) with spin_rate > 0 and spin_radius >= 0, exactly
-/// one damping form, axis perpendicular to direction, parent an existing panel).
+/// one damping form, axis perpendicular to direction, parent an existing panel; a tank's
+/// diameter and height > 0, fill_fraction in (0, 1], exactly one of liquid_mass_full and
+/// density, each > 0, and nothing it gives set besides).
 Appendage AddSlosh(HingedBody& body, const SloshSpec& spec, const std::string& where);
 
 }  // namespace deploysim::model
