@@ -8,6 +8,7 @@
 #include "deploysim/io/yaml_fields.h"
 #include "deploysim/io/yaml_reader.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/model/appendages.h"
 #include "deploysim/model/flexible_beam.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/model/slosh.h"
@@ -282,18 +283,18 @@ std::vector<model::Appendage> ReadAppendages(const Fields& top, model::HingedBod
   const std::vector<model::Panel> declared = body.panels;
   for (std::size_t k = 0; k < nodes.size(); ++k) {
     const std::string key = "appendages[" + std::to_string(k) + "]";
-    const std::string where = top.doc().path() + ": " + key;
+    const std::string where = model::AppendageWhere(top.doc().path(), k);
     // The kind first, among every kind's keys; then the mapping again with its kind's own.
     const Fields any(top.doc(), nodes[k], key, AllAppendageKeys());
     const std::string kind = any.Text("kind");
     if (kind == "beam") {
       const Fields f(top.doc(), nodes[k], key, kBeamKeys);
       const std::string name = AppendageName(f, body);
-      out.push_back(model::AddBeam(body, ReadBeam(f, name, declared), where));
+      out.push_back(model::ExpandAppendage(body, ReadBeam(f, name, declared), where));
     } else if (kind == "slosh") {
       const Fields f(top.doc(), nodes[k], key, kSloshKeys);
       const std::string name = AppendageName(f, body);
-      out.push_back(model::AddSlosh(body, ReadSlosh(f, name, declared), where));
+      out.push_back(model::ExpandAppendage(body, ReadSlosh(f, name, declared), where));
     } else {
       any.Fail("kind", "unknown appendage kind (valid: beam, slosh)");
     }
@@ -389,6 +390,7 @@ model::Model ReadModelText(const std::string& text, const std::string& source) {
     body.hub = ReadHub(top);
     body.panels = ReadPanels(top);
     declared = body.panels.size();
+    m.declared = body;  // what model::RebuildAppendages expands the appendages onto again
     m.appendages = ReadAppendages(top, body);
     m.hinged = model::ValidatedHingedBody(body, path);
   } else {

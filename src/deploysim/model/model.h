@@ -6,6 +6,7 @@
 /// are hinge angles. Units: SI (kg, m, rad). Frame: B, the body (hub) frame.
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,9 @@ struct HingedBody {
   std::vector<Panel> panels;
 };
 
+struct BeamSpec;   // model/flexible_beam.h
+struct SloshSpec;  // model/slosh.h
+
 /// What a flexible element (model/flexible_beam.h) or a slosh pendulum (model/slosh.h)
 /// generated: panels of the body whose hinges are free from the run's start, each with
 /// the spring and damper the element's physics gives. A generated panel may be massless
@@ -77,6 +81,12 @@ struct Appendage {
   /// a beam's first clamped modes per plane, each scaled to 1 at its largest hinge angle),
   /// a Ritz reduction of the chain (schedule::FreeHingeSystem's modal coordinates).
   Eigen::MatrixXd modes;
+  /// What it was expanded from, as the model file gives it (model/appendages.h
+  /// ExpandAppendage sets the one of its kind; null for an appendage made otherwise):
+  /// kept so that it can be expanded again with changed parameters (RebuildAppendages, a
+  /// sweep case). Immutable and shared by copies: a changed spec is a new one.
+  std::shared_ptr<const BeamSpec> beam;
+  std::shared_ptr<const SloshSpec> slosh;
 };
 
 enum class ModelKind {
@@ -101,6 +111,10 @@ struct Model {
   std::vector<Configuration> configurations;  ///< In file order; names unique.
   /// Flexible elements, expanded into panels after the file's own (kHinged only).
   std::vector<Appendage> appendages;
+  /// kHinged: the file's own hub and panels before the appendages were expanded onto them
+  /// (a slosh pendulum adds its fixed mass to the hub or a panel): what RebuildAppendages
+  /// expands them onto again.
+  HingedBody declared;
 
   /// The configuration called `name`; throws std::invalid_argument listing the valid ones.
   const Configuration& configuration(const std::string& name) const;
