@@ -42,6 +42,7 @@ struct ParameterInfo {
   double upper;        ///< value < upper (+inf: unbounded).
   const char* rule;    ///< The range, for messages.
   const char* description;
+  bool upper_closed = false;  ///< true: value <= upper (fill_fraction).
 };
 
 const double kInf = std::numeric_limits<double>::infinity();
@@ -94,6 +95,18 @@ const ParameterInfo kParameters[] = {
      "fraction of the swing from release to latch at which the hinge jams (0: no jam)"},
     {"latch_fails", Parameter::kLatchFails, "latch_fails", 1.0, 0.0, false, kInf, "",
      "yes: the latch does not catch the panel (panels released after it never are)"},
+    // The model's appendages.
+    {"bending_stiffness", Parameter::kBendingStiffness, "bending_stiffness", 1.0, 0.0, true, kInf,
+     "must be > 0 [N m^2]", "bending stiffness EI of every bending plane of the beam [N m^2]"},
+    {"bending_stiffness_scale", Parameter::kBendingStiffnessScale, "bending_stiffness_scale", 1.0,
+     0.0, true, kInf, "must be > 0",
+     "factor on the bending stiffness EI of every bending plane of the beam"},
+    {"damping_ratio", Parameter::kDampingRatio, "damping_ratio", 1.0, 0.0, false, 1.0,
+     "must be in [0, 1)",
+     "damping ratio of the appendage (a beam's first bending mode, a slosh pendulum's swing "
+     "along the spin axis)"},
+    {"fill_fraction", Parameter::kFillFraction, "fill_fraction", 1.0, 0.0, true, 1.0,
+     "must be in (0, 1]", "fill fraction of the slosh tank (share of its volume)", true},
 };
 
 std::string ParameterNames() {
@@ -116,9 +129,12 @@ struct Entry {
   double lower = 0.0;
   bool lower_open = false;
   double upper = 0.0;
+  bool upper_closed = false;
   std::string rule;
 
-  bool InRange(double v) const { return (lower_open ? v > lower : v >= lower) && v < upper; }
+  bool InRange(double v) const {
+    return (lower_open ? v > lower : v >= lower) && (upper_closed ? v <= upper : v < upper);
+  }
 };
 
 /// Why a hinge parameter does not apply to a free hinge's drive, or "" when it does.
@@ -197,6 +213,94 @@ int ReadStage(const Fields& f, const schedule::Profile& base) {
   return found;
 }
 
+/// Per panel of the model: 1 for a hinge an appendage generated (model.h Appendage::hinges).
+std::vector<char> GeneratedHinges(const model::Model& m) {
+  std::vector<char> g(m.hinged.panels.size(), 0);
+  for (const model::Appendage& a : m.appendages) {
+    for (int h : a.hinges) g.at(static_cast<std::size_t>(h)) = 1;
+  }
+  return g;
+}
+
+/// The name of the appendage that generated hinge `panel`.
+std::string AppendageOf(const model::Model& m, int panel) {
+  for (const model::Appendage& a : m.appendages) {
+    for (int h : a.hinges) {
+      if (h == panel) return a.name;
+    }
+  }
+  return "";
+}
+
+/// What an appendage parameter acts on, for messages.
+std::string AppendageKinds(Parameter par) {
+  switch (par) {
+    case Parameter::kDampingRatio:
+      return "beams and slosh pendulums given by a damping ratio";
+    case Parameter::kFillFraction:
+      return "slosh pendulums given by a tank";
+    default:
+      return "beams";
+  }
+}
+
+/// The appendage(s) of an appendage parameter: `appendage` (one the parameter acts on,
+/// AppliesTo) or, without it, every appendage of the kinds it acts on, each of which must
+/// be one it acts on (a slosh pendulum given by its damper has no damping ratio to vary).
+void ReadAppendageTarget(const Fields& f,
+                         const schedule::Profile& base,
+                         const std::string& name,
+                         Target& t) {
+  const std::vector<model::Appendage>& apps = base.model.appendages;
+  const std::string model_name = "model '" + Short(base.model.name) + "'";
+  std::vector<std::string> names, acted;
+  for (const model::Appendage& a : apps) {
+    names.push_back(a.name);
+    if (AppliesTo(t.parameter, a)) acted.push_back(a.name);
+  }
+  if (f.Has("appendage")) {
+    const std::string appendage = f.Text("appendage");
+    for (std::size_t i = 0; i < apps.size(); ++i) {
+      if (apps[i].name == appendage) t.appendage = static_cast<int>(i);
+    }
+    if (t.appendage < 0) {
+      f.Fail("appendage", "no appendage of that name in " + model_name + " (appendages: " +
+                              (names.empty() ? std::string("none") : JoinNames(names)) + ")");
+    }
+    if (appendage.find(',') != std::string::npos) {
+      f.Fail("appendage", "appendage names in sweeps must not contain ','");
+    }
+    if (!AppliesTo(t.parameter, apps[static_cast<std::size_t>(t.appendage)])) {
+      f.Fail("appendage", name + " applies to " + AppendageKinds(t.parameter) + " (of " +
+                              model_name + ": " +
+                              (acted.empty() ? std::string("none") : JoinNames(acted)) + ")");
+    }
+    t.column += "[" + appendage + "]";
+    t.description += " (appendage " + appendage + ")";
+    return;
+  }
+  const bool slosh_kind =
+      t.parameter == Parameter::kDampingRatio || t.parameter == Parameter::kFillFraction;
+  const bool beam_kind = t.parameter != Parameter::kFillFraction;
+  for (const model::Appendage& a : apps) {
+    const bool of_kind = (a.beam && beam_kind) || (a.slosh && slosh_kind);
+    if (of_kind && !AppliesTo(t.parameter, a)) {
+      f.Fail("parameter",
+             name +
+                 " applies to every appendage of its kinds without `appendage:`, "
+                 "but slosh pendulum '" +
+                 a.name + "' of " + model_name + " is not given by " +
+                 (t.parameter == Parameter::kFillFraction ? "a tank" : "a damping ratio") +
+                 " (name the appendages it applies to with `appendage:`)");
+    }
+  }
+  if (acted.empty()) {
+    f.Fail("parameter", name + " applies to the model's " + AppendageKinds(t.parameter) + "; " +
+                            model_name + " has none");
+  }
+  t.description += " (every one of: " + JoinNames(acted) + ")";
+}
+
 /// The panel(s) of a free-hinge parameter: `panel` (a free panel) or every free panel;
 /// each must have what the parameter acts on (NotApplicable).
 void ReadHingeTarget(const Fields& f,
@@ -207,9 +311,15 @@ void ReadHingeTarget(const Fields& f,
   Target& t = e.target;
   const std::vector<model::Panel>& panels = base.model.hinged.panels;
   const std::string base_name = base.source.empty() ? base.name : base.source;
+  // The appendages' generated hinges take their springs and dampers from the model (vary
+  // those with the appendage parameters): not free panels here.
+  const std::vector<char> generated = GeneratedHinges(base.model);
+  auto is_free = [&](std::size_t i) {
+    return base.hinges[i].kind == HingePlan::Kind::kFree && !generated[i];
+  };
   std::vector<std::string> free;
   for (std::size_t i = 0; i < panels.size(); ++i) {
-    if (base.hinges[i].kind == HingePlan::Kind::kFree) free.push_back(panels[i].name);
+    if (is_free(i)) free.push_back(panels[i].name);
   }
   if (f.Has("panel")) {
     const std::string panel = f.Text("panel");
@@ -223,6 +333,13 @@ void ReadHingeTarget(const Fields& f,
       f.Fail("panel", "panel names in sweeps must not contain ','");
     }
     const HingePlan& h = base.hinges[static_cast<std::size_t>(t.panel)];
+    if (generated[static_cast<std::size_t>(t.panel)]) {
+      f.Fail("panel", "a hinge generated by appendage " + AppendageOf(base.model, t.panel) + ": " +
+                          name +
+                          " applies to the free hinges of the profile; vary the appendage with "
+                          "bending_stiffness, bending_stiffness_scale, damping_ratio or "
+                          "fill_fraction and `appendage:`");
+    }
     if (h.kind != HingePlan::Kind::kFree) {
       f.Fail("panel", "the panel is " + schedule::ToString(h.kind) + " in " + base_name + ": " +
                           name + " applies to free hinges (free panels: " +
@@ -238,7 +355,7 @@ void ReadHingeTarget(const Fields& f,
                               " has none (every panel is locked or prescribed)");
     }
     for (std::size_t i = 0; i < panels.size(); ++i) {
-      if (base.hinges[i].kind != HingePlan::Kind::kFree) continue;
+      if (!is_free(i)) continue;
       const std::string why = NotApplicable(t.parameter, base.hinges[i].drive, base);
       if (!why.empty()) {
         f.Fail("parameter", name +
@@ -266,6 +383,7 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
   e.lower = e.info->lower;
   e.lower_open = e.info->lower_open;
   e.upper = e.info->upper;
+  e.upper_closed = e.info->upper_closed;
   e.rule = e.info->rule;
   const Parameter par = e.info->parameter;
   const std::string base_name = base.source.empty() ? base.name : base.source;
@@ -287,6 +405,7 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
   };
   only_for("stage", par == Parameter::kStageDuration || par == Parameter::kLaw);
   only_for("panel", par == Parameter::kPanelMassScale || IsHingeParameter(par));
+  only_for("appendage", IsAppendageParameter(par));
   only_for("configuration", par == Parameter::kInertiaScale);
   only_for("axis", par == Parameter::kInertiaScale);
   if (par == Parameter::kStageDuration && !f.Has("stage")) {
@@ -322,6 +441,7 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
     }
   }
   if (IsHingeParameter(par)) ReadHingeTarget(f, base, name, e);
+  if (IsAppendageParameter(par)) ReadAppendageTarget(f, base, name, t);
   if (par == Parameter::kInertiaScale) {
     if (base.model.kind != model::ModelKind::kTensors) {
       f.Fail("parameter", "inertia_scale needs a tensors model (model '" + Short(base.model.name) +
@@ -652,8 +772,8 @@ SweepSpec ReadSweepText(const std::string& text,
     }
     columns.emplace_back(t.column, f.path());
   };
-  const std::vector<std::string> target_keys = {"parameter", "stage", "panel", "configuration",
-                                                "axis"};
+  const std::vector<std::string> target_keys = {"parameter",     "stage", "panel",
+                                                "configuration", "axis",  "appendage"};
   auto with = [&target_keys](std::vector<std::string> extra) {
     extra.insert(extra.end(), target_keys.begin(), target_keys.end());
     return extra;

@@ -2,13 +2,18 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "deploysim/analysis/mission.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/number_format.h"
+#include "deploysim/model/appendages.h"
+#include "deploysim/model/flexible_beam.h"
 #include "deploysim/model/model.h"
+#include "deploysim/model/slosh.h"
 #include "deploysim/schedule/free_hinge_system.h"
 #include "deploysim/schedule/initial_spin.h"
 #include "deploysim/schedule/laws.h"
@@ -106,16 +111,76 @@ void ApplyToDrive(Parameter par, double v, int pass, schedule::FreeDrive& d) {
   }
 }
 
+/// Sets (pass 0) or scales (pass 1) what an appendage parameter acts on in the spec of
+/// one appendage (a new spec: the model's are shared by the base and every case).
+void ApplyToAppendage(Parameter par, double v, int pass, model::Appendage& a) {
+  if (a.beam) {
+    model::BeamSpec s = *a.beam;
+    if (pass == 0 && par == Parameter::kBendingStiffness) {
+      for (model::BeamPlane& plane : s.planes) plane.bending_stiffness = v;
+    } else if (pass == 1 && par == Parameter::kBendingStiffnessScale) {
+      for (model::BeamPlane& plane : s.planes) plane.bending_stiffness *= v;
+    } else if (pass == 0 && par == Parameter::kDampingRatio) {
+      s.damping_ratio = v;
+    } else {
+      return;
+    }
+    a.beam = std::make_shared<const model::BeamSpec>(std::move(s));
+  } else if (a.slosh) {
+    model::SloshSpec s = *a.slosh;
+    if (pass == 0 && par == Parameter::kDampingRatio) {
+      s.damping_ratio = v;
+    } else if (pass == 0 && par == Parameter::kFillFraction) {
+      s.tank->fill_fraction = v;
+    } else {
+      return;
+    }
+    a.slosh = std::make_shared<const model::SloshSpec>(std::move(s));
+  }
+}
+
+/// The appendage parameters (step 1 of the file comment of sweep_spec.h): the specs
+/// changed, the appendages expanded again and their bending hinges' plans reset. A case
+/// without one keeps the base's model as it is.
+void ApplyAppendageParameters(const std::vector<Target>& targets,
+                              const std::vector<double>& v,
+                              schedule::Profile& p) {
+  bool any = false;
+  // Values: all-appendage targets, then per-appendage ones; then the factors.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int all = 1; all >= 0; --all) {
+      for (std::size_t k = 0; k < targets.size(); ++k) {
+        const Target& t = targets[k];
+        if (!IsAppendageParameter(t.parameter) || (t.appendage < 0) != (all == 1)) continue;
+        any = true;
+        for (std::size_t i = 0; i < p.model.appendages.size(); ++i) {
+          model::Appendage& a = p.model.appendages[i];
+          if (t.appendage >= 0 && static_cast<std::size_t>(t.appendage) != i) continue;
+          if (AppliesTo(t.parameter, a)) ApplyToAppendage(t.parameter, v[k], pass, a);
+        }
+      }
+    }
+  }
+  if (!any) return;
+  model::RebuildAppendages(p.model);
+  schedule::SetAppendagePlans(p.model, p.hinges);
+}
+
 /// The free-hinge parameters of a hinge profile (step 2 of the file comment of
-/// sweep_spec.h).
+/// sweep_spec.h). The appendages' generated hinges are left alone: their springs and
+/// dampers are the model's (step 1).
 void ApplyHingeParameters(const std::vector<Target>& targets,
                           const std::vector<double>& v,
                           schedule::Profile& p) {
   using schedule::HingePlan;
   const std::size_t n = p.hinges.size();
+  std::vector<char> generated(n, 0);
+  for (const model::Appendage& a : p.model.appendages) {
+    for (int h : a.hinges) generated.at(static_cast<std::size_t>(h)) = 1;
+  }
   auto each = [&](const Target& t, const std::function<void(std::size_t)>& f) {
     for (std::size_t i = 0; i < n; ++i) {
-      if (p.hinges[i].kind != HingePlan::Kind::kFree) continue;
+      if (p.hinges[i].kind != HingePlan::Kind::kFree || generated[i]) continue;
       if (t.panel >= 0 && static_cast<std::size_t>(t.panel) != i) continue;
       f(i);
     }
@@ -231,6 +296,25 @@ bool IsHingeParameter(Parameter p) {
   }
 }
 
+bool IsAppendageParameter(Parameter p) {
+  return p == Parameter::kBendingStiffness || p == Parameter::kBendingStiffnessScale ||
+         p == Parameter::kDampingRatio || p == Parameter::kFillFraction;
+}
+
+bool AppliesTo(Parameter p, const model::Appendage& a) {
+  switch (p) {
+    case Parameter::kBendingStiffness:
+    case Parameter::kBendingStiffnessScale:
+      return a.beam != nullptr;
+    case Parameter::kDampingRatio:
+      return a.beam != nullptr || (a.slosh != nullptr && a.slosh->damping_ratio.has_value());
+    case Parameter::kFillFraction:
+      return a.slosh != nullptr && a.slosh->tank.has_value();
+    default:
+      return false;
+  }
+}
+
 std::string UnitsOf(Parameter p) {
   switch (p) {
     case Parameter::kStageDuration:
@@ -263,6 +347,12 @@ std::string UnitsOf(Parameter p) {
     case Parameter::kReleaseTime:
     case Parameter::kReleaseDelay:
       return "s";
+    case Parameter::kBendingStiffness:
+      return "N m^2";
+    case Parameter::kBendingStiffnessScale:
+    case Parameter::kDampingRatio:
+    case Parameter::kFillFraction:
+      return "1";
   }
   return "1";
 }
@@ -472,7 +562,8 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
   const std::string where = (spec.source.empty() ? std::string("sweep") : spec.source) + ": case " +
                             std::to_string(index) + " " + DescribeParameters(spec, c.parameters);
   try {
-    // 1. Model.
+    // 1. Model: the appendages, then panel and inertia factors.
+    ApplyAppendageParameters(targets, v, p);
     ApplyModelParameters(targets, v, p);
     // 2-3. Hinges, or coupling, law and timing.
     const dynamics::InertiaSample s0 = ApplyProfileParameters(targets, v, c);

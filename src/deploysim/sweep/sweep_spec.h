@@ -15,12 +15,21 @@
 /// point (common random numbers: differences across the grid are the grid's alone).
 ///
 /// Application order in BuildCase, whatever the order in the file (docs/sweeps.md):
-///   1. model: panel_mass_scale (mass and inertia of the panel(s); all-panel and
-///      per-panel factors multiply), inertia_scale (tensors models; factors multiply);
+///   1. model: the appendages' parameters change their specs (the values bending_stiffness,
+///      damping_ratio and fill_fraction, all-appendage targets first, then per-appendage
+///      ones; then the factor bending_stiffness_scale, all-appendage and per-appendage
+///      factors multiply), the appendages are expanded again from the model file's own
+///      body (model::RebuildAppendages: springs, dampers, a tank's pendulum and fixed
+///      mass, as the model file with these values would give them) and their bending
+///      hinges' plans reset from the result (schedule::SetAppendagePlans); then
+///      panel_mass_scale (mass and inertia of the panel(s), generated ones included;
+///      all-panel and per-panel factors multiply), inertia_scale (tensors models; factors
+///      multiply);
 ///   2. stage profiles (`stages:`): coupling; law (all move stages, then per-stage values
 ///      override);
-///      hinge profiles (`hinges:`; Target::panel -1 = every free panel): values that set
-///      a quantity (spring_stiffness, damping, latch_angle, motor_torque, release_time,
+///      hinge profiles (`hinges:`; Target::panel -1 = every free panel but the
+///      appendages' bending hinges, which take their springs and dampers from step 1): values that
+///      set a quantity (spring_stiffness, damping, latch_angle, motor_torque, release_time,
 ///      release_delay, friction_torque, stick_fraction), all-panel targets first, then
 ///      per-panel ones; then the factors (spring_stiffness_scale, motor_torque_scale;
 ///      all-panel and per-panel multiply); then latch_fails = yes: the panel's latch is
@@ -44,6 +53,7 @@
 #include <vector>
 
 #include "deploysim/math/types.h"
+#include "deploysim/model/model.h"
 #include "deploysim/schedule/deployment_schedule.h"
 #include "deploysim/schedule/profile.h"
 
@@ -72,6 +82,11 @@ enum class Parameter {
   kFrictionTorque,        ///< [N m] >= 0: Friction::torque.
   kStickFraction,         ///< [1] in [0, 1): Latch::jam_fraction (0: no jam).
   kLatchFails,            ///< categorical: no | yes (Latch::enabled = false).
+  // The model's appendages (model.h Appendage), per appendage (Target::appendage).
+  kBendingStiffness,       ///< [N m^2] > 0: EI of every bending plane of a beam.
+  kBendingStiffnessScale,  ///< [1] > 0: factor on EI of every bending plane of a beam.
+  kDampingRatio,           ///< [1] in [0, 1): a beam's or a slosh pendulum's damping ratio.
+  kFillFraction,           ///< [1] in (0, 1]: a slosh tank's fill fraction (SloshTank).
 };
 
 /// True for the categorical parameters (law, coupling, latch_fails).
@@ -81,6 +96,13 @@ bool IsCategorical(Parameter p);
 bool IsStageParameter(Parameter p);
 /// True for the parameters of free hinges (hinge profiles only).
 bool IsHingeParameter(Parameter p);
+/// True for the parameters of the model's appendages (bending_stiffness,
+/// bending_stiffness_scale, damping_ratio, fill_fraction).
+bool IsAppendageParameter(Parameter p);
+/// Whether an appendage parameter acts on `a`: on a beam (bending_stiffness and its scale,
+/// damping_ratio) or a slosh pendulum given by a damping ratio (damping_ratio) or a tank
+/// (fill_fraction).
+bool AppliesTo(Parameter p, const model::Appendage& a);
 /// SI unit of the parameter's column ("1", "s", "rad/s", "rad", "none" for categorical).
 std::string UnitsOf(Parameter p);
 /// Category names of a categorical parameter (code = position), empty otherwise.
@@ -94,6 +116,9 @@ struct Target {
   /// kPanelMassScale: panel index, -1: every panel; hinge parameters: panel index, -1:
   /// every free panel.
   int panel = -1;
+  /// Appendage parameters: index in the model's appendages, -1: every appendage the
+  /// parameter applies to (AppliesTo).
+  int appendage = -1;
   std::string configuration;  ///< kInertiaScale: configuration name, empty: all.
   int axis = -1;              ///< kInertiaScale: body axis 0, 1, 2 or -1: the whole tensor.
   std::string description;    ///< For the results file: what the column means.
