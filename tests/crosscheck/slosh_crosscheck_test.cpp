@@ -21,8 +21,8 @@ using namespace free_hinge_fixtures;  // NOLINT: the shared test builders
 // 1e-14 over 40 s (as long as the slosh takes to raise the nutation from 0.6 to 6 deg):
 // measured 6.0e-14 and 9.5e-13 rad (Simbody's own error, 1e-12 against 1e-14: 9.8e-14 and
 // 1.1e-11); total energy 2.4e-14 of E(t0). The bounds sit a few times above; the project's
-// required figure is 1e-9. (Simbody at 1e-14 takes ~13 s here: the full flat spin,
-// ~300 s, is the example's, deployment_profiles/spin_stabilized_tank.yaml.)
+// required figure is 1e-9. (Simbody at 1e-14 takes ~13 s here; the whole flat spin, ~5000 s,
+// is the example's: deployment_profiles/spin_stabilized_tank.yaml.)
 constexpr double kHTolerance = 3e-13;
 constexpr double kAttitudeTolerance = 3e-12;
 constexpr double kEnergyTolerance = 1e-13;

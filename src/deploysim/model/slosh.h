@@ -113,7 +113,10 @@ struct SloshSpec {
   /// The first hinge's axis (unit after normalizing, perpendicular to direction); the second
   /// is direction x axis. Zero: the axis of B's x, y, z least aligned with direction, made
   /// perpendicular to it. For a spinner give the spin axis: the first hinge is then the
-  /// swing in the plane of rotation, the second the swing along the spin axis.
+  /// swing in the plane of rotation, the second the swing along the spin axis. Two hinges
+  /// are singular where the bob lies along the first axis (the first hinge then turns it
+  /// about itself): for large motions (a tumble) choose a direction the field at the tank
+  /// never takes (models/spin_stabilized_tank.yaml shows how).
   math::Vec3 axis = math::Vec3::Zero();
   double mass = 0.0;                            ///< m1 [kg] > 0, the bob
   double length = 0.0;                          ///< L1 [m] > 0
