@@ -573,7 +573,7 @@ def _group_appendages(run):
             events.append(grouped[a])
         grouped[a]["count"] += 1
     for e in grouped.values():
-        e["text"] = f"{e['panel']}: {e['count']} bending hinges free from the start"
+        e["text"] = f"{e['panel']}: its {e['count']} hinges free from the start"
     run["events"] = events
 
 

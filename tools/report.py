@@ -547,7 +547,8 @@ def deployment_item(c, h, ctx):
     ev = ctx["events"]
     ne = len(ev)
     total = sum(e["energy_dissipated"] for e in ev)
-    latch = h.latch_times
+    bending = bending_hinges(h)  # free springs: they never lock
+    latch = {k: v for k, v in h.latch_times.items() if k not in bending}
     latched = {k: v for k, v in latch.items() if math.isfinite(v)}
     if not latched:
         locked = "no panel locks"
@@ -558,9 +559,12 @@ def deployment_item(c, h, ctx):
                   + " locked, the last at "
                   + c.h5(hp("hinge_latch_time", h.panel_names.index(last)), tag="span",
                          cls=None, dec=2, unit="s", suffix="\u00a0s"))
+    hidden = ne - len(listed_events(h, ev))
     return ("Deployment: "
             + c.derived("len /events/hinge/time", ne, str(ne), tag="span", cls=None)
-            + (" hinge event, " if ne == 1 else " hinge events, ")
+            + (" hinge event" if ne == 1 else " hinge events")
+            + (f" ({hidden} of them the appendages' generated hinges, free from the start), "
+               if hidden else ", ")
             + c.derived("sum /events/hinge/energy_dissipated", total,
                         fmt_num(total, 3) + "\u00a0J", tag="span", cls=None, unit="J")
             + (" dissipated in it; " if ne == 1 else " dissipated in them; ")
@@ -585,7 +589,7 @@ def section_summary(c, h, ctx):
         items.append("Input warning: " + c.h5("@warnings", shown=esc(w), tag="span", cls="warn"))
     if h.outcome:
         items.append(outcome_item(c, h.outcome))
-    items.append(f"Final stage \u201c{esc(fs['name'])}\u201d: spin axis "
+    items.append(f"Final stage \u201c{stage_label(h, last)}\u201d: spin axis "
                  + c.h5(hp("stages/spin_axis_role", last), tag="span", cls=None)
                  + ("; the rigid-body rule (a prediction; the verdict above is the motion's): "
                     if h.outcome else "; ")
@@ -1037,7 +1041,7 @@ def hinge_timeline(c, h, ctx):
                             "<b>" + fmt_num(total, 4) + "</b>", unit="J") + "</tr>")
     hidden = len(ev) - len(listed)
     out = [] if not hidden else [
-        f"<p class='note'>The appendages' {hidden} bending hinges are free from the start: "
+        f"<p class='note'>The {hidden} hinges the appendages generated are free from the start: "
         "their releases at t = " + c.h5("/time#0", tag="span", cls=None, unit="s")
         + " s are in the file's <code>/events/hinge</code>, not listed here.</p>"]
     out += ["<table><caption>Hinge events in time order</caption><thead><tr>"

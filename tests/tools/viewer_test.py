@@ -518,11 +518,12 @@ class AppendageViewerTest(unittest.TestCase):
         booms_t*.png)."""
         data = self.view.build_data(self.run_)
         starts = [e["text"] for e in data["events"] if e["t"] == 0.0]
-        self.assertEqual(starts, ["boom_px: 12 bending hinges free from the start",
-                                  "boom_mx: 6 bending hinges free from the start"])
+        self.assertEqual(starts, ["boom_px: its 12 hinges free from the start",
+                                  "boom_mx: its 6 hinges free from the start"])
         self.assertEqual(data["stages"][0]["name"], "free: boom_px (12), boom_mx (6)")
         self.assertEqual(data["hinge"]["names"],
-                         ["boom_px", "boom_mx", "boom_px bend 1", "boom_px bend 2", "boom_mx bend"])
+                         ["boom_px", "boom_mx", "boom_px bend 1", "boom_px bend 2",
+                          "boom_mx bend"])
         self.assertIn("link", data["parts"]["kinds"])
         # The bend: the sum of a plane's hinge angles, tens of degrees during the swing.
         bend = np.array(data["hinge"]["deg"]).reshape(-1, 5)[:, 2]

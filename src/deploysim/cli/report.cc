@@ -431,7 +431,7 @@ std::string FormatTimeline(const analysis::MissionResult& r) {
   const std::vector<analysis::HingeEvent> events = ListedEvents(r, hidden);
   if (hidden > 0) {
     o += fmt::format(
-        "  ({} bending hinges of the appendages, free from t = {} s, not listed: their "
+        "  ({} hinges the appendages generated, free from t = {} s, not listed: their "
         "releases are in --json and the HDF5 file)\n",
         hidden, Num(r.profile.t_begin()));
   }
