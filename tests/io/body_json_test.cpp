@@ -84,7 +84,7 @@ TEST(BodyJsonTest, RecordsTheAppendageAndItsFirstModeDampingRatio) {
   EXPECT_NE(json.find("\"kind\": \"beam\", \"root\": 1, \"hinges\": [2, 3, 4, 5, 6, 7, 8, 9]"),
             std::string::npos)
       << json;
-  EXPECT_NE(json.find("\"segments\": 4, \"planes\": 2"), std::string::npos);
+  EXPECT_NE(json.find("\"segments\": 4, \"planes\": 2, \"modes\": 0"), std::string::npos);
   // Rayleigh damping gives the first mode of each plane the ratio asked for.
   const std::size_t at = json.find("\"damping_ratio\": [");
   ASSERT_NE(at, std::string::npos);
@@ -94,6 +94,25 @@ TEST(BodyJsonTest, RecordsTheAppendageAndItsFirstModeDampingRatio) {
   in >> z0 >> comma >> z1;
   EXPECT_NEAR(z0, 0.02, 1e-15);
   EXPECT_NEAR(z1, 0.02, 1e-15);
+}
+
+TEST(BodyJsonTest, RecordsTheModalCoordinates) {
+  model::Model m;
+  m.kind = model::ModelKind::kHinged;
+  m.hinged.hub.body.mass = 10.0;
+  m.hinged.hub.body.inertia_cm = math::Mat3::Identity();
+  model::BeamSpec spec;
+  spec.name = "boom";
+  spec.length = 1.0;
+  spec.mass_per_length = 0.1;
+  spec.radius = 0.01;
+  spec.planes.push_back({math::Vec3::UnitY(), 5.0});
+  spec.planes.push_back({math::Vec3::UnitZ(), 5.0});
+  spec.segments = 5;
+  spec.modes = 2;
+  m.appendages.push_back(model::AddBeam(m.hinged, spec, "test"));
+  const std::string json = BodyJson(m);
+  EXPECT_NE(json.find("\"planes\": 2, \"modes\": 4"), std::string::npos) << json;  // 2 a plane
 }
 
 TEST(BodyJsonTest, OnlyForHingedModels) {

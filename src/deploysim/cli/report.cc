@@ -143,8 +143,11 @@ std::string AppendagesLine(const model::Model& m) {
     o += o.empty() ? "appendages: " : ", ";
     if (a.kind == model::Appendage::Kind::kBeam) {
       const std::size_t planes = a.chain_frequencies.size();
-      o += fmt::format("{} (beam: {} segments, {} plane{}, {} bending hinges)", a.name, a.segments,
-                       planes, planes == 1 ? "" : "s", a.hinges.size());
+      // A beam reduced to its first clamped modes (model::Appendage::modes) says in how many.
+      const std::string modal =
+          a.modes.cols() > 0 ? fmt::format(" in {} modal coordinates", a.modes.cols()) : "";
+      o += fmt::format("{} (beam: {} segments, {} plane{}, {} bending hinges{})", a.name,
+                       a.segments, planes, planes == 1 ? "" : "s", a.hinges.size(), modal);
     } else {
       o += fmt::format("{} (slosh pendulum: {} hinges)", a.name, a.hinges.size());
     }

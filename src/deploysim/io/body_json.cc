@@ -86,6 +86,7 @@ std::string AppendageJson(const model::Appendage& a) {
          ", \"stiffness\": " + Numbers(a.stiffness) + ", \"damping\": " + Numbers(a.damping) +
          ", \"segments\": " + std::to_string(a.segments) +
          ", \"planes\": " + std::to_string(a.chain_frequencies.size()) +
+         ", \"modes\": " + std::to_string(a.modes.cols()) +
          ", \"damping_ratio\": " + Numbers(DampingRatios(a)) +
          ", \"chain_frequencies\": " + NumberLists(a.chain_frequencies) +
          ", \"beam_frequencies\": " + NumberLists(a.beam_frequencies) + "}";
