@@ -12,7 +12,9 @@
 #   7. the pages of the main job: the 3D viewer (size < 5 MB, opens < 2 s) and the mission
 #      report (bench/pages_bench.py, Debian's headless Chromium);
 #   8. the Python package: a 1,000-case sweep against the CLI, simulate's overhead, two
-#      threads against one (bench/python_bench.py; skipped where the package is not built).
+#      threads against one (bench/python_bench.py; skipped where the package is not built);
+#   9-10. flexible beams: the chain's frequencies against Euler-Bernoulli's as N doubles, and
+#      the cost per simulated second against N, whole chain and modal (bench/appendage_bench).
 # Every part writes its tables as markdown (--markdown FILE); --update-readme puts them,
 # from one full run, into README.md between the markers <!-- bench:begin --> and
 # <!-- bench:end --> (everything between them is replaced).
@@ -44,7 +46,7 @@ if [[ $update == 1 ]] && [[ $(grep -c '^<!-- bench:rss:begin -->$' README.md) !=
   exit 1
 fi
 
-parts=(wing_nut_bench simbody_bench sweep_bench)
+parts=(wing_nut_bench simbody_bench sweep_bench appendage_bench)
 [[ -f bench/pipeline_bench.cpp ]] && parts+=(pipeline_bench)
 
 tools/install_deps.sh >/dev/null

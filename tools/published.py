@@ -481,6 +481,21 @@ def asymmetric_energy_gap(runs):
     return f"{100.0 * np.max(np.abs(t - r) / t):.0f} %"
 
 
+# ---- appendages (docs/appendages.md) ----
+
+EXPLORER = "examples/long/explorer1.yaml"
+
+
+def explorer_verdict(runs):
+    """The Explorer-1-like example's verdict (the 45-degree time beside the linear
+    prediction) and its energy ledger, as `deploysim simulate` prints them."""
+    text = runs.simulate(EXPLORER)
+    lines = [x for x in text.splitlines()
+             if x.startswith("verdict: ") or x.startswith("energy ledger: ")
+             or x.strip().startswith("linear stability of the steady spin:")]
+    return "\n```\n" + "\n".join(lines) + "\n```\n"
+
+
 GENERATORS = {
     "main-job-output": main_job_output,
     "main-job-verdict": main_job_verdict,
@@ -504,6 +519,7 @@ GENERATORS = {
     "spring-example-spin": spring_example_spin,
     "spring-example-no-damper": spring_example_no_damper,
     "asymmetric-energy-gap": asymmetric_energy_gap,
+    "explorer-verdict": explorer_verdict,
 }
 
 

@@ -181,8 +181,13 @@ TEST(ProfileWarningsTest, EachLegalButUnmeantInputGetsOneLine) {
   // 5. 30 rad/s typed where 30 deg/s was meant.
   ExpectOneWarning(kMainJobSpin, "  angular_velocity: [0, 30, 0]\n", "initial.angular_velocity",
                    "286.5 rpm");
-  ExpectOneWarning(kMainJobSpin, "  spin: {axis: y, rate_rpm: 300}\n", "initial.spin.rate",
+  ExpectOneWarning(kMainJobSpin, "  spin: {axis: y, rate: 30}\n", "initial.spin.rate",
                    "faster than spacecraft spin");
+  ExpectOneWarning(kMainJobSpin, "  spin: {axis: y, rate_deg_s: 1800}\n", "initial.spin.rate",
+                   "faster than spacecraft spin");
+  // In rpm the unit is chosen on purpose: Explorer 1 spun at 750 rpm.
+  EXPECT_EQ(WarningsWith(kMainJobSpin, "  spin: {axis: y, rate_rpm: 750}\n"),
+            std::vector<std::string>{});
   // 6. Friction that holds the panel at release.
   ExpectOneWarning("      friction: {torque: 0.02, regularization_speed_deg_s: 1.0}   # N m",
                    "      friction: {torque: 0.5}", "hinges.wing_plus_x.free.friction.torque = 0.5",

@@ -66,7 +66,9 @@ void EnvelopeTracker::Emit() {
     const double s = (d0 * h1 + d1 * h0) / (h0 + h1);  // slope at best_.t
     if (c < 0.0) {
       const double dt = -s / (2.0 * c);
-      if (std::abs(dt) <= std::max(h0, h1)) p = {best_.t + dt, best_.nu + s * dt + c * dt * dt};
+      if (std::abs(dt) <= std::max(h0, h1)) {
+        p = {best_.t + dt, best_.nu + s * dt + c * dt * dt, true};
+      }
     }
   }
   peaks_.push_back(p);
@@ -99,30 +101,37 @@ ExponentialFit FitEnvelope(const std::vector<EnvelopePeak>& peaks, double floor,
   }
   best_begin += (best_end - best_begin) / 4;  // the sink's own transient
   ExponentialFit f;
-  const std::size_t n = best_end - best_begin;
-  if (n < 4) return f;
-  double st = 0.0, sy = 0.0;
+  if (best_end - best_begin < 4) return f;
+  std::size_t maxima = 0;
+  for (std::size_t i = best_begin; i < best_end; ++i) maxima += peaks[i].local_max ? 1 : 0;
+  const bool only_maxima = maxima >= 4 && 2 * maxima >= best_end - best_begin;
+  std::vector<EnvelopePeak> used;
   for (std::size_t i = best_begin; i < best_end; ++i) {
-    st += peaks[i].t;
-    sy += std::log(peaks[i].nu);
+    if (!only_maxima || peaks[i].local_max) used.push_back(peaks[i]);
+  }
+  const std::size_t n = used.size();
+  double st = 0.0, sy = 0.0;
+  for (const EnvelopePeak& p : used) {
+    st += p.t;
+    sy += std::log(p.nu);
   }
   const double count = static_cast<double>(n);
   const double tm = st / count, ym = sy / count;
   double stt = 0.0, sty = 0.0;
-  for (std::size_t i = best_begin; i < best_end; ++i) {
-    stt += (peaks[i].t - tm) * (peaks[i].t - tm);
-    sty += (peaks[i].t - tm) * (std::log(peaks[i].nu) - ym);
+  for (const EnvelopePeak& p : used) {
+    stt += (p.t - tm) * (p.t - tm);
+    sty += (p.t - tm) * (std::log(p.nu) - ym);
   }
   if (!(stt > 0.0)) return f;
   f.rate = sty / stt;
   double ss = 0.0;
-  for (std::size_t i = best_begin; i < best_end; ++i) {
-    const double r = std::log(peaks[i].nu) - ym - f.rate * (peaks[i].t - tm);
+  for (const EnvelopePeak& p : used) {
+    const double r = std::log(p.nu) - ym - f.rate * (p.t - tm);
     ss += r * r;
   }
   f.rate_sigma = std::sqrt(ss / (count - 2.0) / stt);
-  f.t_begin = peaks[best_begin].t;
-  f.t_end = peaks[best_end - 1].t;
+  f.t_begin = used.front().t;
+  f.t_end = used.back().t;
   f.nu_begin = std::exp(ym + f.rate * (f.t_begin - tm));
   f.nu_end = std::exp(ym + f.rate * (f.t_end - tm));
   f.points = static_cast<int>(n);

@@ -55,6 +55,8 @@ inline constexpr double kFitCeiling = 0.0314159265358979;  // 1.8 deg
 struct EnvelopePeak {
   double t = 0.0;   ///< [s]
   double nu = 0.0;  ///< [rad]
+  /// A local maximum of the samples (refined by its parabola), not a window's end.
+  bool local_max = false;
 };
 
 /// The envelope of a sampled nutation, fed one sample at a time: the largest sample of
@@ -102,7 +104,10 @@ struct ExponentialFit {
   double time_constant() const;
 };
 
-/// The fit over `peaks` within [floor, ceiling] (see the file comment).
+/// The fit over `peaks` within [floor, ceiling] (see the file comment). Where the stretch
+/// holds at least 4 local maxima and they are at least half its points, the fit takes
+/// them only: a window that ends before the nutation's next maximum (a period longer than
+/// the window) gives its end, a point below the envelope.
 ExponentialFit FitEnvelope(const std::vector<EnvelopePeak>& peaks,
                            double floor = kFitFloor,
                            double ceiling = kFitCeiling);

@@ -222,6 +222,13 @@ void RunRecorder::OpenPhase(const PhaseInfo& info, const RunSample& start) {
 void RunRecorder::SetSteadySpin(const SteadySpin& s) {
   steady_ = s;
   if (s.found) phase_axis_ = s.y.head<3>().normalized();
+  // The envelope's windows at the nutation's own period where the linearization has it: a
+  // sink coupled to the nutation detunes it from the held body's (OpenPhase), and windows
+  // shorter than the period would take their ends, not a peak.
+  if (s.found && s.frequency > 0.0) {
+    constexpr double kTwoPi = 6.283185307179586477;
+    envelope_.Reset(std::min(kTwoPi / s.frequency, (t1_ - t0_) / 64.0));
+  }
   StartNutation();
 }
 

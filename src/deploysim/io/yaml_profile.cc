@@ -113,6 +113,7 @@ schedule::InitialSpin ReadSpin(const Fields& initial) {
                         : rate_key == "rate_deg_s" ? yaml::kRadiansPerDegree
                                                    : 1.0;
   spin.rate = f.Number(rate_key) * factor;
+  spin.rate_in_rpm = rate_key == "rate_rpm";
   if (!(spin.rate > 0.0)) f.Fail(rate_key, "must be > 0 (the axis gives the direction)");
   spin.nutation = f.OptionalDegrees("nutation_deg");
   if (spin.nutation && !(*spin.nutation >= 0.0 && *spin.nutation < 0.5 * 3.14159265358979323846)) {

@@ -198,17 +198,24 @@ void ComputeMassMatrixInSpeeds(const HingedBody& body,
                                const Eigen::MatrixXd& speeds,
                                std::vector<TreeVelocity>& fields,
                                Eigen::MatrixXd& M) {
-  const auto c = static_cast<std::size_t>(speeds.cols());
+  const auto c = static_cast<Eigen::Index>(speeds.cols());
   const int n = tree.size();
-  fields.resize(c);
+  // The usual layout, (w, then speeds that move hinges only): the w block is J_B about the
+  // CoM and its coupling the speeds' angular momenta about it, with no sweep for w.
+  const Eigen::Index first = c >= 3 && speeds.topLeftCorner<3, 3>().isIdentity(0.0) &&
+                                     speeds.block(3, 0, n, 3).isZero(0.0) &&
+                                     speeds.block(0, 3, 3, c - 3).isZero(0.0)
+                                 ? 3
+                                 : 0;
+  fields.resize(static_cast<std::size_t>(c));
   // Per speed: the parts' velocities relative to the system CoM and I_i Omega_i (the
   // latter kept in U_B, no longer needed once u_B - V_c is formed).
   Eigen::VectorXd rates(n);
-  for (std::size_t a = 0; a < c; ++a) {
-    const auto col = speeds.col(static_cast<Eigen::Index>(a));
+  for (Eigen::Index a = first; a < c; ++a) {
+    const auto col = speeds.col(a);
     rates = col.tail(n);
-    ComputeVelocity(body, tree, pose, col.head<3>(), rates, fields[a]);
-    TreeVelocity& f = fields[a];
+    TreeVelocity& f = fields[static_cast<std::size_t>(a)];
+    ComputeVelocity(body, tree, pose, col.head<3>(), rates, f);
     f.hub.u_B -= f.V_c;
     f.hub.U_B = pose.hub.I_B * f.hub.Omega_B;
     for (int i = 0; i < n; ++i) {
@@ -217,11 +224,28 @@ void ComputeMassMatrixInSpeeds(const HingedBody& body,
       v.U_B = pose.panels[static_cast<std::size_t>(i)].I_B * v.Omega_B;
     }
   }
-  M.resize(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(c));
-  for (std::size_t a = 0; a < c; ++a) {
-    for (std::size_t b = a; b < c; ++b) {
-      const TreeVelocity& fa = fields[a];
-      const TreeVelocity& fb = fields[b];
+  M.resize(c, c);
+  if (first == 3) {
+    const Vec3& cm = pose.com_B;
+    Mat3 J = pose.hub.I_B + pose.hub.mass * PointInertia(pose.hub.com_B - cm);
+    for (const TreePose::Part& p : pose.panels) J += p.I_B + p.mass * PointInertia(p.com_B - cm);
+    M.topLeftCorner<3, 3>() = 0.5 * (J + J.transpose());
+    for (Eigen::Index a = 3; a < c; ++a) {
+      const TreeVelocity& f = fields[static_cast<std::size_t>(a)];
+      Vec3 L = pose.hub.mass * (pose.hub.com_B - cm).cross(f.hub.u_B) + f.hub.U_B;
+      for (int i = 0; i < n; ++i) {
+        const TreePose::Part& p = pose.panels[static_cast<std::size_t>(i)];
+        const TreeVelocity::Part& v = f.panels[static_cast<std::size_t>(i)];
+        L += p.mass * (p.com_B - cm).cross(v.u_B) + v.U_B;
+      }
+      M.block<3, 1>(0, a) = L;
+      M.block<1, 3>(a, 0) = L.transpose();
+    }
+  }
+  for (Eigen::Index a = first; a < c; ++a) {
+    for (Eigen::Index b = a; b < c; ++b) {
+      const TreeVelocity& fa = fields[static_cast<std::size_t>(a)];
+      const TreeVelocity& fb = fields[static_cast<std::size_t>(b)];
       double sum = pose.hub.mass * fa.hub.u_B.dot(fb.hub.u_B) + fa.hub.Omega_B.dot(fb.hub.U_B);
       for (int i = 0; i < n; ++i) {
         const TreeVelocity::Part& va = fa.panels[static_cast<std::size_t>(i)];
@@ -229,8 +253,8 @@ void ComputeMassMatrixInSpeeds(const HingedBody& body,
         sum += pose.panels[static_cast<std::size_t>(i)].mass * va.u_B.dot(vb.u_B) +
                va.Omega_B.dot(vb.U_B);
       }
-      M(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) = sum;
-      M(static_cast<Eigen::Index>(b), static_cast<Eigen::Index>(a)) = sum;
+      M(a, b) = sum;
+      M(b, a) = sum;
     }
   }
 }

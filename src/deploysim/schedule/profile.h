@@ -51,6 +51,9 @@ struct InitialSpin {
   double rate = 0.0;                        ///< [rad/s] > 0: w_NB_B(t0) . s.
   std::optional<double> nutation;           ///< [rad] in [0, pi/2): angle of H_B(t0) from s.
   std::optional<double> azimuth;            ///< [rad]: direction of that tilt about s.
+  /// The rate was given in rpm (`rate_rpm`): a unit chosen on purpose, so a fast spin
+  /// (Explorer 1's 750 rpm) is no mistaken unit (schedule::ProfileWarnings).
+  bool rate_in_rpm = false;
 };
 
 struct InitialState {

@@ -158,7 +158,8 @@ void CheckHinges(const Profile& p, Collector& out) {
 void CheckSpin(const Profile& p, Collector& out) {
   const InitialState& in = p.initial;
   if (in.spin) {
-    if (in.spin->rate > kMaxPlausibleSpin) {
+    // In rpm the unit was chosen on purpose: only rad/s and deg/s are mistaken for it.
+    if (in.spin->rate > kMaxPlausibleSpin && !in.spin->rate_in_rpm) {
       out.Add("initial.spin.rate = " + Short(in.spin->rate * kRpmPerRadS) + " rpm",
               "faster than spacecraft spin (at most ~60 rpm): check the unit");
     }
