@@ -27,8 +27,8 @@
 ///      multiply);
 ///   2. stage profiles (`stages:`): coupling; law (all move stages, then per-stage values
 ///      override);
-///      hinge profiles (`hinges:`; Target::panel -1 = every free panel but the
-///      appendages' bending hinges, which take their springs and dampers from step 1): values that
+///      hinge profiles (`hinges:`; Target::panel -1 = every free panel but the hinges
+///      the appendages generated, whose springs and dampers are step 1's): values that
 ///      set a quantity (spring_stiffness, damping, latch_angle, motor_torque, release_time,
 ///      release_delay, friction_torque, stick_fraction), all-panel targets first, then
 ///      per-panel ones; then the factors (spring_stiffness_scale, motor_torque_scale;
