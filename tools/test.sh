@@ -5,7 +5,9 @@
 #            tools/check_install.sh (install, and build examples/ against the package)
 #   asan:    AddressSanitizer + UndefinedBehaviorSanitizer, the whole suite but the tools'
 #            checks of documents and pages (label tools: they re-run the same binary paths
-#            the cli tests cover, 5-10x slower under the sanitizers)
+#            the cli tests cover, 5-10x slower under the sanitizers) and five long
+#            dynamics runs of the appendages (CMakePresets.json: the same code paths as
+#            their short tests, which do run)
 #   tsan:    ThreadSanitizer, only what runs threads: the sweep tests (runner, thread
 #            pool, MPI) and the libraries below them
 set -euo pipefail
