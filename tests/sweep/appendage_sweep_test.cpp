@@ -194,6 +194,23 @@ TEST_F(AppendageSweepTest, ACaseWithoutAppendageParametersKeepsTheBaseModel) {
   EXPECT_EQ(c.profile.model.appendages[0].stiffness, spec.base.model.appendages[0].stiffness);
 }
 
+TEST_F(AppendageSweepTest, TheShippedSloshDampingSweepLoads) {
+  // sweeps/spin_stabilized_tank_slosh_damping.yaml: both tanks' dampers follow the ratio
+  // (c = 2 zeta omega_out m1 L1^2: proportional to zeta for the same tank).
+  const SweepSpec spec = LoadSweep(std::string(DEPLOYSIM_SOURCE_DIR) +
+                                   "/sweeps/spin_stabilized_tank_slosh_damping.yaml");
+  ASSERT_EQ(spec.case_count(), 2u);
+  ASSERT_EQ(spec.targets().front().column, "damping_ratio");
+  const Case bare = BuildCase(spec, 0);
+  const Case baffled = BuildCase(spec, 1);
+  for (const std::string tank : {"tank_px", "tank_mx"}) {
+    const double c_bare = Named(bare.profile, tank).damping[0];
+    const double c_baffled = Named(baffled.profile, tank).damping[0];
+    EXPECT_NEAR(c_baffled, 10.0 * c_bare, kRoundoff * c_baffled) << tank;
+    EXPECT_EQ(c_baffled, Named(spec.base, tank).damping[0]) << tank;  // the model's 5 %
+  }
+}
+
 TEST_F(AppendageSweepTest, BadTargetsAreRefused) {
   auto grid = [this](const std::string& axis) { return Refusal("grid:\n  - " + axis + "\n"); };
   EXPECT_NE(grid("{parameter: bending_stiffness, appendage: boom_pz, values: [1]}")
