@@ -87,8 +87,8 @@ TEST(SloshTank, SloshFrequencyIsTheCylindersFirstMode) {
 TEST(SloshTank, HydrazineTankOfTheSpinStabilizedStack) {
   // The tank worked by hand in models/spin_stabilized_tank.yaml's comment: d = 0.4 m,
   // hydrazine (1004 kg/m^3) 0.2 m deep, its bottom 0.55 m out along x: m_liquid 25.233 kg,
-  // m1 10.905 kg, L1 0.11432 m, m0 14.328 kg, the pivot at 0.31456 m and m0 at 0.46607 m
-  // from the spin axis (5 digits: the hand values' rounding).
+  // m1 10.905 kg, L1 0.11432 m, m0 14.328 kg (5 digits: the hand values' rounding), the
+  // pivot at 0.314581 m and m0 at 0.466058 m from the spin axis.
   SloshTank t;
   t.center = Vec3(0.35, 0.0, 0.5);  // 0.55 m minus half the 0.4 m height
   t.diameter = 0.4;
@@ -101,11 +101,10 @@ TEST(SloshTank, HydrazineTankOfTheSpinStabilizedStack) {
   EXPECT_NEAR(p.mass, 10.905, kHand * 10.905);
   EXPECT_NEAR(p.length, 0.11432, kHand * 0.11432);
   EXPECT_NEAR(p.fixed_mass, 14.328, kHand * 14.328);
-  // The hand positions take R / xi_1 with xi_1 = 1.841 (2 xi_1 = 3.682) where the
-  // handbook's formulas, and CylinderTankPendulum, write 3.68: 0.05 % of d / 3.68 = 0.11 m.
-  constexpr double kHandPosition = 5e-5;  // [m]
-  EXPECT_NEAR(0.55 - p.pivot_height, 0.31456, kHandPosition);
-  EXPECT_NEAR(0.55 - p.fixed_height, 0.46607, kHandPosition);
+  // The positions the model file gives to six digits (with the tables' 3.68 throughout).
+  constexpr double kHandPosition = 1e-6;  // [m]
+  EXPECT_NEAR(0.55 - p.pivot_height, 0.314581, kHandPosition);
+  EXPECT_NEAR(0.55 - p.fixed_height, 0.466058, kHandPosition);
 }
 
 TEST(SloshTank, DensityGivesTheLiquidsMass) {
