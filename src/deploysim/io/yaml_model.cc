@@ -284,9 +284,12 @@ std::vector<model::Appendage> ReadAppendages(const Fields& top, model::HingedBod
   for (std::size_t k = 0; k < nodes.size(); ++k) {
     const std::string key = "appendages[" + std::to_string(k) + "]";
     const std::string where = model::AppendageWhere(top.doc().path(), k);
-    // The kind first, among every kind's keys; then the mapping again with its kind's own.
-    const Fields any(top.doc(), nodes[k], key, AllAppendageKeys());
-    const std::string kind = any.Text("kind");
+    // The kind first, so that the mapping is read with its kind's own keys (an unknown key
+    // is named against them); without a readable kind, against every kind's keys.
+    std::string kind;
+    for (const auto& [entry, value] : yaml::MappingEntries(top.doc(), nodes[k], key)) {
+      if (entry == "kind" && value.IsPlainScalar()) kind = value.Scalar();
+    }
     if (kind == "beam") {
       const Fields f(top.doc(), nodes[k], key, kBeamKeys);
       const std::string name = AppendageName(f, body);
@@ -296,6 +299,8 @@ std::vector<model::Appendage> ReadAppendages(const Fields& top, model::HingedBod
       const std::string name = AppendageName(f, body);
       out.push_back(model::ExpandAppendage(body, ReadSlosh(f, name, declared), where));
     } else {
+      const Fields any(top.doc(), nodes[k], key, AllAppendageKeys());
+      (void)any.Text("kind");  // missing or not text: its own message
       any.Fail("kind", "unknown appendage kind (valid: beam, slosh)");
     }
   }
