@@ -524,6 +524,27 @@ def bending_owners(appendages):
     return {int(h): a["name"] for a in appendages for h in a["hinges"]}
 
 
+def hinge_channels(names, appendages):
+    """The lines of a hinge chart: (names, hinge columns summed per line). Every panel's
+    own hinge, except an appendage's bending hinges: per beam and bending plane one line,
+    the sum of the plane's hinge angles (the tip's slope relative to the root: the beam's
+    bend), named "<beam> bend" ("bend 1", "bend 2" for two planes); a slosh pendulum's
+    hinges each a line of their own. Used by the viewer and tools/plot_trajectory.py."""
+    owner = bending_owners(appendages)
+    out_names = [n for k, n in enumerate(names) if k not in owner]
+    columns = [[k] for k in range(len(names)) if k not in owner]
+    for a in appendages:
+        if a["kind"] != "beam":
+            out_names += [names[k] for k in a["hinges"]]
+            columns += [[k] for k in a["hinges"]]
+            continue
+        planes = max(1, int(a["planes"]))
+        for p in range(planes):
+            out_names.append(f"{a['name']} bend" + (f" {p + 1}" if planes > 1 else ""))
+            columns.append(list(a["hinges"][p::planes]))
+    return out_names, columns
+
+
 def phase_label(name, panel_names, appendages):
     """A hinge profile's phase name as the pages show it, as the CLI's text does
     (cli/report.cc PhaseLabel): each list of panels ("free: a, b; moved: c") with an

@@ -81,7 +81,9 @@ class Browser:
             [CHROMIUM, *FLAGS, f"--user-data-dir={self._profile}",
              f"--window-size={width},{height}", "about:blank"],
             stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-            preexec_fn=place_fds, pass_fds=(3, 4))
+            # Not pass_fds=(3, 4): the child checks those fds before place_fds makes them,
+            # and fails with EBADF when the parent happens to have 3 or 4 closed.
+            preexec_fn=place_fds, close_fds=False)
         os.close(to_browser_r)
         os.close(from_browser_w)
         self._buf = b""

@@ -44,6 +44,7 @@ import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
 from deploysim_results import TrajectoryError, read_trajectory  # noqa: E402
+from deploysim_scene import bending_owners, hinge_channels  # noqa: E402
 
 STAGE_COLORS = {"hold": "#f2f2f2", "move": "#dde8f5", "free": "#e4f2e0"}
 
@@ -91,11 +92,16 @@ def read(path):
     d["panel_names"] = run.panel_names
     d["latch_time"] = run["hinge_latch_time"]
     d["cross45"] = run.spin_axis_45_time
+    # The appendages' generated hinges are free from the start and carry no other event:
+    # their releases are left out, as the CLI's text leaves them out.
+    d["appendages"] = run.appendages
+    owner = bending_owners(d["appendages"])
     d["events"] = sorted((dict(t=e["time"], panel=e["panel"], name=e["panel_name"],
                                kind=e["kind"], angle=e["angle"],
                                dissipated=e["energy_dissipated"],
                                rate_before=e["rate_before"], rate_after=e["rate_after"])
-                          for e in run.hinge_events), key=lambda e: e["t"])
+                          for e in run.hinge_events if int(e["panel"]) not in owner),
+                         key=lambda e: e["t"])
     st = run.stage_columns
     begin, end, names, laws = st["t_begin"], st["t_end"], st["name"], st["law"]
     d["name"] = run.profile_name
@@ -622,7 +628,27 @@ def rates_with_jumps(t, rate, events):
     return tt[idx], rr[idx]
 
 
+def hinge_lines(d):
+    """d with its hinge columns as the chart's lines (deploysim_scene.hinge_channels: an
+    appendage's bending hinges summed per beam and plane) and each event's panel as its
+    line's index."""
+    if not d["appendages"]:
+        return d
+    names, columns = hinge_channels(d["panel_names"], d["appendages"])
+    line_of = {cols[0]: i for i, cols in enumerate(columns) if len(cols) == 1}
+    g = dict(d)
+    g["panel_names"] = names
+    g["hinge_angles"] = np.stack([d["hinge_angles"][:, c].sum(axis=1) for c in columns], axis=1)
+    if d["hinge_rates"] is not None:
+        g["hinge_rates"] = np.stack([d["hinge_rates"][:, c].sum(axis=1) for c in columns],
+                                    axis=1)
+    g["events"] = [dict(e, panel=line_of[e["panel"]]) for e in d["events"]
+                   if e["panel"] in line_of]
+    return g
+
+
 def plot_hinge_angles(d, out):
+    d = hinge_lines(d)
     th = d["hinge_angles"]
     t = d["time"]
     rates = d["hinge_rates"]

@@ -157,23 +157,9 @@ def event_list(run):
 
 
 def hinge_channels(geometry):
-    """The hinge chart's and readout's lines: (names, hinge columns summed per line). Every
-    panel's own hinge, except an appendage's bending hinges: per beam and bending plane
-    one line, the sum of the plane's hinge angles (the tip's slope relative to the root:
-    the beam's bend), named "<beam> bend" ("bend 1", "bend 2" for two planes)."""
-    owner = scene.bending_owners(geometry.appendages)
-    names = [n for k, n in enumerate(geometry.names) if k not in owner]
-    columns = [[k] for k in range(len(geometry.names)) if k not in owner]
-    for a in geometry.appendages:
-        if a["kind"] != "beam":  # a slosh pendulum's hinges, each its own line
-            names += [geometry.names[k] for k in a["hinges"]]
-            columns += [[k] for k in a["hinges"]]
-            continue
-        planes = max(1, int(a["planes"]))
-        for p in range(planes):
-            names.append(f"{a['name']} bend" + (f" {p + 1}" if planes > 1 else ""))
-            columns.append(list(a["hinges"][p::planes]))
-    return names, columns
+    """The hinge chart's and readout's lines: (names, hinge columns summed per line)
+    (deploysim_scene.hinge_channels)."""
+    return scene.hinge_channels(geometry.names, geometry.appendages)
 
 
 def deployment_window(run):

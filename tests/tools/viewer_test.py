@@ -442,6 +442,27 @@ class AppendageViewerTest(unittest.TestCase):
         assert r.returncode == 0, r.stderr
         cls.run_ = deploysim_scene.read_run(str(cls.h5))
 
+    def test_plot_draws_one_line_per_beam_and_plane(self):
+        """tools/plot_trajectory.py's hinge chart groups the bending hinges as the viewer
+        does: one line per beam and plane, the sum of its hinges' angles, no release of a
+        generated hinge among the events; the PNG is written."""
+        import plot_trajectory
+        d = plot_trajectory.read(str(self.h5))
+        g = plot_trajectory.hinge_lines(d)
+        names, columns = self.view.hinge_channels(self.run_["geometry"])
+        self.assertEqual(g["panel_names"], names)
+        self.assertIn("boom_px bend 1", names)
+        for i, cols in enumerate(columns):
+            np.testing.assert_allclose(g["hinge_angles"][:, i],
+                                       d["hinge_angles"][:, cols].sum(axis=1), rtol=0,
+                                       atol=1e-15)
+        owner = self.scene.bending_owners(self.run_["geometry"].appendages)
+        self.assertFalse([e for e in d["events"] if e["panel"] in owner])
+        out = ART / "booms_plots"
+        out.mkdir(parents=True, exist_ok=True)
+        plot_trajectory.plot_hinge_angles(d, str(out))
+        self.assertTrue((out / "hinge_angles.png").stat().st_size > 10000)
+
     def test_scene_draws_the_files_body(self):
         """The parts are the file's @body panels (not the model text's, which lists none),
         and at the file's hinge angles they have the file's J_B."""
