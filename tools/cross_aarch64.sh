@@ -42,9 +42,9 @@ cmake --build "$build_dir" -j"$(nproc)"
 built=$(date +%s)
 
 set +e
-# The long appendage dynamics runs stay out, as in the asan preset (CMakePresets.json):
-# their code paths run in the short tests, and under qemu they would take minutes.
-long_tests='^(FlexibleBeamDynamics\.(BoomSinkGrowthRateIsTheLinearizedOne|CentrifugalStiffeningFollowsSouthwell|RotatingCantileverFrequenciesAgainstTheTable)|SloshSimbodyTest\..*)$'
+# The long runs of tests/long_runs.txt stay out, as in the sanitizer step: the short tests
+# named beside each run their code paths here, and under qemu they would take minutes.
+long_tests=$(tools/long_runs.sh)
 ctest --test-dir "$build_dir" -j"$(nproc)" -E "$long_tests" --output-on-failure \
   >"$build_dir/ctest.log" 2>&1
 rc=$?

@@ -2,10 +2,15 @@
 """Writes the answers README.md and docs/ publish about shipped runs and sweeps, from
 those runs, so that a document never states a number the run does not give.
 
-Usage: /usr/bin/python3 tools/published.py BIN [--update] [--check]
+Usage: /usr/bin/python3 tools/published.py BIN [--update] [--check] [--runs DIR]
   BIN       the deploysim command (build/release/bin/deploysim)
   --update  rewrite every marked passage of README.md and docs/*.md from the runs
   --check   exit 1, naming each passage, where a document differs from the runs
+  --runs    take the shipped profiles' plain runs (simulate, analyze --json) from DIR,
+            written by tools/shipped_runs.py with the same BIN (the test suite does so)
+  --only NAMES / --except NAMES
+            the passages named (comma-separated) or all others (the test suite checks the
+            Explorer-1-like example's 6900 s run, the one long run, as a test of its own)
 
 A marked passage is the text between `<!-- published:NAME -->` and
 `<!-- /published:NAME -->` (inline or over several lines); NAME is one of the GENERATORS
@@ -25,6 +30,8 @@ import tempfile
 
 import h5py
 import numpy as np
+
+from shipped_runs import ShippedRuns
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DOCS = ["README.md"] + sorted(
@@ -50,8 +57,13 @@ def e(x, digits=2):
 class Runs:
     """The runs the passages quote, each run once, in a temporary folder."""
 
-    def __init__(self, binary, tmp):
+    def __init__(self, binary, tmp, shipped=None):
         self.binary, self.tmp, self.cache = binary, tmp, {}
+        if shipped:   # tools/shipped_runs.py's runs: the plain run of each shipped profile
+            for profile in shipped.runs:
+                files = shipped.get(profile)
+                self.cache[("simulate", profile, ())] = (shipped.stdout(profile), files["h5"])
+                self.cache[("analyze", profile)] = shipped.analyzed(profile)
 
     def _run(self, *args):
         r = subprocess.run([self.binary, *args], cwd=ROOT, capture_output=True, text=True)
@@ -527,8 +539,9 @@ def comparable(text):
     return WALL.sub("<wall> s wall", text)
 
 
-def process(runs, update):
-    """Rewrites (update) or compares every marked passage; returns the differences."""
+def process(runs, update, wanted=None):
+    """Rewrites (update) or compares every marked passage (or those named in wanted);
+    returns the differences."""
     problems = []
     for rel in DOCS:
         path = os.path.join(ROOT, rel)
@@ -539,6 +552,8 @@ def process(runs, update):
             name, old = m.group(1), m.group(2)
             if name not in GENERATORS:
                 problems.append(f"{rel}: unknown passage '{name}' (known: {', '.join(GENERATORS)})")
+                return m.group(0)
+            if wanted is not None and name not in wanted:
                 return m.group(0)
             new = GENERATORS[name](runs)
             if comparable(new) == comparable(old):
@@ -564,10 +579,24 @@ def main():
     mode = ap.add_mutually_exclusive_group(required=True)
     mode.add_argument("--update", action="store_true")
     mode.add_argument("--check", action="store_true")
+    ap.add_argument("--runs", metavar="DIR")
+    pick = ap.add_mutually_exclusive_group()
+    pick.add_argument("--only", metavar="NAMES")
+    pick.add_argument("--except", dest="skip", metavar="NAMES")
     a = ap.parse_args()
+    wanted = None
+    if a.only or a.skip:
+        names = set((a.only or a.skip).split(","))
+        unknown = sorted(names - set(GENERATORS))
+        if unknown:
+            print(f"published.py: error: unknown passage(s) {', '.join(unknown)} "
+                  f"(known: {', '.join(GENERATORS)})", file=sys.stderr)
+            return 1
+        wanted = names if a.only else set(GENERATORS) - names
     with tempfile.TemporaryDirectory() as tmp:
         try:
-            problems = process(Runs(os.path.abspath(a.binary), tmp), a.update)
+            shipped = ShippedRuns(a.binary, a.runs) if a.runs else None
+            problems = process(Runs(os.path.abspath(a.binary), tmp, shipped), a.update, wanted)
         except RuntimeError as e:
             print(f"published.py: error: {e}", file=sys.stderr)
             return 1

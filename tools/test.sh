@@ -5,9 +5,8 @@
 #            tools/check_install.sh (install, and build examples/ against the package)
 #   asan:    AddressSanitizer + UndefinedBehaviorSanitizer, the whole suite but the tools'
 #            checks of documents and pages (label tools: they re-run the same binary paths
-#            the cli tests cover, 5-10x slower under the sanitizers) and five long
-#            dynamics runs of the appendages (CMakePresets.json: the same code paths as
-#            their short tests, which do run)
+#            the cli tests cover, 5-10x slower under the sanitizers) and the long runs of
+#            tests/long_runs.txt (each beside the short tests that run its code paths)
 #   tsan:    ThreadSanitizer, only what runs threads: the sweep tests (runner, thread
 #            pool, MPI) and the libraries below them
 set -euo pipefail
@@ -17,7 +16,11 @@ cd "$(dirname "$0")/.."
 tools/install_deps.sh
 cmake --preset "$preset" >/dev/null
 cmake --build --preset "$preset"
-ctest --preset "$preset" -j2
+skip=()
+if [ "$preset" = asan ]; then
+  skip=(-E "$(tools/long_runs.sh)")
+fi
+ctest --preset "$preset" -j2 "${skip[@]}"
 if [ "$preset" = release ]; then
   tools/check_install.sh build/release
 fi

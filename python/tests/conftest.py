@@ -2,12 +2,15 @@
 
 Environment (set by python/CMakeLists.txt): PYTHONPATH=<build>/python (the package),
 DEPLOYSIM_SOURCE_DIR (the source tree), DEPLOYSIM_CLI (the deploysim executable, where
-it is built; the tests that compare with the CLI are skipped without it).
+it is built; the tests that compare with the CLI are skipped without it),
+DEPLOYSIM_SHIPPED_RUNS (optional: the shipped profiles' CLI runs that tools/shipped_runs.py
+wrote with that executable, the ctest fixture Shipped.Runs; without it the CLI runs here).
 """
 
 import os
 import pathlib
 import subprocess
+import sys
 
 import pytest
 
@@ -30,3 +33,24 @@ def cli():
         return r
 
     return run
+
+
+@pytest.fixture
+def cli_trajectory(cli, tmp_path):
+    """The trajectory file of `deploysim simulate PROFILE` (a shipped profile's from the
+    fixture's runs where they are given): cli_trajectory(profile) -> path."""
+    runs = None
+    if os.environ.get("DEPLOYSIM_SHIPPED_RUNS"):
+        sys.path.insert(0, str(SOURCE_DIR / "tools"))
+        from shipped_runs import ShippedRuns
+        runs = ShippedRuns(CLI, os.environ["DEPLOYSIM_SHIPPED_RUNS"])
+
+    def trajectory(profile):
+        files = runs.get(str(profile)) if runs else None
+        if files:
+            return pathlib.Path(files["h5"])
+        out = tmp_path / "run.h5"
+        cli("simulate", profile, "-o", out, "-q")
+        return out
+
+    return trajectory

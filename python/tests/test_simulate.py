@@ -37,9 +37,8 @@ def test_trajectory_columns_are_the_arrays_and_documented():
 
 
 @pytest.mark.parametrize("path", PROFILES, ids=[p.stem for p in PROFILES])
-def test_simulate_equals_cli_hdf5(path, cli, tmp_path):
-    out = tmp_path / "run.h5"
-    cli("simulate", path, "-o", out, "-q")
+def test_simulate_equals_cli_hdf5(path, cli_trajectory):
+    out = cli_trajectory(path)
     r = deploysim.simulate(deploysim.load_profile(path))
     with h5py.File(out, "r") as f:
         for name in TRAJECTORY:

@@ -79,6 +79,22 @@ def analyze_json(profile, *extra):
     return json.loads(p.stdout)
 
 
+def fake_deploysim(d, corrupt=False):
+    """A deploysim that logs its command lines to d/calls and runs the real one;
+    corrupt: its simulate then overwrites the trajectory file with text."""
+    fake = pathlib.Path(d, "deploysim")
+    fake.write_text(
+        f"#!{PYTHON}\nimport subprocess, sys\n"
+        f"with open({str(pathlib.Path(d, 'calls'))!r}, 'a') as log:\n"
+        "    log.write(' '.join(sys.argv[1:]) + '\\n')\n"
+        f"p = subprocess.run([{DEPLOYSIM!r}] + sys.argv[1:])\n"
+        f"if {corrupt!r} and sys.argv[1] == 'simulate' and p.returncode == 0:\n"
+        "    open(sys.argv[sys.argv.index('-o') + 1], 'w').write('not HDF5\\n')\n"
+        "sys.exit(p.returncode)\n")
+    fake.chmod(0o755)
+    return fake
+
+
 def get_ptr(doc, pointer):
     cur = doc
     for tok in pointer.split("/")[1:]:
@@ -255,15 +271,22 @@ class ReportTest(unittest.TestCase):
     def setUpClass(cls):
         cls.art = pathlib.Path(ARTEFACTS)
         cls.art.mkdir(parents=True, exist_ok=True)
-        cls.reports, cls.h5, cls.seconds = {}, {}, {}
+        cls.reports, cls.h5, cls.seconds, cls.calls = {}, {}, {}, {}
+        # The reports run a deploysim that logs its command lines (the real one behind it),
+        # so that test_one_simulation_per_report reads how often these reports ran it.
+        cls.calls_dir = tempfile.mkdtemp()
         for name, profile in CASES.items():
             out = cls.art / f"{name}_report.html"
             if out.exists():
                 out.unlink()
+            log_dir = pathlib.Path(cls.calls_dir, name)
+            log_dir.mkdir()
+            fake = fake_deploysim(log_dir)
             t0 = time.monotonic()
-            p = subprocess.run(report_cmd(profile, out), cwd=SOURCE, stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True)
+            p = subprocess.run(report_cmd(profile, out, deploysim=str(fake)), cwd=SOURCE,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
             cls.seconds[name] = time.monotonic() - t0
+            cls.calls[name] = (log_dir / "calls").read_text().splitlines()
             if p.returncode != 0:
                 raise AssertionError(f"report of {profile} failed ({p.returncode}): {p.stderr}")
             print(f"report of {profile}: {cls.seconds[name]:.2f} s, "
@@ -276,6 +299,7 @@ class ReportTest(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         cls.browser.close()
+        shutil.rmtree(cls.calls_dir, ignore_errors=True)
 
     def parse(self, name):
         p = Elements()
@@ -636,31 +660,12 @@ class ReportTest(unittest.TestCase):
             self.assertEqual((d / "good.yaml").read_bytes(), before)
             self.assertTrue(model.exists())
 
-    def fake_deploysim(self, d, corrupt=False):
-        """A deploysim that logs its command lines to d/calls and runs the real one;
-        corrupt: its simulate then overwrites the trajectory file with text."""
-        fake = pathlib.Path(d, "deploysim")
-        fake.write_text(
-            f"#!{PYTHON}\nimport subprocess, sys\n"
-            f"with open({str(pathlib.Path(d, 'calls'))!r}, 'a') as log:\n"
-            "    log.write(' '.join(sys.argv[1:]) + '\\n')\n"
-            f"p = subprocess.run([{DEPLOYSIM!r}] + sys.argv[1:])\n"
-            f"if {corrupt!r} and sys.argv[1] == 'simulate' and p.returncode == 0:\n"
-            "    open(sys.argv[sys.argv.index('-o') + 1], 'w').write('not HDF5\\n')\n"
-            "sys.exit(p.returncode)\n")
-        fake.chmod(0o755)
-        return fake
-
     def test_one_simulation_per_report(self):
         # The run's numbers come from one simulate; analyze runs only for the comparison
         # with the other coupling (a geometry-mode stage profile), never for this run.
         for name, want in (("spring", ["simulate"]), ("three_stage", ["simulate", "analyze"])):
-            with self.subTest(name), tempfile.TemporaryDirectory() as d:
-                fake = self.fake_deploysim(d)
-                out = pathlib.Path(d, "r.html")
-                subprocess.run(report_cmd(CASES[name], out, "-q", deploysim=str(fake)),
-                               cwd=SOURCE, check=True)
-                calls = pathlib.Path(d, "calls").read_text().splitlines()
+            with self.subTest(name):
+                calls = self.calls[name]
                 runs = [c for c in calls if c.split()[0] in ("simulate", "analyze")]
                 self.assertEqual([c.split()[0] for c in runs], want, calls)
                 if len(runs) > 1:
@@ -669,7 +674,7 @@ class ReportTest(unittest.TestCase):
     def test_unreadable_trajectory_fails_loudly(self):
         # A deploysim whose simulate writes no HDF5 file: exit 5, one line, nothing written.
         with tempfile.TemporaryDirectory() as d:
-            fake = self.fake_deploysim(d, corrupt=True)
+            fake = fake_deploysim(d, corrupt=True)
             out = pathlib.Path(d, "r.html")
             p = subprocess.run(report_cmd(CASES["spring"], out, deploysim=str(fake)),
                                cwd=SOURCE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,

@@ -4,24 +4,17 @@
 verdict sentence (tools/report.py) and the 3D viewer's verdict line (tools/view.py) are
 the same record and the same headline.
 
-Usage: verdict_test.py DEPLOYSIM SOURCE_DIR WORK_DIR
+Usage: verdict_test.py DEPLOYSIM SOURCE_DIR RUNS_DIR
+RUNS_DIR: the shipped profiles' runs (simulate -o, analyze --json) that
+tools/shipped_runs.py wrote with the same DEPLOYSIM (the ctest fixture Shipped.Runs).
 """
 import html
-import json
 import pathlib
 import re
-import subprocess
 import sys
 import unittest
 
-DEPLOYSIM, SRC, WORK = None, None, None
-
-
-def run(*args):
-    r = subprocess.run([str(a) for a in args], capture_output=True, text=True)
-    if r.returncode != 0:
-        raise AssertionError(f"{' '.join(map(str, args))}: exit {r.returncode}\n{r.stderr}")
-    return r.stdout
+DEPLOYSIM, SRC, RUNS = None, None, None
 
 
 class OneRecord(unittest.TestCase):
@@ -31,14 +24,16 @@ class OneRecord(unittest.TestCase):
         import view  # noqa: E402
         from deploysim_results import read_trajectory  # noqa: E402
         from deploysim_scene import read_run  # noqa: E402
+        from shipped_runs import ShippedRuns, shipped_profiles  # noqa: E402
 
-        profiles = sorted((SRC / "deployment_profiles").glob("*.yaml"))
+        runs = ShippedRuns(DEPLOYSIM, RUNS)
+        profiles = shipped_profiles()
         self.assertGreaterEqual(len(profiles), 12)
         for p in profiles:
-            with self.subTest(profile=p.name):
-                h5 = WORK / (p.stem + ".h5")
-                run(DEPLOYSIM, "simulate", p, "-q", "-o", h5)
-                analyzed = json.loads(run(DEPLOYSIM, "analyze", p, "--json"))["outcome"]
+            with self.subTest(profile=p):
+                self.assertIsNotNone(runs.get(p), f"{RUNS} holds no run of {p}")
+                h5 = runs.get(p)["h5"]
+                analyzed = runs.analyzed(p)["outcome"]
                 stored = read_trajectory(str(h5)).outcome
                 self.assertEqual(stored, analyzed)
                 headline = analyzed["headline"]
@@ -52,12 +47,11 @@ class OneRecord(unittest.TestCase):
                 data = view.build_data(read_run(str(h5)))
                 self.assertEqual(data["outcome"]["headline"], headline)
                 self.assertEqual(data["outcome"]["name"], analyzed["name"])
-                print(f"{p.stem}: {headline}", file=sys.stderr)
+                print(f"{pathlib.Path(p).stem}: {headline}", file=sys.stderr)
 
 
 if __name__ == "__main__":
     DEPLOYSIM = pathlib.Path(sys.argv[1])
     SRC = pathlib.Path(sys.argv[2])
-    WORK = pathlib.Path(sys.argv[3])
-    WORK.mkdir(parents=True, exist_ok=True)
+    RUNS = sys.argv[3]
     unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -130,10 +130,16 @@ bool SolveEquilibrium(const ReducedFlow& flow,
   return std::isfinite(residual);
 }
 
-/// d/dH of H x J^-1 (H - h_r): the held body's momentum equation linearized.
-Mat3 HeldMomentumJacobian(const Mat3& J, const Vec3& h_r, const Vec3& H) {
+/// The eigen decomposition of d/dH of H x J^-1 (H - h_r), the held body's momentum
+/// equation linearized. A 3x3 problem solved as a dynamic-size one: Eigen's EigenSolver is
+/// one of its costliest templates to compile, and this file instantiates it once.
+Eigen::EigenSolver<MatrixXd> HeldMomentumEigen(const Mat3& J,
+                                               const Vec3& h_r,
+                                               const Vec3& H,
+                                               bool vectors) {
   const Mat3 Jinv = J.inverse();
-  return -math::Hat(Vec3(Jinv * (H - h_r))) + math::Hat(H) * Jinv;
+  const MatrixXd A = -math::Hat(Vec3(Jinv * (H - h_r))) + math::Hat(H) * Jinv;
+  return Eigen::EigenSolver<MatrixXd>(A, vectors);
 }
 
 /// The quasi-rigid energy-sink estimate (see the header), from the Jacobian at y*.
@@ -149,7 +155,7 @@ void QuasiRigid(const ReducedFlow& flow,
   const Vec3 H = out.y.head<3>();
   const Mat3 Jinv = J.inverse();
   const Vec3 w = Jinv * (H - h_r);
-  Eigen::EigenSolver<Mat3> es(HeldMomentumJacobian(J, h_r, H));
+  const Eigen::EigenSolver<MatrixXd> es = HeldMomentumEigen(J, h_r, H, true);
   int k = -1;
   for (int i = 0; i < 3; ++i) {
     if (std::abs(es.eigenvalues()[i].imag()) > kNeutralRate * w.norm() &&
@@ -309,7 +315,7 @@ ReducedFlow FlowOf(const schedule::FreeHingeSystem& sys, double t, double t_late
 }
 
 double HeldNutationRate(const Mat3& J_B, const Vec3& h_r, const Vec3& H_B) {
-  const Eigen::EigenSolver<Mat3> es(HeldMomentumJacobian(J_B, h_r, H_B), false);
+  const Eigen::EigenSolver<MatrixXd> es = HeldMomentumEigen(J_B, h_r, H_B, false);
   return es.eigenvalues().cwiseAbs().maxCoeff();
 }
 

@@ -277,11 +277,11 @@ HingeRates FreeHingeRates(const schedule::Profile& profile, double spin) {
 /// the restitution (the flights shrink as e^n); exact Coulomb friction stops a spring's
 /// swing after (A - mu / k) / (2 mu / k) half periods (A its first amplitude).
 double MovingTime(const schedule::Profile& profile, std::size_t k, double own, double inertia) {
-  constexpr double kPi = 3.141592653589793;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double pi = 3.141592653589793;
+  constexpr double inf = std::numeric_limits<double>::infinity();
   const schedule::FreeDrive& d = profile.hinges[k].drive;
-  if (!(own > 0.0)) return kInf;
-  if (d.latch.enabled) return kPi / own;
+  if (!(own > 0.0)) return inf;
+  if (d.latch.enabled) return pi / own;
   // Stops closer than a rebound travels in the contact time: it rests at once (a rattle).
   if (d.stops.max_angle - d.stops.min_angle < kRattleGap) return schedule::kContactTime;
   const double theta0 = profile.model.configuration(profile.initial.configuration)
@@ -290,8 +290,8 @@ double MovingTime(const schedule::Profile& profile, std::size_t k, double own, d
       d.spring.preload + (d.motor.kind == schedule::Motor::Kind::kConstant ? d.motor.torque : 0.0);
   const double k_s = d.spring.stiffness;
   const double eq = k_s > 0.0 ? d.spring.rest_angle + torque / k_s
-                              : (torque > 0.0   ? kInf
-                                 : torque < 0.0 ? -kInf
+                              : (torque > 0.0   ? inf
+                                 : torque < 0.0 ? -inf
                                                 : theta0);
   const double stop = eq > d.stops.max_angle   ? d.stops.max_angle
                       : eq < d.stops.min_angle ? d.stops.min_angle
@@ -299,7 +299,7 @@ double MovingTime(const schedule::Profile& profile, std::size_t k, double own, d
   if (std::isfinite(stop) && d.stops.restitution < 1.0 &&
       d.motor.kind != schedule::Motor::Kind::kServo) {
     const double t1 = k_s > 0.0
-                          ? 0.5 * kPi / own
+                          ? 0.5 * pi / own
                           : std::sqrt(2.0 * std::abs(stop - theta0) * inertia / std::abs(torque));
     const double e = d.stops.restitution;
     return t1 * (1.0 + e) / (1.0 - e);
@@ -322,11 +322,11 @@ double MovingTime(const schedule::Profile& profile, std::size_t k, double own, d
       swings = std::max<double>(1.0, static_cast<double>(d.motor.follow.size()));
     }
     const double half = 2.0 * d.friction.torque / k_all;  // amplitude lost per half period
-    return swings * kPi / own * std::max(1.0, std::ceil((amplitude - 0.5 * half) / half));
+    return swings * pi / own * std::max(1.0, std::ceil((amplitude - 0.5 * half) / half));
   }
   // A damped swing is not cut short: the body's motion keeps driving it (a pendulum
   // damper follows the nutation; a small panel on a flipping body swings with it).
-  return kInf;
+  return inf;
 }
 
 /// The stop impacts of the free hinges that a drive presses onto a stop (Bounces): each
@@ -337,7 +337,7 @@ double MovingTime(const schedule::Profile& profile, std::size_t k, double own, d
 /// Coulomb friction and a spring or servo, two slip ends per period of its own rate (a
 /// stiff spring with little friction swings, and stops, tens of thousands of times).
 double Segments(const schedule::Profile& profile, const HingeRates& rates) {
-  constexpr double kPi = 3.141592653589793;
+  constexpr double pi = 3.141592653589793;
   const double T = profile.t_end() - profile.t_begin();
   double n = 0.0;
   for (std::size_t k = 0; k < profile.hinges.size(); ++k) {
@@ -345,7 +345,7 @@ double Segments(const schedule::Profile& profile, const HingeRates& rates) {
     if (h.kind != schedule::HingePlan::Kind::kFree) continue;
     const schedule::FreeDrive& d = h.drive;
     const double own = rates.own[k];
-    const double cycles = own > 0.0 ? own * T / (2.0 * kPi) : 0.0;
+    const double cycles = own > 0.0 ? own * T / (2.0 * pi) : 0.0;
     const bool servo = d.motor.kind == schedule::Motor::Kind::kServo;
     if (schedule::IsCoulomb(d.friction) && (d.spring.stiffness > 0.0 || servo)) {
       n += 2.0 * cycles;
@@ -381,8 +381,8 @@ double Segments(const schedule::Profile& profile, const HingeRates& rates) {
 double FreeTime(const schedule::Profile& profile, const HingeRates& rates) {
   const double t0 = profile.t_begin(), t1 = profile.t_end();
   const std::size_t n = profile.hinges.size();
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<double> begin(n, kInf), end(n, kInf);
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> begin(n, inf), end(n, inf);
   // Releases after a latch resolve in at most n passes (the order has no cycle).
   for (std::size_t pass = 0; pass < n; ++pass) {
     for (std::size_t k = 0; k < n; ++k) {
@@ -403,7 +403,7 @@ double FreeTime(const schedule::Profile& profile, const HingeRates& rates) {
     if (begin[k] < end[k]) spans.emplace_back(begin[k], end[k]);
   }
   std::sort(spans.begin(), spans.end());
-  double total = 0.0, reach = -kInf;
+  double total = 0.0, reach = -inf;
   for (const auto& [b, e] : spans) {
     const double from = std::max(b, reach);
     if (e > from) total += e - from;

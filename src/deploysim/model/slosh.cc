@@ -20,7 +20,7 @@ using math::Vec3;
 /// Two unit vectors closer to perpendicular than this (|cos|) count as perpendicular.
 constexpr double kPerpendicularTolerance = 1e-9;
 
-[[noreturn]] void Fail(const std::string& where, const std::string& what) {
+[[noreturn]] void SloshFail(const std::string& where, const std::string& what) {
   throw std::invalid_argument(where + "." + what);
 }
 
@@ -29,36 +29,36 @@ bool Finite(const Vec3& v) { return v.allFinite(); }
 /// The damping keys: exactly one form, each within its range.
 void CheckDamping(const SloshSpec& s, const std::string& where) {
   if (s.damping.has_value() == s.damping_ratio.has_value()) {
-    Fail(where, std::string(s.damping ? "damping, damping_ratio" : "damping") +
-                    ": give exactly one of damping [N m s/rad] or damping_ratio (with "
-                    "spin_rate and spin_radius)");
+    SloshFail(where, std::string(s.damping ? "damping, damping_ratio" : "damping") +
+                         ": give exactly one of damping [N m s/rad] or damping_ratio (with "
+                         "spin_rate and spin_radius)");
   }
   if (s.damping) {
     if (!(std::isfinite(*s.damping) && *s.damping >= 0.0)) {
-      Fail(where, "damping = " + FormatNumber(*s.damping) + ": must be >= 0 [N m s/rad]");
+      SloshFail(where, "damping = " + FormatNumber(*s.damping) + ": must be >= 0 [N m s/rad]");
     }
     if (s.spin_rate || s.spin_radius) {
-      Fail(where, std::string(s.spin_rate ? "spin_rate" : "spin_radius") +
-                      ": only with damping_ratio (it sets the frequency at which the ratio "
-                      "is turned into the damper)");
+      SloshFail(where, std::string(s.spin_rate ? "spin_rate" : "spin_radius") +
+                           ": only with damping_ratio (it sets the frequency at which the ratio "
+                           "is turned into the damper)");
     }
     return;
   }
   const double zeta = *s.damping_ratio;
   if (!(zeta >= 0.0 && zeta < 1.0)) {
-    Fail(where, "damping_ratio = " + FormatNumber(zeta) + ": must be in [0, 1)");
+    SloshFail(where, "damping_ratio = " + FormatNumber(zeta) + ": must be in [0, 1)");
   }
-  if (!s.spin_rate) Fail(where, "spin_rate: required with damping_ratio [rad/s]");
+  if (!s.spin_rate) SloshFail(where, "spin_rate: required with damping_ratio [rad/s]");
   if (!(std::isfinite(*s.spin_rate) && *s.spin_rate > 0.0)) {
-    Fail(where, "spin_rate = " + FormatNumber(*s.spin_rate) + ": must be > 0 [rad/s]");
+    SloshFail(where, "spin_rate = " + FormatNumber(*s.spin_rate) + ": must be > 0 [rad/s]");
   }
   if (!s.spin_radius) {
-    Fail(where,
-         "spin_radius: required with damping_ratio (the pivot's distance from the spin "
-         "axis [m])");
+    SloshFail(where,
+              "spin_radius: required with damping_ratio (the pivot's distance from the spin "
+              "axis [m])");
   }
   if (!(std::isfinite(*s.spin_radius) && *s.spin_radius >= 0.0)) {
-    Fail(where, "spin_radius = " + FormatNumber(*s.spin_radius) + ": must be >= 0 [m]");
+    SloshFail(where, "spin_radius = " + FormatNumber(*s.spin_radius) + ": must be >= 0 [m]");
   }
 }
 
@@ -67,32 +67,34 @@ void CheckTank(const SloshSpec& s, const std::string& where) {
   const SloshTank& t = *s.tank;
   if (s.mass != 0.0 || s.length != 0.0 || s.fixed_mass != 0.0 || !s.pivot.isZero(0.0) ||
       !s.fixed_point.isZero(0.0)) {
-    Fail(where,
-         "tank: gives mass, length, pivot, fixed_mass and fixed_point (rule: a tank or "
-         "those, not both)");
+    SloshFail(where,
+              "tank: gives mass, length, pivot, fixed_mass and fixed_point (rule: a tank or "
+              "those, not both)");
   }
-  if (!Finite(t.center)) Fail(where, "tank.center: must be finite [m]");
+  if (!Finite(t.center)) SloshFail(where, "tank.center: must be finite [m]");
   for (const auto& [key, v] :
        {std::pair<const char*, double>{"diameter", t.diameter}, {"height", t.height}}) {
     if (!(std::isfinite(v) && v > 0.0 && v <= kMaxCoordinate)) {
-      Fail(where, std::string("tank.") + key + " = " + FormatNumber(v) + ": must be > 0 [m]");
+      SloshFail(where, std::string("tank.") + key + " = " + FormatNumber(v) + ": must be > 0 [m]");
     }
   }
   if (!(t.fill_fraction > 0.0 && t.fill_fraction <= 1.0)) {
-    Fail(where, "tank.fill_fraction = " + FormatNumber(t.fill_fraction) + ": must be in (0, 1]");
+    SloshFail(where,
+              "tank.fill_fraction = " + FormatNumber(t.fill_fraction) + ": must be in (0, 1]");
   }
   if (t.liquid_mass_full.has_value() == t.density.has_value()) {
-    Fail(where, "tank: give exactly one of liquid_mass_full [kg] or density [kg/m^3]");
+    SloshFail(where, "tank: give exactly one of liquid_mass_full [kg] or density [kg/m^3]");
   }
   const double m = t.liquid_mass_full ? *t.liquid_mass_full : *t.density;
   if (!(std::isfinite(m) && m > 0.0 && m <= kMaxPartMass)) {
-    Fail(where, std::string(t.liquid_mass_full ? "tank.liquid_mass_full" : "tank.density") + " = " +
-                    FormatNumber(m) + ": must be > 0");
+    SloshFail(where, std::string(t.liquid_mass_full ? "tank.liquid_mass_full" : "tank.density") +
+                         " = " + FormatNumber(m) + ": must be > 0");
   }
   const double liquid = CylinderTankPendulum(t).liquid_mass;
   if (!(liquid <= kMaxPartMass)) {
-    Fail(where, "tank.density = " + FormatNumber(*t.density) +
-                    ": the liquid's mass must be at most " + FormatNumber(kMaxPartMass) + " [kg]");
+    SloshFail(where, "tank.density = " + FormatNumber(*t.density) +
+                         ": the liquid's mass must be at most " + FormatNumber(kMaxPartMass) +
+                         " [kg]");
   }
 }
 
@@ -115,27 +117,29 @@ SloshSpec Checked(SloshSpec s, const HingedBody& body, const std::string& where)
   if (s.tank) {
     CheckTank(s, where);
     const double dn = s.direction.norm();
-    if (!(std::isfinite(dn) && dn > 0.0)) Fail(where, "direction: must be finite and non-zero");
+    if (!(std::isfinite(dn) && dn > 0.0))
+      SloshFail(where, "direction: must be finite and non-zero");
     s.direction /= dn;
     PlaceTank(s);
   }
   if (!(std::isfinite(s.mass) && s.mass > 0.0 && s.mass <= kMaxPartMass)) {
-    Fail(where, "mass = " + FormatNumber(s.mass) + ": must be > 0 [kg] (the pendulum's m1)");
+    SloshFail(where, "mass = " + FormatNumber(s.mass) + ": must be > 0 [kg] (the pendulum's m1)");
   }
   if (!(std::isfinite(s.length) && s.length > 0.0 && s.length <= kMaxCoordinate)) {
-    Fail(where, "length = " + FormatNumber(s.length) + ": must be > 0 [m] (the pendulum's L1)");
+    SloshFail(where,
+              "length = " + FormatNumber(s.length) + ": must be > 0 [m] (the pendulum's L1)");
   }
   if (!(std::isfinite(s.fixed_mass) && s.fixed_mass >= 0.0 && s.fixed_mass <= kMaxPartMass)) {
-    Fail(where, "fixed_mass = " + FormatNumber(s.fixed_mass) + ": must be >= 0 [kg]");
+    SloshFail(where, "fixed_mass = " + FormatNumber(s.fixed_mass) + ": must be >= 0 [kg]");
   }
-  if (!Finite(s.pivot)) Fail(where, "pivot: must be finite [m]");
-  if (!Finite(s.fixed_point)) Fail(where, "fixed_point: must be finite [m]");
+  if (!Finite(s.pivot)) SloshFail(where, "pivot: must be finite [m]");
+  if (!Finite(s.fixed_point)) SloshFail(where, "fixed_point: must be finite [m]");
   if (s.parent < -1 || s.parent >= static_cast<int>(body.panels.size())) {
-    Fail(where, "parent = " + std::to_string(s.parent) +
-                    ": no such panel (rule: -1 for the hub or a panel's index)");
+    SloshFail(where, "parent = " + std::to_string(s.parent) +
+                         ": no such panel (rule: -1 for the hub or a panel's index)");
   }
   const double dn = s.direction.norm();
-  if (!(std::isfinite(dn) && dn > 0.0)) Fail(where, "direction: must be finite and non-zero");
+  if (!(std::isfinite(dn) && dn > 0.0)) SloshFail(where, "direction: must be finite and non-zero");
   s.direction /= dn;
   if (s.axis.isZero(0.0)) {
     Eigen::Index least = 0;
@@ -146,7 +150,7 @@ SloshSpec Checked(SloshSpec s, const HingedBody& body, const std::string& where)
   const double an = s.axis.norm();
   if (!(std::isfinite(an) && an > 0.0) ||
       std::abs(s.axis.dot(s.direction)) > kPerpendicularTolerance * an) {
-    Fail(where, "axis: must be finite, non-zero and perpendicular to direction");
+    SloshFail(where, "axis: must be finite, non-zero and perpendicular to direction");
   }
   s.axis /= an;
   CheckDamping(s, where);
