@@ -174,13 +174,13 @@ void AddPointMass(MassElement& into, Vec3& at, double m, const Vec3& x) {
 SloshTankPendulum CylinderTankPendulum(const SloshTank& t) {
   constexpr double kTwoXi1 = 3.68;  // 2 xi_1, xi_1 = 1.841 the first root of J1'
   constexpr double kMassDivisor = 4.4;
-  constexpr double kPi = 3.14159265358979323846;
+  constexpr double pi = 3.14159265358979323846;
   const double d = t.diameter;
   const double h = t.fill_fraction * t.height;
   SloshTankPendulum p;
   p.liquid_height = h;
   p.liquid_mass = t.liquid_mass_full ? t.fill_fraction * *t.liquid_mass_full
-                                     : t.density.value() * kPi * d * d / 4.0 * h;
+                                     : t.density.value() * pi * d * d / 4.0 * h;
   const double x = kTwoXi1 * h / d;
   p.mass = p.liquid_mass * d / (kMassDivisor * h) * std::tanh(x);
   p.length = d / kTwoXi1 / std::tanh(x);
