@@ -1,4 +1,4 @@
-// Dense output of the `exact` stepper (issue 8): output samples on rigid steps come from a
+// Dense output of the `exact` stepper: output samples on rigid steps come from a
 // Chebyshev interpolant of the closed form (ExactFlowStepper::DenseSample, chebyshev.h).
 // Every sample must agree with a direct FreeBodySolution evaluation to a few ulp, and the
 // flips (located on the closed form itself) must be bit for bit those of a run whose

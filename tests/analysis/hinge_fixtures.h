@@ -2,7 +2,7 @@
 
 /// Models and hinge profiles for the free-hinge tests, built in C++ (no YAML): the small
 /// satellite of models/smallsat.yaml (keep the numbers in step) and its wings driven by
-/// springs, dampers and latches (issue 9).
+/// springs, dampers and latches.
 
 #include <cmath>
 #include <string>

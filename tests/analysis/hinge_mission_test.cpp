@@ -1,4 +1,4 @@
-// Free-hinge missions (issue 9): invariants, impulses against their closed forms,
+// Free-hinge missions: invariants, impulses against their closed forms,
 // sequenced releases, stops, jams, and prescribed hinge profiles against stage profiles.
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The stepper contract (issue 8): Step advances exactly the state it is given, whatever
+// The stepper contract: Step advances exactly the state it is given, whatever
 // the workspace saw before; one stepper object serves several threads at once with
 // bit-identical results; the given initial momentum is the initial condition bit for
 // bit for every method; the analysis of a body exactly on the separatrix does not
@@ -220,7 +220,7 @@ TEST(StepperContractTest, ExactNearTheSeparatrixWithARotatedAttitude) {
   // instead of the source's matrix), 0 against the identity-attitude run, attitude
   // 3.4e-16 rad; flips within 1.2e-13 s of the analytic times (before the fix: 8.7e-4
   // |H| and 3e-3 s).
-  // Since issue 8 the output samples are a Chebyshev interpolant of the closed form
+  // The output samples are a Chebyshev interpolant of the closed form
   // (exact_flow.h), which agrees with it to the closed form's own rounding, growing with
   // t (eps |lambda t| |H|, eps |gamma| rad): measured 1.9e-14 |H| and 6.1e-14 rad at
   // t <= 400 s (tests/analysis/exact_dense_test.cpp checks it against a reference).

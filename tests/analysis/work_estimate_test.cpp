@@ -1,4 +1,4 @@
-// analysis::EstimateWork / CheckWork (issue 10: runs that hung are refused up front).
+// analysis::EstimateWork / CheckWork (runs that hung are refused up front).
 
 #include "deploysim/analysis/work_estimate.h"
 
@@ -102,7 +102,7 @@ namespace deploysim::analysis {
 namespace {
 namespace DEPLOYSIM_TEST_UNIT {
 
-// Hinge profiles (issue 9): a horizon of 1e9 s or a free rotor whose constant motor would
+// Hinge profiles: a horizon of 1e9 s or a free rotor whose constant motor would
 // spin it up for days is refused up front, naming the run; the shipped-like deployment
 // passes, and its bound is never exceeded by the run.
 TEST(WorkEstimateTest, HingeProfilesAreBoundedUpFront) {

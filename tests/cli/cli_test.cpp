@@ -1,4 +1,4 @@
-// End-to-end tests of the `deploysim` command (issue 3, acceptance 1 and 4): every
+// End-to-end tests of the `deploysim` command: every
 // shipped profile runs and its HDF5 file is read back and checked; every malformed
 // input of the corpus gives its specific one-line message, a non-zero exit and no
 // output file.
@@ -150,7 +150,7 @@ TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
   fs::remove_all(d);
 }
 
-// A hinge profile (issue 9) runs through analyze, simulate (the trajectory with its hinge
+// A hinge profile runs through analyze, simulate (the trajectory with its hinge
 // outputs) and crosscheck (against the Simbody model of free hinges).
 TEST(CliTest, HingeProfilesRunThroughEveryCommand) {
   const fs::path d = TempDir("hinges");
@@ -251,7 +251,7 @@ TEST(CliTest, SweepRunsAndRejectsBadSweepFiles) {
   fs::remove_all(d);
 }
 
-// Issue 10 (first items): an output never replaces an input of the run, nor anything that
+// An output never replaces an input of the run, nor anything that
 // is not a regular file; a self-referencing YAML anchor is an error, not a crash.
 TEST(CliTest, OutputNeverReplacesAnInput) {
   const fs::path dir = TempDir("output_over_input");

@@ -1,4 +1,4 @@
-// Hostile input files given to the `deploysim` command (issue 10): a command-line file, a
+// Hostile input files given to the `deploysim` command: a command-line file, a
 // profile's `model:` or a sweep's `base:` that names a device, a FIFO or a file over the
 // size limit; yaml-cpp 0.7's parser loop; alias chains and fan-outs; long values; text
 // that is not UTF-8. Each ends at once with one line on stderr naming the file and the

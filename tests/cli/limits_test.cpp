@@ -1,4 +1,4 @@
-// Issue 10, "no hang, no abort, messages that blame the right file": runs the CLI (under
+// "no hang, no abort, messages that blame the right file": runs the CLI (under
 // `timeout`, so that a regression fails instead of hanging the suite) on inputs that used
 // to hang, abort or blame the wrong file, and checks the one-line refusal.
 

@@ -1,4 +1,4 @@
-// Output under faults (issue 10): a full disk (a file size limit, RLIMIT_FSIZE, set in
+// Output under faults: a full disk (a file size limit, RLIMIT_FSIZE, set in
 // the child: no root needed), signals and kill -9 while `deploysim simulate` or `sweep`
 // writes, a CSV that fails after the HDF5 file, and output names near NAME_MAX. In every
 // case: a clear one-line error naming the file, a non-zero exit, no temporary left, an

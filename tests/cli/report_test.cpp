@@ -1,5 +1,5 @@
 // The reports of `deploysim simulate` and `analyze` (cli/report.h) for free-hinge runs
-// built in C++ (issue 9): the deployment timeline, the per-stage caveats and the JSON;
+// built in C++: the deployment timeline, the per-stage caveats and the JSON;
 // and the stage-profile table, unchanged but for the caveat lines.
 
 #include "deploysim/cli/report.h"

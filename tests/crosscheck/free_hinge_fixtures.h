@@ -2,7 +2,7 @@
 
 /// Hub + panel models and hinge profiles for the free-hinge cross-check tests, built in C++
 /// (no YAML): the small satellite of models/smallsat.yaml, a two-segment chain and a
-/// branched tree with skew hinge axes, a pendulum-damper spinner (issue 9), flexible booms
+/// branched tree with skew hinge axes, a pendulum-damper spinner, flexible booms
 /// and a propellant tank's slosh pendulum on spinners.
 
 #include <Eigen/Core>

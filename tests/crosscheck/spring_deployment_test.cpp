@@ -1,4 +1,4 @@
-// Issue 4, acceptance 4: spring-driven deployment. Simbody swings the smallsat's wings
+// Spring-driven deployment. Simbody swings the smallsat's wings
 // open with torsional springs and dampers and latches them on stiff stops; the reduced
 // model replays the recorded hinge history with exact coupling and must agree to 1e-7
 // relative in H_B (the test holds it to a few times the measured 3.1e-11).
@@ -25,7 +25,7 @@ void Measured(const char* name, double v) {
   std::cout << "measured " << name << " = " << std::setprecision(3) << v << std::endl;
 }
 
-// Issue 4 acceptance 4 asks for 1e-7; the bounds are a few times what is measured, so
+// The requirement is 1e-7; the bounds are a few times what is measured, so
 // that a regression shows.
 constexpr double kReplayTolerance = 1e-10;  // relative in H_B; measured 3.1e-11
 constexpr double kHorizon = 120.0;          // [s] deployment in ~2 s, then 118 s latched

@@ -118,7 +118,7 @@ TEST(ClassicProblemsTest, KroghMappingSolvesEulerEquations) {
 }
 
 TEST(ClassicProblemsTest, KroghAdaptiveMethodsMatchJacobiFunctions) {
-  constexpr double kAdaptiveTolerance = 1e-12;  // issue 5, in the sn/cn/dn scale
+  constexpr double kAdaptiveTolerance = 1e-12;  // in the sn/cn/dn scale
   IntegratorSettings s;
   s.tolerances = {1e-14, 1e-16};
   for (const char* method : {"rkf78", "rkmk-rkf78"}) {

@@ -98,7 +98,7 @@ TEST_P(BadInputsTest, RejectedWithOneLineNamingTheFile) {
       << "message does not start with the file: " << message;
   EXPECT_EQ(message.find('\n'), std::string::npos) << "message is not one line: " << message;
   EXPECT_EQ(message.find('\r'), std::string::npos) << "message holds a CR: " << message;
-  // Values are cut in messages (issue 10): no message echoes a long value whole.
+  // Values are cut in messages: no message echoes a long value whole.
   EXPECT_LE(message.size(), path.size() + 400) << message.substr(0, 1000);
 }
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fails when a library header leaks a dependency (issue 8, STYLE.md "only io includes
+# Fails when a library header leaks a dependency (STYLE.md "only io includes
 # yaml-cpp and HDF5"):
 #   1. yaml-cpp and HDF5 are included only by io's .cc files and io's private
 #      hdf5_common.h, which in turn only io's .cc files include;

@@ -452,7 +452,7 @@ TEST_F(TrajectoryFileTest, HingeProfileRunRoundTrips) {
   EXPECT_EQ(Entries(), (std::vector<std::string>{"streamed.csv", "streamed.h5", "whole.h5"}));
 }
 
-// A version 2 file written by deploysim before issue 9 (tests/io/data, made by
+// A version 2 file written by deploysim before the free-hinge outputs (tests/io/data, made by
 // `deploysim simulate deployment_profiles/smallsat_three_stage.yaml --dt 40` at commit
 // 6f38410 and repacked with `h5repack -l CONTI` to drop the chunk padding) still reads:
 // the free-hinge outputs are additions to schema version 2, absent there.

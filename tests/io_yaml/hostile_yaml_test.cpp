@@ -1,4 +1,4 @@
-// Hostile YAML input (issue 10): files that are not regular files or are too large, the
+// Hostile YAML input: files that are not regular files or are too large, the
 // yaml-cpp 0.7 parser loop, alias chains and fan-outs, deep nesting, too many nodes,
 // long values in messages, and text that is not UTF-8. Each is refused with one line
 // naming the file; none crashes, hangs or exhausts memory.
@@ -50,7 +50,7 @@ void ExpectRefused(const std::string& text, const std::string& part) {
   EXPECT_NE(m.find(part), std::string::npos) << "expected '" << part << "' in: " << m;
 }
 
-// yaml-cpp 0.7's LoadAll grows without bound on these (issue 1040): measured on every 1-
+// yaml-cpp 0.7's LoadAll grows without bound on these (yaml-cpp issue 1040): measured on every 1-
 // and 2-byte input, `,` and every input with a top-level ',' (262 of 65,792).
 TEST(HostileYaml, CommaOutsideFlowIsASyntaxErrorNotALoop) {
   ExpectRefused(",", "line 1, column 1: YAML syntax error: unexpected ','");

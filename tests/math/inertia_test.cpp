@@ -60,7 +60,7 @@ TEST(InertiaTest, RejectsNonFinite) {
   ExpectRejected(J, "rule: finite");
 }
 
-// Issue 10: |entries| above 1e30 kg m^2 would overflow M^2 and the energies.
+// An entry above 1e30 kg m^2 in magnitude would overflow M^2 and the energies: rejected.
 TEST(InertiaTest, RejectsHugeEntries) {
   ExpectRejected(Vec3(1e31, 1e31, 1e31).asDiagonal(), "rule: |entry| <= 1e+30 kg m^2");
   EXPECT_EQ(InertiaTensor::Check(Vec3(1e30, 1e30, 1e30).asDiagonal()), "");

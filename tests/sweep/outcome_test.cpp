@@ -162,7 +162,7 @@ TEST_F(SweepDirTest, FinalMotionOfRigidBodies) {
   EXPECT_GT(i1.max_spin_axis_angle, 3.0);  // a flip turns the axis over (~pi)
 }
 
-// ---- Horizon-independent outcomes (issue 9) ----
+// ---- Horizon-independent outcomes: the same verdict whatever the run's length ----
 
 // The separatrix distance and the predicted time between flips, against the closed form
 // evaluated independently (FreeBodySolution of the initial state: a rigid body keeps D),
@@ -354,7 +354,7 @@ grid:
   }
 }
 
-// ---- Hinge profiles (issue 9) ----
+// ---- Hinge profiles: the outcome-only run against the sampled mission ----
 
 // The outcome-only hinge run against the sampled mission of the same case: the latch
 // columns against the mission's own hinge events, the horizon-independent columns against

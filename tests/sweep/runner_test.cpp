@@ -300,7 +300,7 @@ TEST_F(SweepDirTest, KilledSweepResumesWithoutRepeatingOrLosingCases) {
   ExpectSameCases(ReadSweepResults(reference), ReadSweepResults(out));
 }
 
-// Issue 10: the destination was found unusable only after every case had run; it is
+// The destination was found unusable only after every case had run; it is
 // checked first (no case runs), and --threads is capped at kMaxThreads.
 TEST_F(SweepDirTest, DestinationAndThreadsAreCheckedBeforeAnyCase) {
   const SweepSpec spec = LoadSweep(Write("s.yaml", SweepText(2, 2)));

@@ -214,7 +214,7 @@ TEST_F(SweepDirTest, TheExampleSweepLoads) {
   EXPECT_EQ(spec.grid.size(), 2u);
 }
 
-// ---- Hinge profiles (issue 9) ----
+// ---- Hinge profiles ----
 
 TEST_F(SweepDirTest, HingeParametersAreApplied) {
   const SweepSpec spec = LoadSweep(Write("s.yaml", HingeHeader() + R"(
@@ -522,7 +522,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "0}\n",
                  "outcome.tumble_angle_deg = 0: must be in (0, 90) [deg]"},
         BadSweep{"YamlSyntax", "grid: [\n", "YAML syntax error"},
-        // Hinge profiles (issue 9): parameters that do not apply, values out of range.
+        // Hinge profiles: parameters that do not apply, values out of range.
         BadSweep{"StageParameterOnHingeBase",
                  HingeHeader() + "grid:\n  - {parameter: law, values: [linear]}\n",
                  "grid[0].parameter = law: law applies to stage profiles (`stages:`); the base ",
@@ -627,7 +627,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "integrator.method = rkf78: the base " + SpringProfile() +
                      " has free hinges: free hinges need a Lie-group method (rule: one of ",
                  true},
-        // Hostile input (issue 10).
+        // Hostile input.
         BadSweep{"BaseIsADevice", "name: t\nbase: /dev/zero\n",
                  "base = /dev/zero: cannot read /dev/zero: is a character device, not a regular "
                  "file",

@@ -28,7 +28,7 @@ PY = "/usr/bin/python3"
 
 # Named tolerances and limits.
 INERTIA_REL_TOL = 1e-12      # drawn boxes vs /J_B (measured 3e-16: the same formulas)
-MAX_PAGE_BYTES = 5_000_000   # issue 12: the main job's page under 5 MB
+MAX_PAGE_BYTES = 5_000_000   # the main job's page under 5 MB
 # The 2 s opening target is a benchmark row (bench/pages_bench.py), not a timed test.
 MIN_CHANGED_FRACTION = 0.02  # of the pixels around the body between two times
 MIN_SCENE_STDDEV = 0.02      # grey-level spread of a scene that is not blank (0..1)
