@@ -69,6 +69,7 @@ start=$(date +%s)
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
   -DDEPLOYSIM_FUZZ=ON "-DDEPLOYSIM_SANITIZERS=address;undefined" \
+  "-DDEPLOYSIM_SANITIZERS_EXCLUDE=alignment;null" \
   -DDEPLOYSIM_WARNINGS_AS_ERRORS=ON -DDEPLOYSIM_BUILD_TESTS=OFF -DDEPLOYSIM_BUILD_BENCH=OFF \
   "-DDEPLOYSIM_SKIP_MODULES=crosscheck;cli" -DDEPLOYSIM_WITH_MPI=OFF >/dev/null
 cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}" >"$build/build.log" 2>&1 ||

@@ -28,7 +28,9 @@
 #include <array>
 // GCC 12 reports false -W(maybe-)uninitialized inside odeint's stepper copy constructors.
 #pragma GCC diagnostic push
+#if !defined(__clang__)  // clang has no -Wmaybe-uninitialized
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #include <boost/numeric/odeint.hpp>
 #pragma GCC diagnostic pop
