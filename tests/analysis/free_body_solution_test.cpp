@@ -427,8 +427,8 @@ constexpr long double kReferenceTolLong = 1e-16L;
 /// double is a software quad). Case i is in shard (i + i / 8) % 8: a kind's sign pattern
 /// and tensor form cycle with i % 8 and i / 8, so that a shard holds each kind in (nearly)
 /// every sign pattern and both forms; shard 0 in every one, and it is the shard that the
-/// qemu and sanitizer steps run (tests/long_runs.txt). Each shard draws the same random numbers for its cases as one
-/// pass over all cases would.
+/// qemu and sanitizer steps run (tests/long_runs.txt). Each shard draws the same random numbers for
+/// its cases as one pass over all cases would.
 constexpr int kRandomCaseShards = 8;
 class RandomCasesShard : public ::testing::TestWithParam<int> {};
 
