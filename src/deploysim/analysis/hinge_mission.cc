@@ -78,7 +78,7 @@ constexpr double kProjectionReach = 4.0;
 
 /// What a located event of a segment is.
 struct EventTag {
-  enum class What { kHinge, kFlip, kCross45, kExtremum };
+  enum class What { kHinge, kFlip, kCross45, kSeparatrix, kExtremum };
   What what = What::kFlip;
   HingeEvent::Kind kind = HingeEvent::Kind::kLatch;  ///< kHinge: latch, jam or stop.
   int a = 0;                                         ///< kHinge: index in the free set.
@@ -142,6 +142,14 @@ class HingeRun {
   void OpenPhase(const RunSample& start);
   bool ReleasesDue();
   double NextChange() const;
+  /// [s] the time a hinge held at a steady rate (a motor-held rotor) turns once at t; 0
+  /// if none turns (the fastest if several).
+  double RotorPeriod(double t) const;
+  /// The free hinges (free order) that can turn without bound: free rotors (no spring,
+  /// stops, latch, damper, friction or motor).
+  std::vector<int> WindingHinges() const;
+  /// Their axes in B: a panel's on the hub, NaN for a deeper one (its axis moves).
+  std::vector<math::Vec3> WindingAxes() const;
   SegmentEnd FreeSegment(double t_next);
   SegmentEnd RigidSegment(double t_next);
   void FreeEvents(std::vector<integrators::ShapeEventFunction>& events,
@@ -613,6 +621,11 @@ void HingeRun::FreeEvents(std::vector<integrators::ShapeEventFunction>& events,
                       return SpinAxis45GapRate(s, y.H_B, h_dot(y));
                     }});
   tags.push_back({EventTag::What::kCross45});
+  events.push_back(
+      {"separatrix",
+       [this](const integrators::ShapeState& y) { return SeparatrixGap(SnapOf(y).J_B, y.H_B); }, 0,
+       false, options_.refine_events});
+  tags.push_back({EventTag::What::kSeparatrix});
 }
 
 // Free hinges: the shape integrator, to t_next or the first latch / jam / stop. The
@@ -720,6 +733,8 @@ SegmentEnd HingeRun::FreeSegment(double t_next) {
       rec_.CandidateFlip(e.t, sys_.Snap(e.t, e.state.H_B, e.state.x).J_B, e.state.H_B);
     } else if (tag.what == EventTag::What::kCross45) {
       rec_.Crossing45(e.t);
+    } else if (tag.what == EventTag::What::kSeparatrix) {
+      rec_.SeparatrixCrossing(e.t, e.direction);
     }
   }
   if (Stopped(r.termination, r.message)) return SegmentEnd::kStopped;
@@ -926,7 +941,52 @@ void HingeRun::OpenPhase(const RunSample& start) {
   const Eigen::VectorXd x = sys_.ShapeState(start.t, start.H_B, start.theta, start.theta_dot);
   Eigen::VectorXd y(3 + x.size());
   y << start.H_B, x;
-  rec_.SetSteadySpin(LinearizeSteadySpin(FlowOf(sys_, start.t, 0.5 * (start.t + t1_)), y));
+  // The phase lasts to the next window boundary of a prescribed hinge (beyond the run's
+  // end too: a rotor held through the run is one phase however short the run).
+  const std::vector<double> later = sys_.Breakpoints(start.t, 1e300);
+  const double length =
+      later.empty() ? std::numeric_limits<double>::infinity() : later.front() - start.t;
+  rec_.SetSteadySpin(LinearizeSteadySpin(
+      FlowOf(sys_, start.t, length, RotorPeriod(start.t), WindingHinges(), WindingAxes()), y));
+}
+
+std::vector<math::Vec3> HingeRun::WindingAxes() const {
+  std::vector<math::Vec3> out;
+  const std::vector<int>& free = sys_.free_hinges();
+  for (int a : WindingHinges()) {
+    const model::Panel& p = body_.panels[static_cast<std::size_t>(free[a])];
+    out.push_back(p.parent < 0 ? p.hinge_axis_B
+                               : math::Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
+  }
+  return out;
+}
+
+double HingeRun::RotorPeriod(double t) const {
+  double rate = 0.0;
+  for (const HingePlan& p : plans_) {
+    if (p.kind != HingePlan::Kind::kPrescribed) continue;
+    for (const schedule::HingeMove& mv : p.moves) {
+      if (mv.kind == schedule::HingeMove::Kind::kRate && mv.t_begin <= t && t < mv.t_end)
+        rate = std::max(rate, std::abs(mv.rate));
+    }
+  }
+  constexpr double two_pi = 6.283185307179586477;
+  return rate > 0.0 ? two_pi / rate : 0.0;
+}
+
+std::vector<int> HingeRun::WindingHinges() const {
+  std::vector<int> out;
+  const std::vector<int>& free = sys_.free_hinges();
+  for (std::size_t a = 0; a < free.size(); ++a) {
+    const schedule::FreeDrive& d = plans_[static_cast<std::size_t>(free[a])].drive;
+    // A free rotor: nothing holds its angle or its rate (friction or a motor would stop or
+    // drive it: no steady motion to linearize about then).
+    if (d.spring.stiffness == 0.0 && d.spring.preload == 0.0 && !d.stops.any() &&
+        !d.latch.enabled && d.friction.torque == 0.0 && d.damping == 0.0 &&
+        d.motor.kind == schedule::Motor::Kind::kNone)
+      out.push_back(static_cast<int>(a));
+  }
+  return out;
 }
 
 MissionResult HingeRun::Run() {

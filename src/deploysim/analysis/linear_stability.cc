@@ -6,7 +6,9 @@
 #include <cmath>
 #include <limits>
 
+#include "deploysim/analysis/floquet.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/math/number_format.h"
 #include "deploysim/math/so3.h"
 #include "deploysim/schedule/free_hinge_system.h"
 
@@ -94,39 +96,60 @@ VectorXd StartingPoint(const ReducedFlow& flow, const VectorXd& y_guess) {
   return y;
 }
 
-/// Gauss-Newton on F(y) = 0 (cyclic angles' rows left out) and |H_B| = M.
+/// Levenberg-Marquardt (floquet.cc says why) on F(y) = 0 (cyclic angles' rows left out),
+/// |H_B| = M and the invariants c . y at their values at `reference` (the phase's state).
+/// `residual`: |F| alone.
 bool SolveEquilibrium(const ReducedFlow& flow,
                       const std::vector<int>& cyclic,
+                      const std::vector<VectorXd>& invariants,
+                      const VectorXd& reference,
                       double M,
                       VectorXd& y,
                       double& residual) {
   const int m = flow.free;
   const VectorXd scale = Scales(m, M);
   const std::vector<Eigen::Index> keep = Kept(m, cyclic);
+  const Eigen::Index rows = static_cast<Eigen::Index>(keep.size() + 1 + invariants.size());
   auto residuals = [&](const VectorXd& yy) {
     const VectorXd f = flow.rhs(yy);
-    VectorXd r(keep.size() + 1);
+    VectorXd r(rows);
     for (std::size_t i = 0; i < keep.size(); ++i) r[i] = f[keep[i]];
     r[keep.size()] = (yy.head<3>().squaredNorm() - M * M) / M;
+    for (std::size_t k = 0; k < invariants.size(); ++k)
+      r[keep.size() + 1 + k] = invariants[k].dot(yy - reference);
     return r;
   };
-  const VectorXd kept_scale = Pick(scale, keep);
+  // The unknowns: the kept coordinates but the cyclic angles' momenta, which the phase
+  // conserves (nothing depends on the angle): the steady spin of this phase has the
+  // phase's values of them, not those of another member of the family.
+  std::vector<Eigen::Index> vary;
+  for (Eigen::Index c : keep) {
+    const bool conserved = c >= 3 + m && std::find(cyclic.begin(), cyclic.end(),
+                                                   static_cast<int>(c - 3 - m)) != cyclic.end();
+    if (!conserved) vary.push_back(c);
+  }
+  const VectorXd kept_scale = Pick(scale, vary);
   for (int it = 0; it < 40; ++it) {
     const VectorXd r = residuals(y);
-    MatrixXd Jr(r.size(), keep.size());
-    for (std::size_t j = 0; j < keep.size(); ++j) {
-      const Eigen::Index c = keep[j];
+    MatrixXd Jr(r.size(), vary.size());
+    for (std::size_t j = 0; j < vary.size(); ++j) {
+      const Eigen::Index c = vary[j];
       const double h = 1e-6 * scale[c];
       VectorXd yp = y, ym = y;
       yp[c] += h;
       ym[c] -= h;
       Jr.col(static_cast<Eigen::Index>(j)) = (residuals(yp) - residuals(ym)) / (2.0 * h);
     }
-    const VectorXd du = Jr.colPivHouseholderQr().solve(-r);
-    for (std::size_t j = 0; j < keep.size(); ++j) y[keep[j]] += du[static_cast<Eigen::Index>(j)];
+    const double lambda = r.squaredNorm() / (M * M);
+    MatrixXd aug(Jr.rows() + Jr.cols(), Jr.cols());
+    aug << Jr, std::sqrt(lambda) * MatrixXd::Identity(Jr.cols(), Jr.cols());
+    VectorXd rhs_aug = VectorXd::Zero(aug.rows());
+    rhs_aug.head(r.size()) = -r;
+    const VectorXd du = aug.colPivHouseholderQr().solve(rhs_aug);
+    for (std::size_t j = 0; j < vary.size(); ++j) y[vary[j]] += du[static_cast<Eigen::Index>(j)];
     if ((du.array() / kept_scale.array()).abs().maxCoeff() < 1e-14) break;
   }
-  residual = residuals(y).norm();
+  residual = residuals(y).head(keep.size()).norm();
   return std::isfinite(residual);
 }
 
@@ -200,6 +223,262 @@ void QuasiRigid(const ReducedFlow& flow,
 
 }  // namespace
 
+namespace {
+
+/// The nutation mode and the verdict from out.modes (sorted here): the first mode, by
+/// largest real part, whose momentum share is at least a quarter of the largest.
+void PickNutationMode(SteadySpin& out, double neutral) {
+  std::sort(out.modes.begin(), out.modes.end(),
+            [](const SpinMode& a, const SpinMode& b) { return a.lambda.real() > b.lambda.real(); });
+  double share = 0.0;
+  for (const SpinMode& md : out.modes) share = std::max(share, md.momentum_share);
+  out.max_real = out.modes.empty() ? 0.0 : out.modes.front().lambda.real();
+  for (const SpinMode& md : out.modes) {
+    if (md.momentum_share >= 0.25 * share) {
+      out.growth_rate = md.lambda.real();
+      out.frequency = std::abs(md.lambda.imag());
+      break;
+    }
+  }
+  out.verdict = out.max_real > neutral    ? "unstable"
+                : out.max_real < -neutral ? "asymptotically stable"
+                                          : "neutrally stable";
+}
+
+/// The share of an eigenvector (scaled back to the coordinates' units) that tilts H_B
+/// away from the unit vector u.
+double MomentumShare(const Eigen::VectorXcd& v, const Vec3& u) {
+  const Eigen::Vector3cd vH = v.head<3>();
+  const Eigen::Vector3cd uc = u.cast<std::complex<double>>();
+  const Eigen::Vector3cd tilt = vH - uc * (uc.dot(vH));
+  return tilt.norm() / std::max(v.norm(), 1e-300);
+}
+
+/// The hub's spin at y.
+Vec3 HubRate(const ReducedFlow& flow, const VectorXd& y) {
+  Mat3 J;
+  Vec3 h_r;
+  flow.rigid(y, J, h_r);
+  return J.inverse() * (y.head<3>() - h_r);
+}
+
+/// [rad/s] the scale of the motion's rates: the hub's spin, or |H| over the mean moment
+/// where the hub hardly turns (a despun hub beside a spinning body).
+double RateScale(const ReducedFlow& flow, const VectorXd& y) {
+  Mat3 J;
+  Vec3 h_r;
+  flow.rigid(y, J, h_r);
+  return std::max(HubRate(flow, y).norm(), 3.0 * y.head<3>().norm() / J.trace());
+}
+
+/// A state near y where nothing is symmetric: H_B tilted by 0.1 rad, the angles by 0.1 rad
+/// (a time dependence that a symmetric state hides shows there).
+VectorXd GenericState(const VectorXd& y, int m) {
+  VectorXd g = y;
+  const Vec3 H = y.head<3>();
+  Vec3 side = H.unitOrthogonal();
+  side = (0.8 * side + 0.6 * H.normalized().cross(side)).normalized();
+  g.head<3>() = (H + 0.1 * H.norm() * side).normalized() * H.norm();
+  for (int a = 0; a < m; ++a) g[3 + a] += 0.1 * (a + 1);
+  return g;
+}
+
+enum class TimeDependence { kNone, kPeriodic, kOther };
+
+/// Whether F changes over the phase, and whether it repeats with flow.period.
+TimeDependence DependenceOnTime(const ReducedFlow& flow, const VectorXd& y, double M) {
+  if (!flow.rhs_time) return TimeDependence::kNone;
+  const VectorXd g = GenericState(y, flow.free);
+  const VectorXd f0 = flow.rhs_time(0.0, g);
+  const double tol = 1e-9 * (f0.norm() + M * HubRate(flow, g).norm());
+  const double span = std::isfinite(flow.phase_length) ? flow.phase_length : 1e4;
+  bool changes = false;
+  for (double frac : {0.37, 0.71}) {
+    const double tau = frac * (flow.period > 0.0 ? std::min(flow.period, span) : span);
+    changes = changes || (flow.rhs_time(tau, g) - f0).norm() > tol;
+  }
+  if (!changes) return TimeDependence::kNone;
+  if (!(flow.period > 0.0) || flow.period > flow.phase_length) return TimeDependence::kOther;
+  for (double frac : {0.0, 0.37}) {
+    const double tau = frac * flow.period;
+    if ((flow.rhs_time(tau + flow.period, g) - flow.rhs_time(tau, g)).norm() > tol)
+      return TimeDependence::kOther;
+  }
+  return TimeDependence::kPeriodic;
+}
+
+/// The momenta of the winding hinges that the flow conserves: c . y = u . H_B - p_a (the
+/// system's momentum about the rotor's axis u less the rotor side's own: the momentum of
+/// the body it turns against, conserved when that body is symmetric about u and nothing
+/// else turns on it), kept where F conserves it at a generic state.
+std::vector<VectorXd> RotorInvariants(const ReducedFlow& flow, const VectorXd& y) {
+  std::vector<VectorXd> out;
+  const int m = flow.free;
+  const VectorXd g = GenericState(y, m);
+  const VectorXd f = flow.rhs(g);
+  for (std::size_t k = 0; k < flow.winding.size() && k < flow.winding_axes.size(); ++k) {
+    const int a = flow.winding[k];
+    VectorXd c = VectorXd::Zero(3 + 2 * m);
+    c.head<3>() = flow.winding_axes[k];
+    c[3 + m + a] = -1.0;
+    if (std::abs(c.dot(f)) <= 1e-10 * f.norm()) out.push_back(c);
+  }
+  return out;
+}
+
+/// The Floquet modes of the periodic orbit through y (an autonomous one if `rotor` >= 0,
+/// the free hinge whose angle advances 2 pi per period; else F repeats with flow.period).
+SteadySpin PeriodicSpin(
+    const ReducedFlow& flow, const VectorXd& y, const VectorXd& phase_state, double M, int rotor) {
+  SteadySpin out;
+  out.motion = "periodic";
+  const int m = flow.free;
+  const Eigen::Index n = 3 + 2 * m;
+  OrbitProblem p;
+  p.scale = Scales(m, M);
+  p.advance = VectorXd::Zero(n);
+  p.momentum = M;
+  p.fastest = HubRate(flow, y).norm();
+  p.reference = phase_state;
+  p.invariants = RotorInvariants(flow, phase_state);
+  if (rotor >= 0) {
+    const double turn = flow.rhs(y)[3 + rotor];
+    p.rhs = [&flow](double, const VectorXd& yy) { return flow.rhs(yy); };
+    p.advance[3 + rotor] = turn > 0.0 ? 2.0 * kPi : -2.0 * kPi;
+    p.period_guess = 2.0 * kPi / std::abs(turn);
+    p.phase = 3 + rotor;
+  } else {
+    p.rhs = flow.rhs_time;
+    p.period_guess = flow.period;
+    p.period_fixed = true;
+  }
+  p.fastest = std::max(p.fastest, 2.0 * kPi / p.period_guess);
+  const PeriodicOrbit orbit = SolvePeriodicOrbit(p, y);
+  out.residual = orbit.residual;
+  out.period = orbit.period;
+  out.y = orbit.y0;
+  if (!orbit.found || !(orbit.residual <= kSolutionResidual)) {
+    out.reason = orbit.found ? "no periodic motion found near the phase's state (residual " +
+                                   math::FormatSignificant(orbit.residual, 3) + ")"
+                             : orbit.reason;
+    return out;
+  }
+  out.w_B = HubRate(flow, out.y);
+  Eigen::EigenSolver<MatrixXd> es(orbit.monodromy);
+  if (es.info() != Eigen::Success) {
+    out.reason = "the eigenvalue solver did not converge";
+    return out;
+  }
+  const Vec3 u = out.y.head<3>() / M;
+  const double T = orbit.period;
+  // The multipliers 1 that the orbit's symmetries put there: along the orbit (an
+  // autonomous one), |H|, each rotor invariant. They are the ones nearest 1 (a defective
+  // pair splits under the monodromy's error by ~1e-5).
+  const std::size_t ones = (rotor >= 0 ? 1 : 0) + 1 + p.invariants.size();
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(es.eigenvalues().size()));
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
+  std::sort(order.begin(), order.end(), [&es](Eigen::Index a, Eigen::Index b) {
+    return std::abs(es.eigenvalues()[a] - 1.0) < std::abs(es.eigenvalues()[b] - 1.0);
+  });
+  for (std::size_t k = std::min(ones, order.size()); k < order.size(); ++k) {
+    const std::complex<double> mu = es.eigenvalues()[order[k]];
+    const Eigen::VectorXcd v =
+        es.eigenvectors().col(order[k]).cwiseQuotient(p.scale.cast<std::complex<double>>());
+    out.modes.push_back({std::log(mu) / T, MomentumShare(v, u)});
+  }
+  const double rate = RateScale(flow, out.y);
+  PickNutationMode(out, 1e-7 * rate);
+  out.quasi_rigid_rate = kNaN;  // the textbook estimate needs a steady spin
+  out.rigid_frequency = kNaN;
+  out.found = true;
+  return out;
+}
+
+/// The relative equilibrium near y (cyclic angles left out) and its eigenvalues; the
+/// `invariants` (RotorInvariants) held at the phase's state's values.
+SteadySpin SteadyModes(const ReducedFlow& flow,
+                       const std::vector<int>& cyclic,
+                       const std::vector<VectorXd>& invariants,
+                       const VectorXd& phase_state,
+                       double M,
+                       VectorXd y) {
+  SteadySpin out;
+  out.motion = "steady";
+  const int m = flow.free;
+  // The invariants held where the equations allow it: a rotor at rest on the hub (turning
+  // with it) keeps them only by turning slowly (the phase is then periodic with a period
+  // far beyond any use), and the steady spin nearest the phase's state is taken instead.
+  VectorXd held = y;
+  double held_residual = 0.0;
+  const bool with =
+      !invariants.empty() &&
+      SolveEquilibrium(flow, cyclic, invariants, phase_state, M, held, held_residual) &&
+      held_residual <= kSolutionResidual * M * RateScale(flow, held);
+  if (with) {
+    y = held;
+    out.residual = held_residual;
+  } else if (!SolveEquilibrium(flow, cyclic, {}, phase_state, M, y, out.residual)) {
+    out.reason = "no steady spin found near the phase's state";
+    return out;
+  }
+  out.y = y;
+  out.w_B = HubRate(flow, y);
+  const double rate = RateScale(flow, y);
+  out.residual /= M * rate;
+  if (!(out.residual <= kSolutionResidual)) {
+    out.reason = "no steady spin found near the phase's state (residual " +
+                 math::FormatSignificant(out.residual, 3) + ")";
+    return out;
+  }
+  const std::vector<Eigen::Index> keep = Kept(m, cyclic);
+  const MatrixXd A = Jacobian(flow, y, Scales(m, M));
+  Eigen::EigenSolver<MatrixXd> es(Sub(A, keep, keep));
+  if (es.info() != Eigen::Success) {
+    out.reason = "the eigenvalue solver did not converge";
+    return out;
+  }
+  const Vec3 u = y.head<3>() / M;
+  const VectorXd scale = Pick(Scales(m, M), keep);
+  // The zero eigenvalues that symmetries and conserved quantities put there: |H|, each
+  // cyclic angle's momentum, and for each other rotor invariant its value and the angle
+  // of the rotor (turning the rotor and what rides it is another steady spin). They are
+  // the ones nearest 0 (a defective pair splits under the Jacobian's error by ~1e-6).
+  const std::size_t zeros = 1 + cyclic.size() + 2 * invariants.size();
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(es.eigenvalues().size()));
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
+  std::sort(order.begin(), order.end(), [&es](Eigen::Index a, Eigen::Index b) {
+    return std::abs(es.eigenvalues()[a]) < std::abs(es.eigenvalues()[b]);
+  });
+  for (std::size_t k = std::min(zeros, order.size()); k < order.size(); ++k) {
+    const std::complex<double> lam = es.eigenvalues()[order[k]];
+    const Eigen::VectorXcd v =
+        es.eigenvectors().col(order[k]).cwiseQuotient(scale.cast<std::complex<double>>());
+    out.modes.push_back({lam, MomentumShare(v, u)});
+  }
+  PickNutationMode(out, 1e-7 * rate);  // the Jacobian's own error is ~1e-12 relative
+  QuasiRigid(flow, A, keep, out);
+  out.found = true;
+  return out;
+}
+
+/// The free hinge that turns as a rotor and that F depends on (a damper rides it): its
+/// index in free order, -1 if none; -2 if several do (their angles' motion is not one
+/// period).
+int TurningRotor(const ReducedFlow& flow, const VectorXd& y, const std::vector<int>& cyclic) {
+  const double w = HubRate(flow, y).norm();
+  const VectorXd f = flow.rhs(y);
+  int found = -1;
+  for (int a : flow.winding) {
+    if (std::find(cyclic.begin(), cyclic.end(), a) != cyclic.end()) continue;
+    if (!(std::abs(f[3 + a]) > 1e-3 * w)) continue;
+    if (found >= 0) return -2;
+    found = a;
+  }
+  return found;
+}
+
+}  // namespace
+
 SteadySpin LinearizeSteadySpin(const ReducedFlow& flow, const VectorXd& y_guess) {
   SteadySpin out;
   const int m = flow.free;
@@ -210,82 +489,42 @@ SteadySpin LinearizeSteadySpin(const ReducedFlow& flow, const VectorXd& y_guess)
   }
   std::vector<int> cyclic = flow.cyclic;
   VectorXd y = StartingPoint(flow, y_guess);
-  if (flow.rhs_later &&
-      (flow.rhs_later(y) - flow.rhs(y)).norm() > 1e-9 * (flow.rhs(y).norm() + M)) {
-    out.reason = "the phase is not steady: a prescribed motion or a motor changes it in time";
+  const TimeDependence dep = DependenceOnTime(flow, y_guess, M);
+  if (dep == TimeDependence::kOther) {
+    out.reason =
+        "the phase is neither steady nor periodic: a prescribed motion or a motor changes it "
+        "in time";
     return out;
   }
+  if (dep == TimeDependence::kPeriodic) return PeriodicSpin(flow, y, y_guess, M, -1);
   if (cyclic.empty() && m > 0) {
     const MatrixXd A = Jacobian(flow, y, Scales(m, M));
     for (int a = 0; a < m; ++a) {
       if (A.col(3 + a).norm() <= 1e-12 * A.norm()) cyclic.push_back(a);
     }
   }
-  if (!SolveEquilibrium(flow, cyclic, M, y, out.residual)) {
-    out.reason = "no steady spin found near the phase's state";
+  const int rotor = TurningRotor(flow, y_guess, cyclic);
+  if (rotor == -2) {
+    out.reason = "two rotors turn and the motion depends on both angles: not periodic";
     return out;
   }
-  out.y = y;
-  out.w_B = Vec3::Zero();
-  {
-    Mat3 J;
-    Vec3 h_r;
-    flow.rigid(y, J, h_r);
-    out.w_B = J.inverse() * (y.head<3>() - h_r);
+  if (rotor >= 0) return PeriodicSpin(flow, y, y_guess, M, rotor);
+  // Rotor invariants of hinges that are not cyclic (cyclic ones hold their momentum).
+  std::vector<VectorXd> invariants;
+  for (const VectorXd& c : RotorInvariants(flow, y_guess)) {
+    int a = 0;
+    while (a < m && c[3 + m + a] == 0.0) ++a;
+    if (std::find(cyclic.begin(), cyclic.end(), a) == cyclic.end()) invariants.push_back(c);
   }
-  const double rate = out.w_B.norm() + M / 1e300;
-  out.residual /= M * rate;
-  if (out.residual > 1e-8) {
-    out.reason = "no steady spin found near the phase's state (residual " +
-                 std::to_string(out.residual) + ")";
-    return out;
-  }
-  if (flow.rhs_later && (flow.rhs_later(y) - flow.rhs(y)).norm() > 1e-9 * M * rate) {
-    out.reason = "the phase is not steady: a prescribed motion or a motor changes it in time";
-    return out;
-  }
-  const std::vector<Eigen::Index> keep = Kept(m, cyclic);
-  const MatrixXd A = Jacobian(flow, y, Scales(m, M));
-  const MatrixXd Ak = Sub(A, keep, keep);
-  Eigen::EigenSolver<MatrixXd> es(Ak);
-  if (es.info() != Eigen::Success) {
-    out.reason = "the eigenvalue solver did not converge";
-    return out;
-  }
-  const Vec3 u = y.head<3>() / M;
-  const VectorXd scale = Pick(Scales(m, M), keep);
-  for (Eigen::Index i = 0; i < es.eigenvalues().size(); ++i) {
-    const std::complex<double> lam = es.eigenvalues()[i];
-    if (std::abs(lam) <= kNeutralRate * rate) continue;  // |H|, a rotor's momentum
-    const Eigen::VectorXcd v =
-        es.eigenvectors().col(i).cwiseQuotient(scale.cast<std::complex<double>>());
-    const Eigen::Vector3cd vH = v.head<3>();
-    const Eigen::Vector3cd tilt =
-        vH - u.cast<std::complex<double>>() * (u.cast<std::complex<double>>().dot(vH));
-    out.modes.push_back({lam, tilt.norm() / std::max(v.norm(), 1e-300)});
-  }
-  std::sort(out.modes.begin(), out.modes.end(),
-            [](const SpinMode& a, const SpinMode& b) { return a.lambda.real() > b.lambda.real(); });
-  double share = 0.0;
-  for (const SpinMode& md : out.modes) share = std::max(share, md.momentum_share);
-  out.max_real = out.modes.empty() ? 0.0 : out.modes.front().lambda.real();
-  for (const SpinMode& md : out.modes) {  // the first (largest real part) that tilts H_B
-    if (md.momentum_share >= 0.25 * share) {
-      out.growth_rate = md.lambda.real();
-      out.frequency = std::abs(md.lambda.imag());
-      break;
-    }
-  }
-  const double neutral = 1e-7 * rate;  // the Jacobian's own error is ~1e-12 relative
-  out.verdict = out.max_real > neutral    ? "unstable"
-                : out.max_real < -neutral ? "asymptotically stable"
-                                          : "neutrally stable";
-  QuasiRigid(flow, A, keep, out);
-  out.found = true;
-  return out;
+  return SteadyModes(flow, cyclic, invariants, y_guess, M, y);
 }
 
-ReducedFlow FlowOf(const schedule::FreeHingeSystem& sys, double t, double t_later) {
+ReducedFlow FlowOf(const schedule::FreeHingeSystem& sys,
+                   double t,
+                   double length,
+                   double period,
+                   std::vector<int> winding,
+                   std::vector<Vec3> winding_axes) {
   ReducedFlow f;
   const int m = sys.free_count();
   f.free = m;
@@ -300,8 +539,11 @@ ReducedFlow FlowOf(const schedule::FreeHingeSystem& sys, double t, double t_late
     return out;
   };
   f.rhs = [rhs_at, t](const VectorXd& y) { return rhs_at(t, y); };
-  if (t_later != t)
-    f.rhs_later = [rhs_at, t_later](const VectorXd& y) { return rhs_at(t_later, y); };
+  f.rhs_time = [rhs_at, t](double tau, const VectorXd& y) { return rhs_at(t + tau, y); };
+  f.phase_length = length;
+  f.period = period;
+  f.winding = std::move(winding);
+  f.winding_axes = std::move(winding_axes);
   f.sink_power = [&sys, t, m](const VectorXd& y) {
     const schedule::FreeHingeSystem::Powers p = sys.Snap(t, y.head<3>(), y.tail(2 * m)).powers;
     return p.damper + p.friction;

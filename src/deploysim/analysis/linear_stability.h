@@ -47,15 +47,26 @@ struct ReducedFlow {
   int free = 0;  ///< m, the free hinges
   /// y' = F(y).
   std::function<Eigen::VectorXd(const Eigen::VectorXd& y)> rhs;
-  /// F at another time (empty: F does not depend on time): the steady spin exists only
-  /// where the two agree.
-  std::function<Eigen::VectorXd(const Eigen::VectorXd& y)> rhs_later;
+  /// F at time tau from the phase's start (empty: F does not depend on time). Where it
+  /// does, the steady motion is periodic if F repeats with `period`, and none otherwise.
+  std::function<Eigen::VectorXd(double tau, const Eigen::VectorXd& y)> rhs_time;
+  /// [s] how long the phase lasts (+inf: to the run's end or beyond): F is probed inside it.
+  double phase_length = 0.0;
+  /// [s] > 0: a hinge held at a steady rate by its drive turns once in this time (a
+  /// motor-held rotor); F that depends on time may repeat with it.
+  double period = 0.0;
   /// The power of the sinks (dampers, friction) at y [W] (<= 0); empty: no sink.
   std::function<double(const Eigen::VectorXd& y)> sink_power;
   /// J_B [kg m^2] and the rotors' momentum h_r [kg m^2/s] at y (the quasi-rigid body).
   std::function<void(const Eigen::VectorXd& y, math::Mat3& J_B, math::Vec3& h_r)> rigid;
   /// Free hinges whose angle is cyclic (rotors), in free order; found when empty.
   std::vector<int> cyclic;
+  /// Free hinges that can turn without bound (no spring, no stops, no latch: a free
+  /// rotor), in free order. One that turns and is not cyclic (a damper rides it) makes
+  /// the steady motion periodic: its angle advances 2 pi per period.
+  std::vector<int> winding;
+  /// Each winding hinge's axis in B (empty: unknown, its axis moves in B).
+  std::vector<math::Vec3> winding_axes;
 };
 
 /// One mode of small motions about the steady spin.
@@ -66,14 +77,22 @@ struct SpinMode {
   double momentum_share = 0.0;
 };
 
-/// The steady spin and its linear stability.
+/// The steady motion and its linear stability.
 struct SteadySpin {
   bool found = false;
-  std::string reason;                   ///< why there is none (found false)
-  Eigen::VectorXd y;                    ///< the relative equilibrium (H_B, theta_f, p_f)
+  std::string reason;  ///< why there is none (found false)
+  /// "steady" (at rest in the hub's frame: a relative equilibrium) or "periodic" (a
+  /// periodic orbit in the hub's frame, floquet.h).
+  std::string motion;
+  double period = 0.0;  ///< [s] periodic: the orbit's period
+  Eigen::VectorXd y;    ///< the relative equilibrium (H_B, theta_f, p_f); periodic: y(0)
   math::Vec3 w_B = math::Vec3::Zero();  ///< [rad/s] the hub's spin there
-  double residual = 0.0;                ///< |F(y*)| relative to |H| |w| (cyclic angles left out)
-  std::vector<SpinMode> modes;          ///< every non-zero eigenvalue, largest real part first
+  /// How well y solves the equations: steady, |F(y*)| relative to |H| |w| (cyclic angles
+  /// left out); periodic, the return's miss (floquet.h).
+  double residual = 0.0;
+  /// Every non-zero eigenvalue, largest real part first; periodic: the Floquet exponents
+  /// ln(mu) / T (imaginary part modulo 2 pi / T), the multipliers 1 (the flow, |H|) left out.
+  std::vector<SpinMode> modes;
   /// The nutation mode: the mode that tilts H_B with the largest real part (the one the
   /// nutation envelope follows). Its growth rate [1/s] (> 0 unstable) and frequency
   /// [rad/s] (0 for a divergent, non-oscillating mode, as about an intermediate axis).
@@ -92,15 +111,29 @@ struct SteadySpin {
   double rigid_frequency = 0.0;
 };
 
-/// The relative equilibrium of `flow` near `y_guess` and its modes. y_guess: a state of
-/// the phase (H_B is turned onto the principal axis of the held body nearest it).
+/// The largest relative residual of a steady or periodic motion that is taken as a
+/// solution: beyond it there is no linear verdict (the linearization would be about a
+/// state that is not a motion of the phase).
+inline constexpr double kSolutionResidual = 1e-8;
+
+/// The steady motion of `flow` near `y_guess` and its modes. y_guess: a state of the
+/// phase (H_B is turned onto the principal axis of the held body nearest it). Steady
+/// where F does not depend on time and no winding hinge that F depends on turns; periodic
+/// where F repeats with flow.period or such a hinge turns (floquet.h); none otherwise.
 SteadySpin LinearizeSteadySpin(const ReducedFlow& flow, const Eigen::VectorXd& y_guess);
 
-/// The reduced flow of a hinge system's phase at time t (its free set as it is now);
-/// rhs_later at t_later (a time of the same phase).
+/// The reduced flow of a hinge system's phase from time t (its free set as it is now),
+/// lasting `length` [s]; `period`: see ReducedFlow; `winding`: the free hinges (free
+/// order) that can turn without bound, with their axes in B (empty where it moves).
 /// A phase that is not autonomous (a prescribed hinge moving in a way that changes the
-/// inertia, a motor whose torque depends on time) has no steady spin: reason says so.
-ReducedFlow FlowOf(const schedule::FreeHingeSystem& sys, double t, double t_later);
+/// inertia, a motor whose torque depends on time) and not periodic has no steady motion:
+/// reason says so.
+ReducedFlow FlowOf(const schedule::FreeHingeSystem& sys,
+                   double t,
+                   double length,
+                   double period,
+                   std::vector<int> winding,
+                   std::vector<math::Vec3> winding_axes);
 
 /// The reduced flow of a rigid body with inertia J_B and rotor momentum h_r (held).
 ReducedFlow FlowOf(const math::Mat3& J_B, const math::Vec3& h_r);

@@ -15,6 +15,34 @@ constexpr double kDegPerRad = 57.295779513082320877;
 std::string Deg(double rad) { return math::FormatSignificant(rad * kDegPerRad, 3) + " deg"; }
 std::string Sec(double s) { return math::FormatSignificant(s, 4) + " s"; }
 
+/// The first 45-degree crossing beside its linear prediction: measured (with how far off
+/// the prediction was), or predicted beyond the run (a lower bound: the linear growth runs
+/// ahead of the motion once the sink saturates); empty if neither.
+std::string FirstCrossingText(const MotionOutcome& o) {
+  const bool predicted = std::isfinite(o.predicted_45_time);
+  const std::string model = o.linear.motion == "periodic" ? "Floquet" : "linear";
+  if (std::isfinite(o.first_45_time)) {
+    const bool only = o.first_45_time == o.last_45_time;
+    std::string t =
+        (only ? "; 45 deg from h_N at " : "; first 45-degree crossing at ") + Sec(o.first_45_time);
+    if (predicted) {
+      const double span = o.first_45_time - o.phase_begin;
+      const double off = (o.predicted_45_time - o.first_45_time) / span;
+      t += " (the " + model + " growth predicts " + Sec(o.predicted_45_time) + ", " +
+           math::FormatSignificant(100.0 * std::abs(off), 2) + " % " +
+           (off < 0.0 ? "early" : "late") + ")";
+    }
+    return t;
+  }
+  if (!predicted) return "";
+  return "; 45 deg predicted by the " + model + " growth at " + Sec(o.predicted_45_time) +
+         (o.predicted_45_time > o.t_end
+              ? ", beyond the run (a lower bound: the linear growth runs ahead of the motion "
+                "once the sink saturates)"
+              : ", not reached by the run's end at " + Sec(o.t_end) +
+                    " (the linear growth runs ahead of the motion once the sink saturates)");
+}
+
 /// "+z (minor axis)".
 std::string AxisText(const std::string& axis, AxisRole role) {
   return axis + " (" + ToString(role) + " axis)";
@@ -86,30 +114,13 @@ double TimeConstant(double rate) {
 
 double ExponentialFit::time_constant() const { return TimeConstant(rate); }
 
-ExponentialFit FitEnvelope(const std::vector<EnvelopePeak>& peaks, double floor, double ceiling) {
-  // The longest stretch of consecutive peaks inside the band.
-  std::size_t best_begin = 0, best_end = 0;
-  for (std::size_t i = 0; i < peaks.size();) {
-    if (!(peaks[i].nu >= floor && peaks[i].nu <= ceiling)) {
-      ++i;
-      continue;
-    }
-    std::size_t j = i;
-    while (j < peaks.size() && peaks[j].nu >= floor && peaks[j].nu <= ceiling) ++j;
-    if (j - i > best_end - best_begin) best_begin = i, best_end = j;
-    i = j;
-  }
-  best_begin += (best_end - best_begin) / 4;  // the sink's own transient
+namespace {
+
+/// Least squares of ln nu = a + rate t over `used`.
+ExponentialFit FitLine(const std::vector<EnvelopePeak>& used) {
   ExponentialFit f;
-  if (best_end - best_begin < 4) return f;
-  std::size_t maxima = 0;
-  for (std::size_t i = best_begin; i < best_end; ++i) maxima += peaks[i].local_max ? 1 : 0;
-  const bool only_maxima = maxima >= 4 && 2 * maxima >= best_end - best_begin;
-  std::vector<EnvelopePeak> used;
-  for (std::size_t i = best_begin; i < best_end; ++i) {
-    if (!only_maxima || peaks[i].local_max) used.push_back(peaks[i]);
-  }
   const std::size_t n = used.size();
+  if (n < 3) return f;
   double st = 0.0, sy = 0.0;
   for (const EnvelopePeak& p : used) {
     st += p.t;
@@ -135,8 +146,66 @@ ExponentialFit FitEnvelope(const std::vector<EnvelopePeak>& peaks, double floor,
   f.nu_begin = std::exp(ym + f.rate * (f.t_begin - tm));
   f.nu_end = std::exp(ym + f.rate * (f.t_end - tm));
   f.points = static_cast<int>(n);
-  f.ceiling = ceiling;
   f.valid = true;
+  return f;
+}
+
+}  // namespace
+
+double FitStart(const SteadySpin& s, double phase_begin) {
+  if (!s.found) return -std::numeric_limits<double>::infinity();
+  double wait = 0.0;
+  for (const SpinMode& md : s.modes) {
+    const double gap = s.growth_rate - md.lambda.real();
+    if (gap > 0.0) wait = std::max(wait, std::log(1e4) / gap);
+  }
+  return phase_begin + wait;
+}
+
+ExponentialFit FitEnvelope(const std::vector<EnvelopePeak>& peaks,
+                           double floor,
+                           double ceiling,
+                           double t_start) {
+  // The longest stretch of consecutive peaks inside the band, from `from` on.
+  auto stretch = [&](double from, std::size_t& begin, std::size_t& end) {
+    begin = end = 0;
+    for (std::size_t i = 0; i < peaks.size();) {
+      if (!(peaks[i].t >= from && peaks[i].nu >= floor && peaks[i].nu <= ceiling)) {
+        ++i;
+        continue;
+      }
+      std::size_t j = i;
+      while (j < peaks.size() && peaks[j].nu >= floor && peaks[j].nu <= ceiling) ++j;
+      if (j - i > end - begin) begin = i, end = j;
+      i = j;
+    }
+  };
+  std::size_t best_begin = 0, best_end = 0;
+  stretch(t_start, best_begin, best_end);
+  if (best_end - best_begin < 4) {
+    // No decay time known (or too few peaks after it): the first quarter is the sink's
+    // own transient.
+    stretch(-std::numeric_limits<double>::infinity(), best_begin, best_end);
+    best_begin += (best_end - best_begin) / 4;
+  }
+  ExponentialFit f;
+  if (best_end - best_begin < 4) return f;
+  std::size_t maxima = 0;
+  for (std::size_t i = best_begin; i < best_end; ++i) maxima += peaks[i].local_max ? 1 : 0;
+  const bool only_maxima = maxima >= 4 && 2 * maxima >= best_end - best_begin;
+  std::vector<EnvelopePeak> used;
+  for (std::size_t i = best_begin; i < best_end; ++i) {
+    if (!only_maxima || peaks[i].local_max) used.push_back(peaks[i]);
+  }
+  f = FitLine(used);
+  if (!f.valid) return f;
+  f.ceiling = ceiling;
+  // The halves' difference: a bias the standard error does not show.
+  const auto half = static_cast<std::ptrdiff_t>(used.size() / 2);
+  const ExponentialFit a = FitLine({used.begin(), used.begin() + half});
+  const ExponentialFit b = FitLine({used.begin() + half, used.end()});
+  f.rate_uncertainty =
+      f.rate_sigma + (a.valid && b.valid ? std::abs(a.rate - b.rate) : std::abs(f.rate));
   return f;
 }
 
@@ -261,17 +330,18 @@ std::string Headline(const MotionOutcome& o) {
       break;
     case OutcomeClass::kTransition:
       h += o.outcome_name + ": the spin moves from " + start + " to " +
-           AxisText(o.axis_end, o.role_end) +
-           (std::isfinite(o.transition_time) ? ", 45 deg away at " + Sec(o.transition_time)
-                                             : std::string());
-      if (std::isfinite(o.predicted_45_time)) {
-        h += " (the linear growth, time constant " + Sec(TimeConstant(o.linear.growth_rate)) +
-             ", predicts " + Sec(o.predicted_45_time) + ")";
+           AxisText(o.axis_end, o.role_end);
+      if (std::isfinite(o.separatrix_time)) {
+        h += ", across the separatrix at " + Sec(o.separatrix_time);
+      } else if (std::isfinite(o.last_45_time) && o.last_45_time != o.first_45_time) {
+        h += ", last 45-degree crossing at " + Sec(o.last_45_time);
       }
+      h += FirstCrossingText(o);
       break;
     case OutcomeClass::kGrowing:
       h += "unstable: the nutation about " + start + " grows from " + Deg(o.nutation_begin) +
-           " to " + Deg(o.nutation_end) + ", time constant " + Sec(f.time_constant());
+           " to " + Deg(o.nutation_end) + ", time constant " + Sec(f.time_constant()) +
+           FirstCrossingText(o);
       break;
     case OutcomeClass::kDecaying:
       h += "stable: the nutation about " + start + " decays from " + Deg(o.nutation_begin) +
@@ -285,10 +355,7 @@ std::string Headline(const MotionOutcome& o) {
       if (o.linear.found && o.linear.verdict == "unstable") {
         h += "no growth seen yet about " + start + ": the nutation stays within " +
              Deg(o.nutation_max) + " in the run, but the linearization says unstable (time " +
-             "constant " + Sec(TimeConstant(o.linear.growth_rate)) + ")" +
-             (std::isfinite(o.predicted_45_time)
-                  ? ": 45 deg predicted at " + Sec(o.predicted_45_time)
-                  : std::string());
+             "constant " + Sec(TimeConstant(o.linear.growth_rate)) + ")" + FirstCrossingText(o);
       } else {
         h += "steady spin about " + start + ", nutation bounded by " + Deg(o.nutation_max);
       }
@@ -325,6 +392,7 @@ std::string FitJson(const ExponentialFit& f) {
       .Bool("valid", f.valid)
       .Num("rate", f.rate)
       .Num("rate_sigma", f.rate_sigma)
+      .Num("rate_uncertainty", f.rate_uncertainty)
       .Num("time_constant", f.time_constant())
       .Num("t_begin", f.t_begin)
       .Num("t_end", f.t_end)
@@ -345,6 +413,9 @@ std::string LinearJson(const SteadySpin& s) {
   return JsonObject()
       .Bool("found", s.found)
       .Str("reason", s.reason)
+      .Str("motion", s.motion)
+      .Num("period", s.motion == "periodic" ? s.period : std::numeric_limits<double>::quiet_NaN())
+      .Num("residual", s.residual)
       .Str("verdict", s.verdict)
       .Num("growth_rate", s.growth_rate)
       .Num("time_constant", TimeConstant(s.growth_rate))
@@ -381,6 +452,7 @@ std::string OutcomeJson(const MotionOutcome& o) {
       .Str("role_end", ToString(o.role_end))
       .Str("role_phase", ToString(o.role_phase))
       .Num("phase_begin", o.phase_begin)
+      .Num("t_end", o.t_end)
       .Num("nutation_begin", o.nutation_begin)
       .Num("nutation_end", o.nutation_end)
       .Num("nutation_max", o.nutation_max)
@@ -388,6 +460,9 @@ std::string OutcomeJson(const MotionOutcome& o) {
       .Num("flips", o.flips)
       .Num("flip_interval", o.flip_interval)
       .Num("transition_time", o.transition_time)
+      .Num("separatrix_time", o.separatrix_time)
+      .Num("first_45_time", o.first_45_time)
+      .Num("last_45_time", o.last_45_time)
       .Num("predicted_45_time", o.predicted_45_time)
       .Num("time_to_tumble", o.time_to_tumble)
       .Raw("time_to_tumble_measured", o.time_to_tumble_measured ? "true" : "false")

@@ -87,9 +87,13 @@ double TimeConstant(double rate);
 
 /// An exponential fit of an envelope: nu ~ exp(rate t).
 struct ExponentialFit {
-  bool valid = false;                   ///< at least 4 peaks in the band
-  double rate = 0.0;                    ///< [1/s]
-  double rate_sigma = 0.0;              ///< [1/s] standard error of the slope
+  bool valid = false;       ///< at least 4 peaks in the band
+  double rate = 0.0;        ///< [1/s]
+  double rate_sigma = 0.0;  ///< [1/s] standard error of the slope
+  /// [1/s] what the rate is known to: rate_sigma plus the difference of the rates fitted
+  /// on the two halves of the stretch (a bias that the standard error does not show: a
+  /// mode not yet decayed, the nutation leaving the linear band).
+  double rate_uncertainty = 0.0;
   double t_begin = 0.0, t_end = 0.0;    ///< [s] the fitted stretch
   double nu_begin = 0.0, nu_end = 0.0;  ///< [rad] the fit's values there
   int points = 0;
@@ -104,13 +108,23 @@ struct ExponentialFit {
   double time_constant() const;
 };
 
-/// The fit over `peaks` within [floor, ceiling] (see the file comment). Where the stretch
-/// holds at least 4 local maxima and they are at least half its points, the fit takes
-/// them only: a window that ends before the nutation's next maximum (a period longer than
-/// the window) gives its end, a point below the envelope.
+/// The fit over `peaks` within [floor, ceiling] (see the file comment), from `t_start` on:
+/// the time from which the other modes of the linearization have decayed below the
+/// nutation mode (FitStart); -inf where it is not known, and then the first quarter of
+/// the stretch is left out instead (or where fewer than 4 peaks lie after t_start). Where
+/// the stretch holds at least 4 local maxima and they are at least half its points, the
+/// fit takes them only: a window that ends before the nutation's next maximum (a period
+/// longer than the window) gives its end, a point below the envelope.
 ExponentialFit FitEnvelope(const std::vector<EnvelopePeak>& peaks,
                            double floor = kFitFloor,
-                           double ceiling = kFitCeiling);
+                           double ceiling = kFitCeiling,
+                           double t_start = -std::numeric_limits<double>::infinity());
+
+/// [s] the time after `phase_begin` from which every other mode of `s` that decays
+/// relative to the nutation mode (real part below its growth rate) is 1e-4 of it, had
+/// they started alike: ln(1e4) / (growth_rate - rate_k) for the slowest of them.
+/// -inf without a linearization.
+double FitStart(const SteadySpin& s, double phase_begin);
 
 /// The outcome classes, most severe first.
 enum class OutcomeClass {
@@ -153,11 +167,20 @@ struct MotionOutcome {
   /// have turned a minor axis into the intermediate one).
   AxisRole role_phase = AxisRole::kDegenerate;
   double phase_begin = 0.0;  ///< [s] start of the final phase (the fits' window)
+  double t_end = 0.0;        ///< [s] the run's end
   double nutation_begin = 0.0, nutation_end = 0.0, nutation_max = 0.0;  ///< [rad] the phase's
   ExponentialFit trend;  ///< of the final phase's envelope
   int flips = 0;         ///< in the final phase
-  double flip_interval = std::numeric_limits<double>::quiet_NaN();    ///< [s] mean
-  double transition_time = std::numeric_limits<double>::quiet_NaN();  ///< [s]
+  double flip_interval = std::numeric_limits<double>::quiet_NaN();  ///< [s] mean
+  /// [s] a flat spin's: separatrix_time; another transition's: last_45_time.
+  double transition_time = std::numeric_limits<double>::quiet_NaN();
+  /// [s] the last rising crossing of the separatrix gap (run_recorder.h, SeparatrixGap)
+  /// in the final phase, for a flat spin; NaN otherwise.
+  double separatrix_time = std::numeric_limits<double>::quiet_NaN();
+  /// [s] the first and the last passage of the spin axis 45 deg from h_N in the final
+  /// phase (NaN: none).
+  double first_45_time = std::numeric_limits<double>::quiet_NaN();
+  double last_45_time = std::numeric_limits<double>::quiet_NaN();
   double max_excursion = 0.0;  ///< [rad] largest angle between the initial spin axis and h_N
   std::vector<DeploymentFault> faults;
   // The predictions for the final phase's steady spin.

@@ -1,5 +1,7 @@
 #include "deploysim/analysis/run_recorder.h"
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 
@@ -48,6 +50,18 @@ double SpinAxis45GapRate(const math::Vec3& spin_axis_B,
                          const math::Vec3& H_B,
                          const math::Vec3& Hdot_B) {
   return -spin_axis_B.dot(Hdot_B) / H_B.norm();
+}
+
+double SeparatrixGap(const math::Mat3& J_B, const math::Vec3& H_B) {
+  // An event function, evaluated several times per step: the 3x3 closed-form eigenvalues
+  // (~1e-15 relative here, far below what locates the crossing).
+  Eigen::SelfAdjointEigenSolver<math::Mat3> es;
+  es.computeDirect(J_B, Eigen::EigenvaluesOnly);
+  // The sorted moments are continuous in J_B, and so is the gap, also where two moments
+  // meet (a flat spin is named only where they are distinct: RunRecorder::FlatSpin).
+  const math::Vec3 I = es.eigenvalues();  // ascending
+  const double D = H_B.squaredNorm() / H_B.dot(J_B.llt().solve(H_B));
+  return D / I[1] - 1.0;
 }
 
 std::vector<integrators::EventFunction> RigidSpinAxisEvents(
@@ -296,10 +310,12 @@ MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
   o.axis_end = BodyAxisName(final_axis.axis_B);
   o.role_end = final_axis.role;
   o.phase_begin = phases_.back().start.t;
+  o.t_end = end.t;
   o.nutation_begin = nutation_begin_;
   o.nutation_end = nutation_end_;
   o.nutation_max = nutation_max_;
-  o.trend = FitEnvelope(envelope_.peaks());
+  o.trend = FitEnvelope(envelope_.peaks(), kFitFloor, kFitCeiling,
+                        FitStart(steady_, phases_.back().start.t));
   // A phase that starts with a large nutation (a deployment's own kick) has no peaks in
   // the small band: its trend up to 45 deg still tells growing from bounded.
   if (!o.trend.valid) o.trend = FitEnvelope(envelope_.peaks(), kFitFloor, std::acos(kCos45));
@@ -320,10 +336,18 @@ MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
   }
   const bool moved = AngleBetween(s_, end.H_B) > std::acos(kCos45) &&
                      AngleBetween(s_, final_axis.axis_B) > std::acos(kCos45);
+  for (double t : out.spin_axis_45_crossings) {
+    if (t < o.phase_begin) continue;
+    if (!std::isfinite(o.first_45_time)) o.first_45_time = t;
+    o.last_45_time = t;
+  }
   if (out.termination != integrators::Termination::kReachedEnd) {
     o.outcome = OutcomeClass::kIncomplete;
   } else if (o.flips >= 2) {
     o.outcome = OutcomeClass::kFlipping;
+  } else if (FlatSpin(o, end)) {
+    o.outcome = OutcomeClass::kTransition;
+    o.transition_time = o.separatrix_time;
   } else if (moved) {
     o.outcome = OutcomeClass::kTransition;
     if (!out.spin_axis_45_crossings.empty()) o.transition_time = out.spin_axis_45_crossings.back();
@@ -343,6 +367,26 @@ MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
   Predictions(o);
   o.headline = Headline(o);
   return o;
+}
+
+bool RunRecorder::FlatSpin(MotionOutcome& o, const RunSample& end) const {
+  if (o.role_phase != AxisRole::kMinor) return false;
+  if (end.h_rel_B.norm() > 1e-6 * end.H_B.norm()) return false;  // a rotor: D means another thing
+  if (!(SeparatrixGap(end.J_B, end.H_B) > 0.0)) return false;
+  const math::Vec3 I = math::PrincipalDecomposition(end.J_B).moments;
+  const double tol = kDegenerateMoments * I[2];
+  if (I[1] - I[0] <= tol || I[2] - I[1] <= tol) return false;  // no separatrix
+  double t = std::numeric_limits<double>::quiet_NaN();
+  for (const Crossing& c : separatrix_) {
+    if (c.t >= o.phase_begin && c.direction > 0) t = c.t;
+  }
+  if (!std::isfinite(t)) return false;
+  o.separatrix_time = t;
+  const math::PrincipalAxes pa = math::PrincipalDecomposition(end.J_B);
+  const math::Vec3 major = pa.axes.col(2);
+  o.axis_end = BodyAxisName(major.dot(end.H_B) >= 0.0 ? major : math::Vec3(-major));
+  o.role_end = AxisRole::kMajor;
+  return true;
 }
 
 void RunRecorder::TimeToTumble(MotionOutcome& o, const std::vector<double>& crossings_45) {

@@ -77,6 +77,13 @@ double SpinAxis45GapRate(const math::Vec3& spin_axis_B,
                          const math::Vec3& H_B,
                          const math::Vec3& Hdot_B);
 
+/// The separatrix gap D / I_int - 1: D = |H_B|^2 / (H_B . J_B^-1 H_B) = |H|^2 / (2 T), T
+/// the kinetic energy of the body frozen in its present shape (the sinks at rest), I_int
+/// the intermediate principal moment of J_B. Below 0 the rigid body's polhode circles the
+/// minor axis, above 0 the major one: an energy sink that drains T at constant |H| takes
+/// a minor-axis spin across 0 into a flat spin (where the three moments are distinct).
+double SeparatrixGap(const math::Mat3& J_B, const math::Vec3& H_B);
+
 /// The spin-axis event functions of a run on the rigid-body path (no free hinge), with
 /// their rates: the flip function (flip_rule.h) and the 45-degree gap.
 /// `inertia(t)`: the inertia sample at t (J_B, its rate, h_rel_B).
@@ -120,6 +127,8 @@ class RunRecorder {
   void CandidateFlip(double t, const math::Mat3& J_B, const math::Vec3& H_B);
   /// A located zero of SpinAxis45Gap.
   void Crossing45(double t) { crossings_45_.push_back(t); }
+  /// A located zero of SeparatrixGap, rising (+1) or falling (-1).
+  void SeparatrixCrossing(double t, int direction) { separatrix_.push_back({t, direction}); }
 
   /// An exact value of f = s . H_B / |H| (a start, a segment end, a located extremum).
   void SpinAxisCos(double f) { min_cos_ = std::min(min_cos_, f); }
@@ -164,6 +173,10 @@ class RunRecorder {
   MotionOutcome Outcome(const MissionResult& out) const;
   /// The rigid-body rule's verdict on the final phase and why the linearization differs.
   static void TimeToTumble(MotionOutcome& o, const std::vector<double>& crossings_45);
+  /// A flat spin by the energy: the final phase began about the minor axis, ends with the
+  /// separatrix gap above 0 and crossed it rising: its time, the axis from the polhode (the
+  /// major axis, signed by H_B). False otherwise.
+  bool FlatSpin(MotionOutcome& o, const RunSample& end) const;
   void Predictions(MotionOutcome& o) const;
 
   math::Vec3 s_;
@@ -185,6 +198,11 @@ class RunRecorder {
 
   std::vector<double> flips_;
   std::vector<double> crossings_45_;
+  struct Crossing {
+    double t;
+    int direction;
+  };
+  std::vector<Crossing> separatrix_;
   double min_cos_ = std::numeric_limits<double>::infinity();
 
   std::vector<Phase> phases_;
