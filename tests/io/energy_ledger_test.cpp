@@ -1,5 +1,5 @@
 // The energy ledger closes: E(t) = E(t0) + the work of every source, at every sample, for
-// every shipped profile and for a prescribed hinge moving through a latch (where the
+// every shipped profile (whose linear verdict, if any, is about a verified motion) and for a prescribed hinge moving through a latch (where the
 // drive's work, continuous and impulsive, is the term that is easy to get wrong).
 
 #include <gtest/gtest.h>
@@ -55,6 +55,18 @@ TEST_P(EnergyLedgerOfShippedProfile, Closes) {
   std::printf("%-34s ledger gap %.2e (rtol %.0e)\n", GetParam().c_str(), gap, p.integrator.rtol);
   // Measured at most 0.37 rtol (dual_spin_locked: 3.7e-12 at 1e-11).
   EXPECT_LE(gap, 2.0 * p.integrator.rtol) << path;
+  // No linear verdict from a state that is not a motion: the final phase's steady or
+  // periodic motion solves the equations (its residual stated), or there is none and the
+  // record says why.
+  const analysis::SteadySpin& lin = r.outcome.linear;
+  std::printf("%-34s linear: %s, residual %.2e%s%s\n", GetParam().c_str(),
+              lin.found ? lin.motion.c_str() : "none", lin.residual, lin.found ? "" : ": ",
+              lin.reason.c_str());
+  if (lin.found) {
+    EXPECT_LE(lin.residual, analysis::kSolutionResidual) << path;
+  } else {
+    EXPECT_FALSE(lin.reason.empty()) << path;
+  }
   // The end of the run: the result's ledger is the last sample's.
   EXPECT_NEAR(r.energy_final, r.energy_initial + r.work.sum(),
               2.0 * p.integrator.rtol * r.energy_initial)

@@ -535,7 +535,9 @@ grid:
   EXPECT_EQ(o.outcome, analysis::OutcomeClass::kBounded);
   EXPECT_EQ(o.headline.rfind("No growth seen yet about +y (intermediate axis)", 0), 0u)
       << o.headline;
-  EXPECT_NE(o.headline.find("45 deg predicted at"), std::string::npos) << o.headline;
+  EXPECT_NE(o.headline.find("45 deg predicted by the linear growth at"), std::string::npos)
+      << o.headline;
+  EXPECT_NE(o.headline.find("a lower bound"), std::string::npos) << o.headline;
   const CaseOutcome co = SimulateOutcome(c, spec.outcome);
   EXPECT_EQ(OutcomeName(co), "bounded");
   EXPECT_EQ(co.time_to_tumble_measured, 0);
