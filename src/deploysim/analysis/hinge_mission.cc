@@ -946,8 +946,10 @@ void HingeRun::OpenPhase(const RunSample& start) {
   const std::vector<double> later = sys_.Breakpoints(start.t, 1e300);
   const double length =
       later.empty() ? std::numeric_limits<double>::infinity() : later.front() - start.t;
-  rec_.SetSteadySpin(LinearizeSteadySpin(
-      FlowOf(sys_, start.t, length, RotorPeriod(start.t), WindingHinges(), WindingAxes()), y));
+  SteadySpin s = LinearizeSteadySpin(
+      FlowOf(sys_, start.t, length, RotorPeriod(start.t), WindingHinges(), WindingAxes()), y);
+  if (s.orbit_rotor >= 0) s.orbit_rotor_panel = sys_.free_hinges()[s.orbit_rotor];
+  rec_.SetSteadySpin(s);
 }
 
 std::vector<math::Vec3> HingeRun::WindingAxes() const {

@@ -364,6 +364,21 @@ SteadySpin PeriodicSpin(
     return out;
   }
   out.w_B = HubRate(flow, out.y);
+  out.orbit_slack = rotor >= 0 ? 1.0 / 16.0 : 0.0;
+  if (rotor >= 0) {
+    out.orbit_rotor = rotor;
+    out.orbit_rotor_angle = out.y[3 + rotor];
+    out.orbit_rotor_advance = p.advance[3 + rotor];
+  }
+  {
+    VectorXd yk = out.y;
+    const double dt = orbit.period / kOrbitPoints;
+    const int sub = std::max(1, orbit.steps / kOrbitPoints);
+    for (int k = 0; k < kOrbitPoints; ++k) {
+      out.orbit_axes.push_back(Vec3(yk.head<3>()).normalized());
+      yk = FlowMap(p.rhs, k * dt, yk, dt, sub);
+    }
+  }
   Eigen::EigenSolver<MatrixXd> es(orbit.monodromy);
   if (es.info() != Eigen::Success) {
     out.reason = "the eigenvalue solver did not converge";
@@ -554,6 +569,27 @@ ReducedFlow FlowOf(const schedule::FreeHingeSystem& sys,
     h_r = s.h_rel_B;
   };
   return f;
+}
+
+double AngleFromOrbit(const SteadySpin& s, double tau, const Vec3& H_B, double slack_share) {
+  const std::vector<Vec3>& curve = s.orbit_axes;
+  const long n = static_cast<long>(curve.size());
+  const Vec3 h = H_B.normalized();
+  const double x = tau / s.period * static_cast<double>(n);
+  const long k0 = static_cast<long>(std::floor(x));
+  const long slack = 1 + static_cast<long>(slack_share * static_cast<double>(n));
+  double best = std::numeric_limits<double>::infinity();
+  for (long k = k0 - slack; k <= k0 + slack; ++k) {
+    const Vec3& a = curve[static_cast<std::size_t>(((k % n) + n) % n)];
+    const Vec3& b = curve[static_cast<std::size_t>((((k + 1) % n) + n) % n)];
+    // The nearest point of the chord a-b (flat: the segment is short), then its angle.
+    const Vec3 d = b - a;
+    const double u =
+        d.squaredNorm() > 0.0 ? std::clamp((h - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+    const Vec3 p = (a + u * d).normalized();
+    best = std::min(best, std::atan2(p.cross(h).norm(), p.dot(h)));
+  }
+  return best;
 }
 
 double HeldNutationRate(const Mat3& J_B, const Vec3& h_r, const Vec3& H_B) {

@@ -93,6 +93,19 @@ struct SteadySpin {
   /// Every non-zero eigenvalue, largest real part first; periodic: the Floquet exponents
   /// ln(mu) / T (imaginary part modulo 2 pi / T), the multipliers 1 (the flow, |H|) left out.
   std::vector<SpinMode> modes;
+  /// Periodic: the direction of H_B along the orbit, at kOrbitPoints equal steps of one
+  /// period from y (the nutation is the angle from this closed curve; empty: steady).
+  std::vector<math::Vec3> orbit_axes;
+  /// The share of the period either side of the phase time (t - phase start) mod period
+  /// in which a state's orbit point is sought: 0 for a motion forced in time (the clock
+  /// is exact), 1/16 for a free rotor's orbit (the motion's phase settles at an offset).
+  double orbit_slack = 0.0;
+  /// A free rotor's orbit: the rotor's free-order index (-1: none) and its angle at y with
+  /// its advance per period (+-2 pi): the rotor's angle is the orbit's exact clock.
+  /// orbit_rotor_panel: its model panel index, filled by the run that knows it (-1: none).
+  int orbit_rotor = -1;
+  int orbit_rotor_panel = -1;
+  double orbit_rotor_angle = 0.0, orbit_rotor_advance = 0.0;
   /// The nutation mode: the mode that tilts H_B with the largest real part (the one the
   /// nutation envelope follows). Its growth rate [1/s] (> 0 unstable) and frequency
   /// [rad/s] (0 for a divergent, non-oscillating mode, as about an intermediate axis).
@@ -115,6 +128,15 @@ struct SteadySpin {
 /// solution: beyond it there is no linear verdict (the linearization would be about a
 /// state that is not a motion of the phase).
 inline constexpr double kSolutionResidual = 1e-8;
+
+/// The points SteadySpin::orbit_axes holds over one period: the polyline through them is
+/// within (2 pi / 1024)^2 / 8 = 5e-6 of the orbit's curve per radian of its cone.
+inline constexpr int kOrbitPoints = 1024;
+
+/// The nutation about a periodic orbit [rad]: the angle between H_B at phase time tau
+/// (from the orbit's start) and the orbit's curve of H_B directions (s.orbit_axes, a
+/// closed polyline, each segment taken flat) within `slack` of a period of the same phase.
+double AngleFromOrbit(const SteadySpin& s, double tau, const math::Vec3& H_B, double slack);
 
 /// The steady motion of `flow` near `y_guess` and its modes. y_guess: a state of the
 /// phase (H_B is turned onto the principal axis of the held body nearest it). Steady

@@ -132,7 +132,7 @@ void RunRecorder::Sample(const RunSample& s) {
   b.work_drive.push_back(s.work.drive);
   b.work_impacts.push_back(s.work.impacts);
   max_h_N_drift_ = std::max(max_h_N_drift_, (h_N - h_N0_).norm() / M_);
-  const double nu = AngleBetween(phase_axis_, s.H_B);
+  const double nu = Nutation(s.t, s.H_B, s.theta);
   envelope_.Add(s.t, nu);
   NutationValue(nu);
   const bool danger = LocateSpinAxis(principal_, s_).role == AxisRole::kIntermediate;
@@ -184,7 +184,26 @@ void RunRecorder::NutationValue(double nu) {
 // interpolant (H' = H x w seen in B): below 45 deg of g = -sin^2 nu = -|e x H|^2 / |H|^2,
 // g' = -2 (e x H).(e x H') / |H|^2 (free of the cancellation in cos nu at small nu);
 // beyond, of g = cos nu = e.H / |H|, g' = e.H' / |H|. A peak of nu is a minimum of g.
+double RunRecorder::Nutation(double t, const math::Vec3& H_B, const Eigen::VectorXd& theta) const {
+  if (steady_.orbit_axes.empty()) return AngleBetween(phase_axis_, H_B);
+  const int k = steady_.orbit_rotor_panel;
+  if (k >= 0 && k < theta.size()) {
+    // A free rotor's orbit: the rotor's angle is the clock (exact, where time drifts).
+    const double turns = (theta[k] - steady_.orbit_rotor_angle) / steady_.orbit_rotor_advance;
+    return AngleFromOrbit(steady_, (turns - std::floor(turns)) * steady_.period, H_B, 0.0);
+  }
+  return AngleFromOrbit(steady_, t - phases_.back().start.t, H_B, steady_.orbit_slack);
+}
+
 void RunRecorder::NutationStep(const AxisPoint& a, const AxisPoint& b) {
+  if (!steady_.orbit_axes.empty()) {
+    // About a periodic orbit: the steps' ends (no interpolant of the angle from a curve).
+    const double nu = Nutation(b.t, b.H_B, Eigen::VectorXd());
+    envelope_.AddPeak(b.t, nu);
+    nutation_max_ = std::max(nutation_max_, nu);
+    NutationValue(nu);
+    return;
+  }
   const double nu_b = AngleBetween(phase_axis_, b.H_B);
   const double nu45 = std::acos(kCos45);
   const bool small = nu_b < nu45 && AngleBetween(phase_axis_, a.H_B) < nu45;
@@ -239,7 +258,14 @@ void RunRecorder::SetSteadySpin(const SteadySpin& s) {
   // The envelope's windows at the nutation's own period where the linearization has it: a
   // sink coupled to the nutation detunes it from the held body's (OpenPhase), and windows
   // shorter than the period would take their ends, not a peak.
-  if (s.found && s.frequency > 0.0) {
+  // About a periodic orbit the nutation's magnitude is what the steady frame would show;
+  // its frequency is known modulo 2 pi / T, and its principal value (at most pi / T) gives
+  // windows of at least two periods.
+  if (s.found && s.motion == "periodic") {
+    constexpr double pi = 3.14159265358979323846;
+    const double f = s.frequency > 0.0 ? s.frequency : pi / s.period;
+    envelope_.Reset(std::min(2.0 * pi / f, (t1_ - t0_) / 64.0));
+  } else if (s.found && s.frequency > 0.0) {
     constexpr double two_pi = 6.283185307179586477;
     envelope_.Reset(std::min(two_pi / s.frequency, (t1_ - t0_) / 64.0));
   }
@@ -251,7 +277,8 @@ void RunRecorder::SetSteadySpin(const SteadySpin& s) {
 void RunRecorder::StartNutation() {
   nutation_samples_ = 0;
   nutation_max_ = 0.0;
-  NutationValue(AngleBetween(phase_axis_, phases_.back().start.H_B));
+  NutationValue(
+      Nutation(phases_.back().start.t, phases_.back().start.H_B, phases_.back().start.theta));
 }
 
 void RunRecorder::ClosePhase(const RunSample& end) { phase_ends_.push_back(end); }

@@ -212,6 +212,10 @@ class RunRecorder {
   // nearest H_B at its start).
   math::Vec3 phase_axis_ = math::Vec3::UnitZ();
   void NutationValue(double nu);
+  /// [rad] the nutation at (t, H_B, every hinge's angle or none): the angle from the
+  /// phase's axis, or from a periodic orbit's H_B at the same phase (its clock the time,
+  /// or a free rotor's angle where the sample has it).
+  double Nutation(double t, const math::Vec3& H_B, const Eigen::VectorXd& theta) const;
   void StartNutation();
   EnvelopeTracker envelope_;
   int nutation_samples_ = 0;
