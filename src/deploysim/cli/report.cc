@@ -224,19 +224,25 @@ std::string FormatOutcome(const analysis::MissionResult& r) {
       Num(o.nutation_end * kDeg), Num(o.nutation_max * kDeg), Num(o.max_excursion * kDeg));
   if (o.trend.valid) {
     t += fmt::format(
-        "  envelope fit{}: rate {} +- {} 1/s (time constant {} s) over {} peaks, {}..{} s\n",
+        "  envelope fit{}: rate {} +- {} 1/s (standard error {}; time constant {} s) over {} "
+        "peaks, {}..{} s\n",
         o.trend.ceiling > analysis::kFitCeiling ? " (nutation up to 45 deg: the trend, not a "
                                                   "linear rate)"
                                                 : "",
-        Num(o.trend.rate), Num(o.trend.rate_sigma), Num(o.trend.time_constant()), o.trend.points,
-        Num(o.trend.t_begin), Num(o.trend.t_end));
+        Num(o.trend.rate), Num(o.trend.rate_uncertainty), Num(o.trend.rate_sigma),
+        Num(o.trend.time_constant()), o.trend.points, Num(o.trend.t_begin), Num(o.trend.t_end));
   }
   if (o.linear.found) {
     t += fmt::format(
-        "  linear stability of the steady spin: {}; nutation mode rate {} 1/s (time constant "
-        "{} s), frequency {} rad/s",
+        "  linear stability of the {}: {}; nutation mode rate {} 1/s (time constant "
+        "{} s), frequency {} rad/s{}",
+        o.linear.motion == "periodic"
+            ? fmt::format("periodic motion (period {} s, Floquet, residual {})",
+                          Num(o.linear.period), Num(o.linear.residual))
+            : std::string("steady spin"),
         o.linear.verdict, Num(o.linear.growth_rate),
-        Num(analysis::TimeConstant(o.linear.growth_rate)), Num(o.linear.frequency));
+        Num(analysis::TimeConstant(o.linear.growth_rate)), Num(o.linear.frequency),
+        o.linear.motion == "periodic" ? " (modulo 2 pi / period)" : "");
     if (std::isfinite(o.linear.quasi_rigid_rate)) {
       t += fmt::format("; quasi-rigid estimate {} 1/s", Num(o.linear.quasi_rigid_rate));
     }
