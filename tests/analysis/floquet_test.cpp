@@ -230,7 +230,7 @@ TEST(FloquetTest, NoVerdictWithoutAMotion) {
 // Floquet rate), a despun rotor and cases 5 % from the boundary included, with a motor
 // holding the rotor and with a free bearing, the sign of the Floquet rate is the trend of
 // the run's nutation; every fit in the linear band agrees with the Floquet rate within its
-// stated uncertainty, and to 1e-3 where that uncertainty is 1e-3 or better.
+// stated uncertainty, and to 1e-3 where three times that is 1e-3 or better.
 TEST(FloquetTest, DamperOnARotorBoundaryHoldsInTheRuns) {
   const double w_p = 0.5;
   for (bool held : {true, false}) {
@@ -265,17 +265,17 @@ TEST(FloquetTest, DamperOnARotorBoundaryHoldsInTheRuns) {
       ASSERT_NE(c, OutcomeClass::kIncomplete) << "w_r " << w_r;
       EXPECT_EQ(c != OutcomeClass::kDecaying, sigma > 0.0) << "w_r " << w_r;
       if (!fit.valid || fit.ceiling > 0.1) continue;
-      // Every fit in the linear band within what it says it is known to (its uncertainty,
-      // and the band's own nonlinearity, ~nu^2: 1e-4 at 0.5 deg); where that is 1e-3 of
-      // the rate or better, to 1e-3.
+      // Every fit in the linear band within what it says it is known to (three times its
+      // uncertainty, and the band's own nonlinearity, ~nu^2: 1e-4 at 0.5 deg); where that
+      // is 1e-3 of the rate or better (the fit applies), to 1e-3.
       EXPECT_NEAR(fit.rate, sigma, 3.0 * fit.rate_uncertainty + 1e-4 * std::abs(sigma))
           << "w_r " << w_r;
-      if (fit.rate_uncertainty <= 1e-3 * std::abs(sigma)) {
+      if (3.0 * fit.rate_uncertainty <= 1e-3 * std::abs(sigma)) {
         ++fitted;
         EXPECT_NEAR(fit.rate, sigma, 1e-3 * std::abs(sigma)) << "w_r " << w_r;
       }
     }
-    EXPECT_GE(fitted, 1);
+    EXPECT_GE(fitted, 3);  // the despun rotor and the decays at 0.6 and 0.8 x (measured)
   }
 }
 

@@ -577,11 +577,20 @@ double AngleFromOrbit(const SteadySpin& s, double tau, const Vec3& H_B, double s
   const Vec3 h = H_B.normalized();
   const double x = tau / s.period * static_cast<double>(n);
   const long k0 = static_cast<long>(std::floor(x));
+  auto at = [&curve, n](long k) -> const Vec3& {
+    return curve[static_cast<std::size_t>(((k % n) + n) % n)];
+  };
+  if (slack_share == 0.0) {
+    // An exact clock: the orbit's point at this phase, interpolated (a projection onto
+    // the curve would drop the part of the nutation along it).
+    const Vec3 p = (at(k0) + (x - static_cast<double>(k0)) * (at(k0 + 1) - at(k0))).normalized();
+    return std::atan2(p.cross(h).norm(), p.dot(h));
+  }
   const long slack = 1 + static_cast<long>(slack_share * static_cast<double>(n));
   double best = std::numeric_limits<double>::infinity();
   for (long k = k0 - slack; k <= k0 + slack; ++k) {
-    const Vec3& a = curve[static_cast<std::size_t>(((k % n) + n) % n)];
-    const Vec3& b = curve[static_cast<std::size_t>((((k + 1) % n) + n) % n)];
+    const Vec3& a = at(k);
+    const Vec3& b = at(k + 1);
     // The nearest point of the chord a-b (flat: the segment is short), then its angle.
     const Vec3 d = b - a;
     const double u =

@@ -134,8 +134,9 @@ inline constexpr double kSolutionResidual = 1e-8;
 inline constexpr int kOrbitPoints = 1024;
 
 /// The nutation about a periodic orbit [rad]: the angle between H_B at phase time tau
-/// (from the orbit's start) and the orbit's curve of H_B directions (s.orbit_axes, a
-/// closed polyline, each segment taken flat) within `slack` of a period of the same phase.
+/// (from the orbit's start) and the orbit's H_B direction at that phase (s.orbit_axes,
+/// interpolated); with a `slack` > 0 (a clock that may lag), the nearest point of the
+/// closed polyline within that share of a period of the phase (each segment taken flat).
 double AngleFromOrbit(const SteadySpin& s, double tau, const math::Vec3& H_B, double slack);
 
 /// The steady motion of `flow` near `y_guess` and its modes. y_guess: a state of the
