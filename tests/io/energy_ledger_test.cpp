@@ -1,6 +1,7 @@
 // The energy ledger closes: E(t) = E(t0) + the work of every source, at every sample, for
-// every shipped profile (whose linear verdict, if any, is about a verified motion) and for a prescribed hinge moving through a latch (where the
-// drive's work, continuous and impulsive, is the term that is easy to get wrong).
+// every shipped profile (whose linear verdict, if any, is about a verified motion) and for a
+// prescribed hinge moving through a latch (where the drive's work, continuous and impulsive, is the
+// term that is easy to get wrong).
 
 #include <gtest/gtest.h>
 

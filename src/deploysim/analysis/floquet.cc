@@ -55,6 +55,24 @@ double SpectralRadius(const OrbitProblem& p, const VectorXd& y) {
 
 }  // namespace
 
+MatrixXd RichardsonJacobian(const std::function<VectorXd(const VectorXd&)>& g,
+                            const VectorXd& y,
+                            const VectorXd& scale) {
+  const Eigen::Index n = y.size();
+  MatrixXd A(g(y).size(), n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    auto diff = [&](double h) {
+      VectorXd yp = y, ym = y;
+      yp[j] += h;
+      ym[j] -= h;
+      return VectorXd((g(yp) - g(ym)) / (2.0 * h));
+    };
+    const double h = 1e-4 * scale[j];
+    A.col(j) = (4.0 * diff(0.5 * h) - diff(h)) / 3.0;
+  }
+  return A;
+}
+
 VectorXd FlowMap(const TimeRhs& f, double t0, const VectorXd& y0, double T, int steps) {
   const integrators::ButcherTableau& tab = integrators::Fehlberg78();
   const int s = tab.stages();
@@ -156,22 +174,10 @@ Shot Shoot(const OrbitProblem& p,
   return s;
 }
 
-/// dPhi_T/dy0: central differences of the flow map with one Richardson extrapolation.
+/// dPhi_T/dy0.
 MatrixXd Monodromy(const OrbitProblem& p, const VectorXd& y, double T, int steps) {
-  const Eigen::Index n = y.size();
-  MatrixXd out(n, n);
-  for (Eigen::Index j = 0; j < n; ++j) {
-    auto diff = [&](double h) {
-      VectorXd yp = y, ym = y;
-      yp[j] += h;
-      ym[j] -= h;
-      return VectorXd((FlowMap(p.rhs, 0.0, yp, T, steps) - FlowMap(p.rhs, 0.0, ym, T, steps)) /
-                      (2.0 * h));
-    };
-    const double h = 1e-4 * p.scale[j];
-    out.col(j) = (4.0 * diff(0.5 * h) - diff(h)) / 3.0;
-  }
-  return out;
+  return RichardsonJacobian([&](const VectorXd& y0) { return FlowMap(p.rhs, 0.0, y0, T, steps); },
+                            y, p.scale);
 }
 
 /// The gradients of the conserved quantities at an orbit (scaled): the left singular

@@ -28,6 +28,14 @@ namespace deploysim::analysis {
 /// y' = F(t, y), t from the phase's start [s].
 using TimeRhs = std::function<Eigen::VectorXd(double t, const Eigen::VectorXd& y)>;
 
+/// dg/dy at y by central differences with one Richardson extrapolation,
+/// D = (4 D(h/2) - D(h)) / 3 with h = 1e-4 of each coordinate's scale: error O(h^4) plus
+/// rounding ~ eps |g| / h (~1e-12 relative). The steady spin's Jacobian and the monodromy
+/// matrix are both this.
+Eigen::MatrixXd RichardsonJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& g,
+                                   const Eigen::VectorXd& y,
+                                   const Eigen::VectorXd& scale);
+
 /// y(t0 + T) from y(t0) = y0, in `steps` fixed Fehlberg 7(8) steps.
 Eigen::VectorXd FlowMap(
     const TimeRhs& f, double t0, const Eigen::VectorXd& y0, double T, int steps);

@@ -33,22 +33,9 @@ VectorXd Scales(int m, double M) {
   return s;
 }
 
-/// dF/dy by central differences with one Richardson extrapolation:
-/// D = (4 D(h/2) - D(h)) / 3, error O(h^4) plus rounding ~ eps |F| / h.
+/// dF/dy (floquet.h, RichardsonJacobian).
 MatrixXd Jacobian(const ReducedFlow& flow, const VectorXd& y, const VectorXd& scale) {
-  const Eigen::Index n = y.size();
-  MatrixXd A(n, n);
-  for (Eigen::Index j = 0; j < n; ++j) {
-    auto diff = [&](double h) {
-      VectorXd yp = y, ym = y;
-      yp[j] += h;
-      ym[j] -= h;
-      return VectorXd((flow.rhs(yp) - flow.rhs(ym)) / (2.0 * h));
-    };
-    const double h = 1e-4 * scale[j];
-    A.col(j) = (4.0 * diff(0.5 * h) - diff(h)) / 3.0;
-  }
-  return A;
+  return RichardsonJacobian(flow.rhs, y, scale);
 }
 
 /// Rows/columns kept: every coordinate but the cyclic angles.
