@@ -136,8 +136,16 @@ TEST(FloquetTest, RigidBodyMultipliersLieOnTheUnitCircle) {
       FreeBodySolution(math::InertiaTensor::FromMatrix(Mat3(I.asDiagonal())), Vec3(orbit.y0))
           .period(),
       1e-9 * orbit.period);
-  const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(orbit.monodromy).eigenvalues();
-  for (Eigen::Index i = 0; i < mu.size(); ++i) EXPECT_NEAR(std::abs(mu[i]), 1.0, 1e-6) << mu[i];
+  // The multiplier 1 of the energy and the flow's phase is defective (a neighbouring
+  // polhode has another period): a rounding error e splits it by sqrt(e), differently on
+  // each machine (measured 2.2e-6 under qemu-aarch64). The trace and the determinant
+  // (the flow keeps volume) see e itself.
+  const Eigen::MatrixXd& Mo = orbit.monodromy;
+  std::printf("tumbling: trace - 3 %.2e, det - 1 %.2e\n", Mo.trace() - 3.0, Mo.determinant() - 1.0);
+  EXPECT_NEAR(Mo.trace(), 3.0, 5e-11);        // measured -1.2e-11 (x86-64), 8.3e-12 (aarch64)
+  EXPECT_NEAR(Mo.determinant(), 1.0, 2e-11);  // measured -4.7e-13, 3.6e-12
+  const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(Mo).eigenvalues();
+  for (Eigen::Index i = 0; i < mu.size(); ++i) EXPECT_NEAR(std::abs(mu[i]), 1.0, 1e-5) << mu[i];
   // The steady spin about the minor axis (z: I = 5 is the major here; x, I = 2, the minor).
   const double M = 4.0, w = M / I[0];
   const double wn = w * std::sqrt((I[1] - I[0]) * (I[2] - I[0]) / (I[1] * I[2]));

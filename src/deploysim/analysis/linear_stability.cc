@@ -445,6 +445,8 @@ SteadySpin SteadyModes(const ReducedFlow& flow,
   // cyclic angle's momentum, and for each other rotor invariant its value and the angle
   // of the rotor (turning the rotor and what rides it is another steady spin). They are
   // the ones nearest 0 (a defective pair splits under the Jacobian's error by ~1e-6).
+  // Beyond them, a zero at rounding level is a neutral direction of the model itself (a
+  // slosh pendulum on the spin axis swings freely in the plane): no mode either.
   const std::size_t zeros = 1 + cyclic.size() + 2 * invariants.size();
   std::vector<Eigen::Index> order(static_cast<std::size_t>(es.eigenvalues().size()));
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
@@ -453,6 +455,7 @@ SteadySpin SteadyModes(const ReducedFlow& flow,
   });
   for (std::size_t k = std::min(zeros, order.size()); k < order.size(); ++k) {
     const std::complex<double> lam = es.eigenvalues()[order[k]];
+    if (std::abs(lam) <= kNeutralRate * rate) continue;
     const Eigen::VectorXcd v =
         es.eigenvectors().col(order[k]).cwiseQuotient(scale.cast<std::complex<double>>());
     out.modes.push_back({lam, MomentumShare(v, u)});
