@@ -108,6 +108,20 @@ schedule::Profile RotorDamperProfile(
   return p;
 }
 
+/// The profile started on the orbit `lin` found (its H_B at phase 0 tilted by nu0, the
+/// damper at its angle there, at rest relative to the rotor as on the orbit), so that the
+/// nutation mode starts at nu0 and the others are barely excited.
+schedule::Profile OnTheOrbit(schedule::Profile p, const SteadySpin& lin, double nu0) {
+  const Vec3 H = lin.y.head<3>();
+  const Vec3 across = H.cross(Vec3::UnitX()).normalized();
+  p.initial.w_NB_B.reset();
+  p.initial.H_B = Eigen::AngleAxisd(nu0, across) * H;
+  const Eigen::Index damper =
+      lin.y.size() == 5 ? 3 : 4;  // held: (H, damper); free: (H, rotor, damper)
+  p.model.configurations[0].hinge_angles[1] = lin.y[damper];
+  return p;
+}
+
 SteadySpin Linear(bool rotor_hub, bool held, double w_r, double w_p, double nu0 = 1e-4) {
   return RunMission(RotorDamperProfile(rotor_hub, held, w_r, w_p, nu0, 1e-3)).outcome.linear;
 }
@@ -143,7 +157,7 @@ TEST(FloquetTest, RigidBodyMultipliersLieOnTheUnitCircle) {
   const Eigen::MatrixXd& Mo = orbit.monodromy;
   std::printf("tumbling: trace - 3 %.2e, det - 1 %.2e\n", Mo.trace() - 3.0, Mo.determinant() - 1.0);
   EXPECT_NEAR(Mo.trace(), 3.0, 5e-11);        // measured -1.2e-11 (x86-64), 8.3e-12 (aarch64)
-  EXPECT_NEAR(Mo.determinant(), 1.0, 2e-11);  // measured -4.7e-13, 3.6e-12
+  EXPECT_NEAR(Mo.determinant(), 1.0, 5e-11);  // measured -1.7e-11
   const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(Mo).eigenvalues();
   for (Eigen::Index i = 0; i < mu.size(); ++i) EXPECT_NEAR(std::abs(mu[i]), 1.0, 1e-5) << mu[i];
   // The steady spin about the minor axis (z: I = 5 is the major here; x, I = 2, the minor).
@@ -237,8 +251,11 @@ TEST(FloquetTest, NoVerdictWithoutAMotion) {
 // across the rotor's spin through the stability boundary (found by bisection on the
 // Floquet rate), a despun rotor and cases 5 % from the boundary included, with a motor
 // holding the rotor and with a free bearing, the sign of the Floquet rate is the trend of
-// the run's nutation; every fit in the linear band agrees with the Floquet rate within its
-// stated uncertainty, and to 1e-3 where three times that is 1e-3 or better.
+// the run's nutation, and the rate fitted to the envelope is the Floquet rate of the run's
+// own orbit to 1e-3 in every case (measured within 2e-4), within its stated uncertainty.
+// Each run starts on the orbit with the nutation tilted by nu0 (OnTheOrbit): from the
+// craft's own start (H along the bearing) the nutation is 6.5e-3 rad from the orbit's
+// cone, and a growing one leaves the linear band before its partner mode has decayed.
 TEST(FloquetTest, DamperOnARotorBoundaryHoldsInTheRuns) {
   const double w_p = 0.5;
   for (bool held : {true, false}) {
@@ -252,38 +269,36 @@ TEST(FloquetTest, DamperOnARotorBoundaryHoldsInTheRuns) {
     const double boundary = 0.5 * (lo + hi);
     std::printf("%s rotor: boundary at %.8g rad/s (platform %.2g rad/s)\n", held ? "held" : "free",
                 boundary, w_p);
-    int fitted = 0;
+    double worst = 0.0;
     for (double f : {0.0, 0.6, 0.8, 0.95, 1.05, 1.2, 1.4, 3.0}) {
       const double w_r = f * boundary;
       const SteadySpin lin = Linear(false, held, w_r, w_p);
       ASSERT_TRUE(lin.found) << lin.reason;
-      const double sigma = lin.growth_rate;
-      // Growing from 5.7e-5 deg, decaying from 5.7e-3 deg: after the other modes have
-      // decayed (FitStart), five e-folds stay in the linear band (a decay is followed for
-      // at most 3000 s: 16 % at the slowest, enough to call it beyond doubt).
-      const double nu0 = sigma > 0.0 ? 1e-6 : 1e-4;
-      const double until = 30.0 + FitStart(lin, 0.0) + std::min(5.0 / std::abs(sigma), 3000.0);
-      const MissionResult r = RunMission(RotorDamperProfile(false, held, w_r, w_p, nu0, until));
+      // Growing from 1e-6 rad, decaying from 1e-4 rad: after the other modes have decayed
+      // (FitStart), five e-folds in the linear band, or 1200 s of a slow decay (at least
+      // 0.14 of an e-fold and 8 of the envelope's windows: enough to call it beyond doubt).
+      const double nu0 = lin.growth_rate > 0.0 ? 1e-6 : 1e-4;
+      const double until =
+          30.0 + FitStart(lin, 0.0) + std::min(5.0 / std::abs(lin.growth_rate), 1200.0);
+      schedule::Profile prof =
+          OnTheOrbit(RotorDamperProfile(false, held, w_r, w_p, nu0, until), lin, nu0);
+      const MissionResult r = RunMission(prof);
+      const double sigma = r.outcome.linear.growth_rate;  // the orbit through the run's start
       const ExponentialFit& fit = r.outcome.trend;
       std::printf("  w_r %.4g (%.2f x, %s): Floquet %+.6g 1/s, run %+.6g +- %.2g 1/s (%s)\n", w_r,
-                  f, lin.motion.c_str(), sigma, fit.rate, fit.rate_uncertainty,
+                  f, r.outcome.linear.motion.c_str(), sigma, fit.rate, fit.rate_uncertainty,
                   r.outcome.outcome_name.c_str());
       const OutcomeClass c = r.outcome.outcome;
       ASSERT_NE(c, OutcomeClass::kBounded) << "w_r " << w_r;
       ASSERT_NE(c, OutcomeClass::kIncomplete) << "w_r " << w_r;
-      EXPECT_EQ(c != OutcomeClass::kDecaying, sigma > 0.0) << "w_r " << w_r;
-      if (!fit.valid || fit.ceiling > 0.1) continue;
-      // Every fit in the linear band within what it says it is known to (three times its
-      // uncertainty, and the band's own nonlinearity, ~nu^2: 1e-4 at 0.5 deg); where that
-      // is 1e-3 of the rate or better (the fit applies), to 1e-3.
-      EXPECT_NEAR(fit.rate, sigma, 3.0 * fit.rate_uncertainty + 1e-4 * std::abs(sigma))
-          << "w_r " << w_r;
-      if (3.0 * fit.rate_uncertainty <= 1e-3 * std::abs(sigma)) {
-        ++fitted;
-        EXPECT_NEAR(fit.rate, sigma, 1e-3 * std::abs(sigma)) << "w_r " << w_r;
-      }
+      EXPECT_EQ(c != OutcomeClass::kDecaying, lin.growth_rate > 0.0) << "w_r " << w_r;
+      EXPECT_EQ(sigma > 0.0, lin.growth_rate > 0.0) << "w_r " << w_r;
+      ASSERT_TRUE(fit.valid && fit.ceiling < 0.1) << "w_r " << w_r;
+      EXPECT_NEAR(fit.rate, sigma, 3.0 * fit.rate_uncertainty) << "w_r " << w_r;
+      EXPECT_NEAR(fit.rate, sigma, 1e-3 * std::abs(sigma)) << "w_r " << w_r;
+      worst = std::max(worst, std::abs(fit.rate / sigma - 1.0));
     }
-    EXPECT_GE(fitted, 3);  // the despun rotor and the decays at 0.6 and 0.8 x (measured)
+    std::printf("  the fits within %.2g of the Floquet rates\n", worst);
   }
 }
 

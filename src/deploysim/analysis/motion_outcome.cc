@@ -51,12 +51,48 @@ std::string AxisText(const std::string& axis, AxisRole role) {
 }  // namespace
 
 void EnvelopeTracker::Reset(double window) {
+  mean_square_ = false;
   window_ = window;
   open_ = need_right_ = have_prev_ = false;
   peaks_.clear();
 }
 
+void EnvelopeTracker::ResetMeanSquare(double window) {
+  Reset(window);
+  mean_square_ = true;
+  window_samples_.clear();
+}
+
+void EnvelopeTracker::AddMeanSquare(double t, double nu) {
+  if (window_samples_.empty()) window_start_ = t;
+  window_samples_.push_back({t, nu});
+  while (t >= window_start_ + window_) {
+    // The window [a, a + L] is complete: trapezoids of w nu^2 and of w, w the Hann weight.
+    const double a = window_start_;
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = 1; i < window_samples_.size(); ++i) {
+      const EnvelopePeak& p = window_samples_[i - 1];
+      const EnvelopePeak& q = window_samples_[i];
+      if (p.t < a || q.t > a + window_) continue;
+      auto w = [a, this](double x) {
+        return 1.0 - std::cos(6.283185307179586 * (x - a) / window_);
+      };
+      const double h = 0.5 * (q.t - p.t);
+      num += h * (w(p.t) * p.nu * p.nu + w(q.t) * q.nu * q.nu);
+      den += h * (w(p.t) + w(q.t));
+    }
+    if (den > 0.0) peaks_.push_back({a + 0.5 * window_, std::sqrt(num / den), false});
+    window_start_ += 0.5 * window_;
+    std::size_t keep = 0;
+    while (keep + 1 < window_samples_.size() && window_samples_[keep + 1].t <= window_start_)
+      ++keep;
+    window_samples_.erase(window_samples_.begin(),
+                          window_samples_.begin() + static_cast<std::ptrdiff_t>(keep));
+  }
+}
+
 void EnvelopeTracker::Add(double t, double nu) {
+  if (mean_square_) return AddMeanSquare(t, nu);
   const EnvelopePeak p{t, nu};
   if (need_right_) {
     right_ = p;

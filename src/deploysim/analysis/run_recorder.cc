@@ -199,7 +199,7 @@ void RunRecorder::NutationStep(const AxisPoint& a, const AxisPoint& b) {
   if (!steady_.orbit_axes.empty()) {
     // About a periodic orbit: the steps' ends (no interpolant of the angle from a curve).
     const double nu = Nutation(b.t, b.H_B, Eigen::VectorXd());
-    envelope_.AddPeak(b.t, nu);
+    envelope_.Add(b.t, nu);
     nutation_max_ = std::max(nutation_max_, nu);
     NutationValue(nu);
     return;
@@ -258,13 +258,15 @@ void RunRecorder::SetSteadySpin(const SteadySpin& s) {
   // The envelope's windows at the nutation's own period where the linearization has it: a
   // sink coupled to the nutation detunes it from the held body's (OpenPhase), and windows
   // shorter than the period would take their ends, not a peak.
-  // About a periodic orbit the nutation's magnitude is what the steady frame would show;
-  // its frequency is known modulo 2 pi / T, and its principal value (at most pi / T) gives
-  // windows of at least two periods.
+  // About a periodic orbit the nutation's frequency is known modulo 2 pi / T, and its
+  // principal value (at most pi / T) gives windows of at least two periods; the envelope
+  // is the windows' mean square (EnvelopeTracker): one nutation period each, where it is
+  // at most 1/6 of the run (they overlap by half: at least 11 points; a shorter window
+  // leaves the nutation's 2 omega term in, measured 0.7 % of the rate).
   if (s.found && s.motion == "periodic") {
     constexpr double pi = 3.14159265358979323846;
     const double f = s.frequency > 0.0 ? s.frequency : pi / s.period;
-    envelope_.Reset(std::min(2.0 * pi / f, (t1_ - t0_) / 64.0));
+    envelope_.ResetMeanSquare(std::min(2.0 * pi / f, (t1_ - t0_) / 6.0));
   } else if (s.found && s.frequency > 0.0) {
     constexpr double two_pi = 6.283185307179586477;
     envelope_.Reset(std::min(two_pi / s.frequency, (t1_ - t0_) / 64.0));
