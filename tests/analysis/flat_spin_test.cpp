@@ -99,8 +99,10 @@ std::vector<Spinner> Cases() {
 }
 
 // Every spinner ends in a flat spin, named so, about the major axis (x), timed by the
-// separatrix crossing located as an event: within 1 % of the crossing measured on the
-// samples (measured: within 2e-4 of the time since the start).
+// separatrix crossing located as an event: within 1e-5 of the crossing measured on the
+// samples (measured 9e-8 to 2.9e-6; linear between samples 1/24 of a nutation period
+// apart). The runs end while the damper still swings about the major axis, as a user's
+// run of this length would: its momentum relative to the hub is no rotor's.
 TEST(FlatSpinTest, MinorAxisSpinnersCrossTheSeparatrixIntoAFlatSpin) {
   std::printf("%6s %5s %6s %12s %12s %10s %12s %12s\n", "mass", "spin", "spring", "separatrix",
               "measured", "rel", "first 45", "last 45");
@@ -109,9 +111,9 @@ TEST(FlatSpinTest, MinorAxisSpinnersCrossTheSeparatrixIntoAFlatSpin) {
     ASSERT_TRUE(probe.outcome.linear.found) << probe.outcome.linear.reason;
     const double sigma = probe.outcome.linear.growth_rate;
     ASSERT_GT(sigma, 0.0);
-    // To the separatrix the sink takes several times the linear extrapolation (it
-    // saturates); then some time about the major axis.
-    const double until = 12.0 * std::log(0.8 / 0.005) / sigma;
+    // To the separatrix the sink takes longer than the linear extrapolation (it saturates:
+    // measured 1.13 to 1.27 times it); then as long again about the major axis.
+    const double until = 2.0 * std::log(0.8 / 0.005) / sigma;
     const MissionResult r = RunMission(TriaxialProfile(c, 0.005, until));
     const MotionOutcome& o = r.outcome;
     const double measured = MeasuredSeparatrixTime(r.trajectory);
@@ -122,7 +124,7 @@ TEST(FlatSpinTest, MinorAxisSpinnersCrossTheSeparatrixIntoAFlatSpin) {
     EXPECT_EQ(o.axis_end.substr(1), "x") << o.headline;  // the major axis, either way
     EXPECT_EQ(o.role_end, AxisRole::kMajor);
     ASSERT_TRUE(std::isfinite(measured));
-    EXPECT_NEAR(o.separatrix_time, measured, 1e-2 * measured);
+    EXPECT_NEAR(o.separatrix_time, measured, 1e-5 * measured);
     EXPECT_EQ(o.transition_time, o.separatrix_time);
   }
 }

@@ -135,15 +135,18 @@ TEST(ShippedExamplesTest, MinorAxisSpinnerGoesFlat) {
   EXPECT_NEAR(FinalDOverMajor(r), 0.993, 0.0005);
   EXPECT_NEAR(r.energy_initial, 10.1, kQuotedTenth);
   EXPECT_NEAR(r.energy_final, 2.6, kQuotedTenth);
-  // The verdict is the motion's: a flat spin (minor -> major) at 211.8 s, which the
-  // linearization of the uncaged craft (time constant 35.43 s, the envelope's fit 35.45 s)
-  // predicts at 207.4 s from the 0.70-degree nutation.
+  // The verdict is the motion's: a flat spin (minor -> major), the separatrix crossed at
+  // 271.0 s; the spin axis 45 deg from h_N at 211.8 s, which the linearization of the
+  // uncaged craft (time constant 35.43 s, the envelope's fit 35.45 s) predicts at 207.4 s
+  // from the 0.70-degree nutation.
   const analysis::MotionOutcome& o = r.outcome;
   EXPECT_EQ(o.outcome, analysis::OutcomeClass::kTransition);
   EXPECT_EQ(o.outcome_name, "flat spin");
   EXPECT_EQ(o.role_start, analysis::AxisRole::kMinor);
   EXPECT_EQ(o.role_end, analysis::AxisRole::kMajor);
-  EXPECT_NEAR(o.transition_time, 211.8, kQuotedTenth);
+  EXPECT_NEAR(o.transition_time, 271.0, kQuotedTenth);
+  EXPECT_EQ(o.transition_time, o.separatrix_time);
+  EXPECT_NEAR(o.first_45_time, 211.8, kQuotedTenth);
   EXPECT_NEAR(o.predicted_45_time, 207.4, kQuotedTenth);
   EXPECT_EQ(o.linear.verdict, "unstable");
   EXPECT_NEAR(1.0 / o.linear.growth_rate, 35.43, kQuotedTime);
@@ -197,11 +200,13 @@ TEST(ShippedExamplesTest, DualSpinRotorStabilizesAndLockedRotorGoesFlat) {
             analysis::AxisRole::kMajor);
   EXPECT_NEAR(locked.energy_initial, 134.3, kQuotedTenth);
   EXPECT_NEAR(locked.energy_final, 38.3, kQuotedTenth);
-  // The verdict: unstable, a flat spin at 448.4 s; the linearization (time constant 141.0
-  // s) predicts it at 450.7 s.
+  // The verdict: unstable, a flat spin across the separatrix at 654.7 s; 45 deg from h_N at
+  // 448.4 s, which the linearization (time constant 141.0 s) predicts at 450.7 s.
   const analysis::MotionOutcome& lo = locked.outcome;
   EXPECT_EQ(lo.outcome_name, "flat spin");
-  EXPECT_NEAR(lo.transition_time, 448.4, kQuotedTenth);
+  EXPECT_NEAR(lo.transition_time, 654.7, kQuotedTenth);
+  EXPECT_EQ(lo.transition_time, lo.separatrix_time);
+  EXPECT_NEAR(lo.first_45_time, 448.4, kQuotedTenth);
   EXPECT_EQ(lo.linear.verdict, "unstable");
   EXPECT_NEAR(1.0 / lo.linear.growth_rate, 141.0, kQuotedTenth);
   EXPECT_NEAR(lo.predicted_45_time, 450.7, kQuotedTenth);

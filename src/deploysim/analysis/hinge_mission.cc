@@ -355,6 +355,7 @@ PhaseInfo HingeRun::Describe(double t) const {
       }
     }
   }
+  ph.rotor = !WindingHinges().empty() || RotorPeriod(t) > 0.0;
   if (!free_list.empty()) {
     ph.name = "free: " + free_list + (moving.empty() ? "" : "; moved: " + moving);
     ph.law = "free";

@@ -314,6 +314,7 @@ void StageRun::OnBoundary(const integrators::State& s, double t) {
     info.rigid = stage_rigid_[open_stage_];
     const integrators::State& start = t == t0_ ? y0_ : s;
     const dynamics::InertiaSample js = sched_.Evaluate(t, dynamics::Side::kRight);
+    info.rotor = js.h_rel_B.norm() > 0.0;
     rec_.OpenPhase(info, SampleOf(start, t, js));
     SteadySpin steady;
     steady.reason = "the inertia changes in this stage";

@@ -400,7 +400,9 @@ MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
 
 bool RunRecorder::FlatSpin(MotionOutcome& o, const RunSample& end) const {
   if (o.role_phase != AxisRole::kMinor) return false;
-  if (end.h_rel_B.norm() > 1e-6 * end.H_B.norm()) return false;  // a rotor: D means another thing
+  // A rotor: D means another thing. (A damper's swing is no rotor: after the crossing it
+  // still swings, so the momentum relative to the hub at the end says nothing.)
+  if (phases_.back().info.rotor) return false;
   if (!(SeparatrixGap(end.J_B, end.H_B) > 0.0)) return false;
   const math::Vec3 I = math::PrincipalDecomposition(end.J_B).moments;
   const double tol = kDegenerateMoments * I[2];

@@ -54,6 +54,9 @@ struct PhaseInfo {
   std::string law;           ///< "hold", a law's name, "prescribed", "free"
   bool rigid = false;        ///< J constant and h_rel = 0 throughout
   bool dissipative = false;  ///< energy dissipated continuously (dampers, friction)
+  /// A rotor turns in it (a free hinge that can turn without bound, a hinge held at a
+  /// steady rate, a rigid stage's rotor momentum): |H|^2 / 2T has no separatrix to cross.
+  bool rotor = false;
 };
 
 /// f = s . H_B / |H_B(0)| at the end of an accepted step, with its rate as the end of
