@@ -49,10 +49,7 @@ model::Model TriaxialModel(double m) {
   p.hinge_axis_B = Vec3::UnitY();
   p.com_offset_B = Vec3(kArm, 0.0, 0.0);
   md.hinged.panels.push_back(p);
-  model::Configuration c;
-  c.name = "initial";
-  c.hinge_angles = Eigen::VectorXd::Zero(1);
-  md.configurations = {c};
+  testing::SetInitialConfiguration(md);
   return md;
 }
 

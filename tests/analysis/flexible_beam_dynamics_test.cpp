@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "analysis/hinge_fixtures.h"
 #include "crosscheck/free_hinge_fixtures.h"
 #include "deploysim/analysis/mission.h"
 #include "deploysim/model/flexible_beam.h"
@@ -45,10 +46,7 @@ model::Model BeamOnHub(double hub_radius, const Vec3& axis, int segments, model:
   app = model::AddBeam(md.hinged, s, "test");
   md.hinged = model::ValidatedHingedBody(md.hinged, "test");
   md.appendages = {app};
-  model::Configuration c;
-  c.name = "initial";
-  c.hinge_angles = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(md.hinged.panels.size()));
-  md.configurations = {c};
+  testing::SetInitialConfiguration(md);
   return md;
 }
 
@@ -267,10 +265,7 @@ schedule::Profile MinorAxisBooms(const SinkCase& c, double until, double* size =
     md.appendages.push_back(model::AddBeam(md.hinged, s, "test"));
   }
   md.hinged = model::ValidatedHingedBody(md.hinged, "test");
-  model::Configuration cf;
-  cf.name = "initial";
-  cf.hinge_angles = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(md.hinged.panels.size()));
-  md.configurations = {cf};
+  testing::SetInitialConfiguration(md);
   if (size != nullptr) {
     // The booms' moment about the spin axis over the hub's (straight, about B's origin).
     const double m = c.mass_per_length;

@@ -66,10 +66,7 @@ model::Model RotorDamperCraft(bool rotor_hub) {
     damper.parent = 0;
   }
   md.hinged.panels = {bearing, damper};
-  model::Configuration c;
-  c.name = "initial";
-  c.hinge_angles = Eigen::VectorXd::Zero(2);
-  md.configurations = {c};
+  testing::SetInitialConfiguration(md);
   return md;
 }
 

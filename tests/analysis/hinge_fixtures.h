@@ -15,6 +15,15 @@ namespace deploysim::testing {
 
 inline constexpr double kDeg = M_PI / 180.0;
 
+/// The configuration "initial" of a hinged model, every hinge at 0 (one angle per panel),
+/// as its only configuration.
+inline void SetInitialConfiguration(model::Model& md) {
+  model::Configuration c;
+  c.name = "initial";
+  c.hinge_angles = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(md.hinged.panels.size()));
+  md.configurations = {c};
+}
+
 /// models/smallsat.yaml: 85 kg hub, two 6 kg wings hinged along y; closed 90 deg, open 0.
 inline model::Model SmallsatModel() {
   model::Model m;

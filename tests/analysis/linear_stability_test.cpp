@@ -86,10 +86,7 @@ model::Model SpinnerModel(double m) {
   p.hinge_axis_B = Vec3::UnitY();
   p.com_offset_B = Vec3(0.3, 0.0, 0.0);
   md.hinged.panels.push_back(p);
-  model::Configuration c;
-  c.name = "initial";
-  c.hinge_angles = Eigen::VectorXd::Zero(1);
-  md.configurations = {c};
+  testing::SetInitialConfiguration(md);
   return md;
 }
 
@@ -211,10 +208,7 @@ model::Model DualSpinModel(const DualSpin& d) {
   p.hinge_axis_B = Vec3::UnitY();
   p.com_offset_B = Vec3(0.3, 0.0, 0.0);
   md.hinged.panels = {c, p};
-  model::Configuration cf;
-  cf.name = "initial";
-  cf.hinge_angles = Eigen::VectorXd::Zero(2);
-  md.configurations = {cf};
+  testing::SetInitialConfiguration(md);
   return md;
 }
 

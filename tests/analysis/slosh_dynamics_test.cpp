@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "analysis/hinge_fixtures.h"
 #include "crosscheck/free_hinge_fixtures.h"
 #include "deploysim/analysis/mission.h"
 #include "deploysim/model/mass_properties.h"
@@ -45,10 +46,7 @@ model::Model PendulumOnHub(double r, double hub_inertia) {
   s.damping = 0.0;
   md.appendages = {model::AddSlosh(md.hinged, s, "test")};
   md.hinged = model::ValidatedHingedBody(md.hinged, "test");
-  model::Configuration c;
-  c.name = "initial";
-  c.hinge_angles = Eigen::VectorXd::Zero(2);
-  md.configurations = {c};
+  testing::SetInitialConfiguration(md);
   return md;
 }
 
