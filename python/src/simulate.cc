@@ -77,7 +77,7 @@ py::dict EventColumns(const analysis::MissionResult& r) {
     time.push_back(e.t);
     panel.push_back(e.panel);
     kind.append(analysis::ToString(e.kind));
-    name.append(r.profile.model.hinged.panels.at(static_cast<std::size_t>(e.panel)).name);
+    name.append(r.profile().model.hinged.panels.at(static_cast<std::size_t>(e.panel)).name);
     angle.push_back(e.angle);
     before.push_back(e.rate_before);
     after.push_back(e.rate_after);
@@ -102,7 +102,7 @@ py::dict EventColumns(const analysis::MissionResult& r) {
 }
 
 py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
-  const schedule::Profile& p = r.profile;
+  const schedule::Profile& p = r.profile();
   const bool geometry = p.mode == schedule::Mode::kGeometry;
   py::dict d;
   d["trajectory"] = std::move(samples).ToDict();
@@ -150,15 +150,15 @@ py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
   d["max_spin_axis_angle"] = r.max_spin_axis_angle;
   d["final_time"] = r.final_state.t;
   d["final_J_B"] = Mat(r.final_J_B);
-  d["profile"] = r.profile;
+  d["profile"] = r.profile();
   // The verdict as the trajectory file and `analyze --json` hold it (JSON, parsed in
   // Python), and the profile's input warnings.
   d["outcome_json"] = analysis::OutcomeJson(r.outcome);
-  d["warnings"] = schedule::ProfileWarnings(r.profile);
+  d["warnings"] = schedule::ProfileWarnings(r.profile());
   // The body as the run moved it (the file's @body; appendages expanded): None for a
   // tensors model.
-  d["body_json"] = r.profile.model.kind == model::ModelKind::kHinged
-                       ? py::object(py::str(io::BodyJson(r.profile.model)))
+  d["body_json"] = r.profile().model.kind == model::ModelKind::kHinged
+                       ? py::object(py::str(io::BodyJson(r.profile().model)))
                        : py::object(py::none());
   return d;
 }

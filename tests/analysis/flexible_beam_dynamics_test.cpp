@@ -196,7 +196,7 @@ TEST(FlexibleBeamDynamics, AllModesAreTheWholeChain) {
   // The chain's bending hinges are released at the start, one event each; the modal
   // coordinates move from the start without one.
   std::vector<HingeEvent> chain_events;
-  const std::vector<int>& bending = chain.profile.model.appendages[0].hinges;
+  const std::vector<int>& bending = chain.profile().model.appendages[0].hinges;
   for (const HingeEvent& e : chain.hinge_events) {
     if (std::find(bending.begin(), bending.end(), e.panel) == bending.end()) {
       chain_events.push_back(e);

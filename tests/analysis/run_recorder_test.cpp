@@ -46,6 +46,7 @@ TEST(RunRecorderTest, SamplesGoToTheSinkInBlocksWithEveryFieldFilled) {
     rec.Sample(Sample(t, I, math::Vec3(0, 0, 2.0 * (1.0 + 1e-9 * static_cast<double>(k)))));
   }
   MissionResult out;
+  out.run = CompiledRun::Uncompiled({});  // a result assembled by hand
   rec.Finish(out);
   ASSERT_EQ(sink.sizes, (std::vector<std::size_t>{kSampleBlock, 3}));
   const Trajectory& b = sink.last;
@@ -88,6 +89,7 @@ TEST(RunRecorderTest, OnlySignChangesThatTheFlipRuleAcceptsAreFlips) {
   rec.CandidateFlip(2.0, major, math::Vec3(1, 0, 0));           // z is the major axis
   rec.CandidateFlip(4.0, intermediate, math::Vec3(1, 0, 0.5));  // a jump, not a zero
   MissionResult out;
+  out.run = CompiledRun::Uncompiled({});  // a result assembled by hand
   rec.Finish(out);
   EXPECT_EQ(out.flip_times, (std::vector<double>{1.0, 3.0}));  // sorted
 }
@@ -99,6 +101,7 @@ TEST(RunRecorderTest, LargestSpinAxisAngleFromExactPointsAndInsideSteps) {
   const AxisPoint a{0.0, 0.9, -1.0, -1.0}, b{1.0, 0.9, 1.0, 1.0};
   rec.SpinAxisStep(a, b);
   MissionResult out;
+  out.run = CompiledRun::Uncompiled({});  // a result assembled by hand
   rec.Finish(out);
   const double f_min = math::CubicHermiteMinimum(0.0, 0.9, -1.0, 1.0, 0.9, 1.0);
   EXPECT_LT(f_min, 0.9);
@@ -109,6 +112,7 @@ TEST(RunRecorderTest, LargestSpinAxisAngleFromExactPointsAndInsideSteps) {
   // A step whose rate does not change sign from - to +: its end only.
   exact.SpinAxisStep(b, AxisPoint{2.0, 0.95, -1.0, -1.0}, [] { return -1.0; });
   MissionResult out2;
+  out2.run = CompiledRun::Uncompiled({});
   exact.Finish(out2);
   EXPECT_EQ(out2.max_spin_axis_angle, std::acos(0.5));
 }
@@ -124,6 +128,7 @@ TEST(RunRecorderTest, PhasesBecomeStageReportsAndAZeroLengthPhaseIsReplaced) {
   rec.ClosePhase(Sample(3.0, I, H));
   rec.CandidateFlip(0.5, math::Vec3(1, 3, 2).asDiagonal(), math::Vec3(1, 0, 0));
   MissionResult out;
+  out.run = CompiledRun::Uncompiled({});  // a result assembled by hand
   rec.Finish(out);
   ASSERT_EQ(out.stages.size(), 2u);
   EXPECT_EQ(out.stages[0].name, "first");
@@ -145,6 +150,7 @@ TEST(RunRecorderTest, AnOutcomeOnlyRunTakesTheDriftFromTheFinalState) {
   rec.OpenPhase({"hold", "hold", true, false}, Sample(0.0, math::Vec3(1, 2, 3), {0, 0, 2}));
   rec.ClosePhase(Sample(1.0, math::Vec3(1, 2, 3), {0, 0, 2}));
   MissionResult out;
+  out.run = CompiledRun::Uncompiled({});  // a result assembled by hand
   out.final_state.H_B = math::Vec3(0, 0, 2.000002);
   rec.Finish(out);
   EXPECT_NEAR(out.max_h_N_drift, 1e-6, 1e-15);

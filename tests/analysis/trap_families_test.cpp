@@ -304,7 +304,7 @@ TEST(TrapFamiliesTest, AChainOf64FreePanelsIsRefusedWithItsCost) {
       64, [](int k) { return k - 1; }, all);
   try {
     schedule::ValidateProfile(p);
-    CheckWork(p);  // what io::CheckRunSettings asks of every run
+    CheckWork(p, EstimateWork(p));  // what CompiledRun::Compile asks of every run
     FAIL() << "accepted: " << DescribeWork(EstimateWork(p));
   } catch (const std::invalid_argument& e) {
     const std::string m = e.what();

@@ -16,6 +16,9 @@
 
 namespace deploysim::analysis {
 namespace {
+
+// The run limits on the estimate of p (what CompiledRun::Compile checks).
+void Check(const schedule::Profile& p) { CheckWork(p, EstimateWork(p)); }
 namespace DEPLOYSIM_TEST_UNIT {
 
 using schedule::Coupling;
@@ -50,7 +53,7 @@ TEST(WorkEstimateTest, FirstStageBoundIsTheLargestRateOfTheMotion) {
   EXPECT_LE(w_max, e.stages[0].max_rate * (1.0 + 1e-12));
   EXPECT_GE(w_max, e.stages[0].max_rate * (1.0 - 1e-6));
   EXPECT_NEAR(e.turns, e.stages[0].max_rate * 40.0 / (2.0 * 3.141592653589793), 1e-9);
-  EXPECT_NO_THROW(CheckWork(p));
+  EXPECT_NO_THROW(Check(p));
 }
 
 // Later stages and moves: M / (a lower bound of I_min) bounds |w| along a real run.
@@ -69,7 +72,7 @@ TEST(WorkEstimateTest, BoundsTheRateOfEveryStage) {
       EXPECT_LE(r.trajectory.w_NB_B[i].norm(), e.stages[k].max_rate * (1.0 + 1e-9))
           << "t = " << t << ", stage " << k;
     }
-    EXPECT_NO_THROW(CheckWork(p));
+    EXPECT_NO_THROW(Check(p));
   }
 }
 
@@ -77,7 +80,7 @@ TEST(WorkEstimateTest, BoundsTheRateOfEveryStage) {
 // with one line naming the profile and the limit.
 TEST(WorkEstimateTest, RefusesRunsPastTheLimits) {
   try {
-    CheckWork(WingNutProfile(1e15));
+    Check(WingNutProfile(1e15));
     ADD_FAILURE() << "accepted";
   } catch (const std::invalid_argument& e) {
     const std::string m = e.what();
@@ -89,9 +92,9 @@ TEST(WorkEstimateTest, RefusesRunsPastTheLimits) {
   p.integrator.method = "rk4";
   p.integrator.step = 1e-6;
   EXPECT_EQ(EstimateWork(p).fixed_steps, 4e7);
-  EXPECT_NO_THROW(CheckWork(p));
+  EXPECT_NO_THROW(Check(p));
   p.integrator.step = 1e-7;
-  EXPECT_THROW(CheckWork(p), std::invalid_argument);
+  EXPECT_THROW(Check(p), std::invalid_argument);
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT
@@ -109,7 +112,7 @@ TEST(WorkEstimateTest, HingeProfilesAreBoundedUpFront) {
   schedule::HingePlan wing = deploysim::testing::SpringHinge(0.2, -30.0, 1.0);
   wing.drive.latch.enabled = true;
   schedule::Profile p = deploysim::testing::SmallsatHingeProfile(wing, wing, 600.0);
-  EXPECT_NO_THROW(CheckWork(p));
+  EXPECT_NO_THROW(Check(p));
   const WorkEstimate e = EstimateWork(p);
   ASSERT_EQ(e.stages.size(), 1u);
   const MissionResult r = RunMission(p);
@@ -119,7 +122,7 @@ TEST(WorkEstimateTest, HingeProfilesAreBoundedUpFront) {
 
   p.until = 1e9;
   try {
-    CheckWork(p);
+    Check(p);
     ADD_FAILURE() << "a 1e9 s run was accepted";
   } catch (const std::invalid_argument& ex) {
     EXPECT_NE(std::string(ex.what()).find("the run, hub and hinges"), std::string::npos)
@@ -130,7 +133,7 @@ TEST(WorkEstimateTest, HingeProfilesAreBoundedUpFront) {
   rotor.drive.motor.torque = 1.0;
   schedule::Profile spun =
       deploysim::testing::SmallsatHingeProfile(rotor, schedule::HingePlan{}, 1e5);
-  EXPECT_THROW(CheckWork(spun), std::invalid_argument);
+  EXPECT_THROW(Check(spun), std::invalid_argument);
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT

@@ -122,7 +122,9 @@ TEST(ReportTest, TimelineOfAPanelThatNeverLatches) {
 
 TEST(ReportTest, StageProfilesHaveNoTimeline) {
   MissionResult r = SequencedLatchRun();
-  r.profile.hinges.clear();
+  schedule::Profile stage_profile = r.profile();
+  stage_profile.hinges.clear();
+  r.run = analysis::CompiledRun::Uncompiled(stage_profile);
   r.hinge_events.clear();
   EXPECT_EQ(FormatTimeline(r), "");
 }
@@ -148,10 +150,12 @@ TEST(ReportTest, SummaryListsThePhasesAndTheirCaveats) {
 /// A stage profile's result, built by hand so that the text is fixed.
 MissionResult StageResult() {
   MissionResult r;
-  r.profile.name = "demo";
-  r.profile.source = "demo.yaml";
-  r.profile.model.name = "sat";
-  r.profile.integrator.method = "rkf78";
+  schedule::Profile p;
+  p.name = "demo";
+  p.source = "demo.yaml";
+  p.model.name = "sat";
+  p.integrator.method = "rkf78";
+  r.run = analysis::CompiledRun::Uncompiled(p);
   r.stats.steps = 10;
   r.stats.rejected = 1;
   r.stats.evaluations = 130;

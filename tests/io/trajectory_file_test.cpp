@@ -47,7 +47,7 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   auto vec = [&] { return Vec3(u(rng), u(rng), u(rng)); };
 
   MissionResult r;
-  schedule::Profile& p = r.profile;
+  schedule::Profile p;
   p.name = "synthetic";
   p.source = "profiles/synthetic.yaml";
   p.text = "name: synthetic\n# a profile text with unicode: \xce\xb8 = 90\xc2\xb0\n";
@@ -156,6 +156,7 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   r.stats.rejected = 4;
   r.max_h_N_drift = 1.5e-14;
   r.message = "reached the end";
+  r.run = analysis::CompiledRun::Uncompiled(std::move(p));
   return r;
 }
 
@@ -199,7 +200,7 @@ void ExpectSameHingeOutputs(const MissionResult& r, const TrajectoryFile& f) {
     EXPECT_EQ(b.t, a.t);
     EXPECT_EQ(b.panel, a.panel);
     EXPECT_EQ(f.hinge_events[i].panel_name,
-              r.profile.model.hinged.panels[static_cast<std::size_t>(a.panel)].name);
+              r.profile().model.hinged.panels[static_cast<std::size_t>(a.panel)].name);
     EXPECT_EQ(b.angle, a.angle);
     EXPECT_EQ(b.rate_before, a.rate_before);
     EXPECT_EQ(b.rate_after, a.rate_after);
@@ -256,7 +257,7 @@ TEST_F(TrajectoryFileTest, StreamedInBlocksIsTheSameFile) {
     WriteTrajectoryFile(Path("whole.h5"), r);
     WriteTrajectoryCsv(Path("whole.csv"), r.trajectory);
     {
-      TrajectoryOutputs out(Path("streamed.h5"), Path("streamed.csv"), r.profile);
+      TrajectoryOutputs out(Path("streamed.h5"), Path("streamed.csv"), r.profile());
       const std::size_t n = r.trajectory.size();
       for (std::size_t from = 0; from < n; from += 3) {
         out.Append(Slice(r.trajectory, from, std::min(n, from + 3)));
@@ -297,7 +298,7 @@ TEST_F(TrajectoryFileTest, AFailingStreamLeavesNeitherOutput) {
   Write("out.h5", "old h5");
   Write("out.h5.csv", "old csv");
   {
-    TrajectoryOutputs out(Path("out.h5"), Path("out.h5.csv"), r.profile);
+    TrajectoryOutputs out(Path("out.h5"), Path("out.h5.csv"), r.profile());
     out.Append(Slice(r.trajectory, 0, 2));
     analysis::Trajectory bad = Slice(r.trajectory, 2, 4);
     bad.hinge_angles[1] = Eigen::VectorXd::Zero(1);
@@ -505,10 +506,10 @@ TEST_F(TrajectoryFileTest, RootAttributes) {
   EXPECT_EQ(a.at("schema_version"), std::to_string(kTrajectorySchemaVersion));
   EXPECT_EQ(a.at("profile_name"), "synthetic");
   EXPECT_EQ(a.at("profile_source"), "profiles/synthetic.yaml");
-  EXPECT_EQ(a.at("profile_text"), r.profile.text) << "UTF-8 text survives";
+  EXPECT_EQ(a.at("profile_text"), r.profile().text) << "UTF-8 text survives";
   EXPECT_EQ(a.at("model_name"), "synthetic_model");
   EXPECT_EQ(a.at("model_source"), "models/synthetic_model.yaml");
-  EXPECT_EQ(a.at("model_text"), r.profile.model.text) << "UTF-8 text survives";
+  EXPECT_EQ(a.at("model_text"), r.profile().model.text) << "UTF-8 text survives";
   EXPECT_EQ(a.at("integrator"), "rkmk-rkf78");
   EXPECT_NE(a.at("integrator_settings").find("rtol=1e-11"), std::string::npos)
       << a.at("integrator_settings");

@@ -139,12 +139,12 @@ grid:
     const std::vector<double>& v = c.parameters.values;
     SCOPED_TRACE(DescribeParameters(spec, c.parameters));
     // The value set first, then every beam's EI scaled.
-    ExpectBeam(c.profile, "boom_mx", {v[0] * v[1]}, 0.01);
-    ExpectBeam(c.profile, "boom_px", {20 * v[1], 30 * v[1]}, 0.05);
+    ExpectBeam(c.profile(), "boom_mx", {v[0] * v[1]}, 0.01);
+    ExpectBeam(c.profile(), "boom_px", {20 * v[1], 30 * v[1]}, 0.05);
     // damping without panel: the wing, not the appendages' generated hinges.
-    EXPECT_EQ(c.profile.hinges[0].drive.damping, 0.3);
-    const model::Appendage& drum = Named(c.profile, "drum");
-    EXPECT_EQ(c.profile.hinges[static_cast<std::size_t>(drum.hinges[0])].drive.damping, 0.001);
+    EXPECT_EQ(c.profile().hinges[0].drive.damping, 0.3);
+    const model::Appendage& drum = Named(c.profile(), "drum");
+    EXPECT_EQ(c.profile().hinges[static_cast<std::size_t>(drum.hinges[0])].drive.damping, 0.001);
   }
 }
 
@@ -166,32 +166,32 @@ grid:
     const double liquid = v[0] * 10.0;
     const double m1 = liquid * d / (4.4 * h) * std::tanh(3.68 * h / d);
     const double L1 = d / 3.68 / std::tanh(3.68 * h / d);
-    const model::Appendage& tank = Named(c.profile, "tank");
+    const model::Appendage& tank = Named(c.profile(), "tank");
     const model::Panel& bob =
-        c.profile.model.hinged.panels[static_cast<std::size_t>(tank.hinges[1])];
+        c.profile().model.hinged.panels[static_cast<std::size_t>(tank.hinges[1])];
     EXPECT_NEAR(bob.body.mass, m1, kRoundoff * m1);
     EXPECT_NEAR(bob.com_offset_B.norm(), L1, kRoundoff * L1);
-    EXPECT_NEAR(c.profile.model.hinged.hub.body.mass, base_hub + liquid - m1 + drum_m0,
+    EXPECT_NEAR(c.profile().model.hinged.hub.body.mass, base_hub + liquid - m1 + drum_m0,
                 kRoundoff * base_hub);
     // c = 2 zeta omega_out m1 L1^2, omega_out = Omega sqrt((r + L1) / L1), 10 rpm, r = 0.2.
     const double omega = 10.0 * 2.0 * M_PI / 60.0;
     const double c_expected = 2.0 * v[1] * omega * std::sqrt((0.2 + L1) / L1) * m1 * L1 * L1;
     for (std::size_t k = 0; k < 2; ++k) {
       EXPECT_NEAR(tank.damping[k], c_expected, kRoundoff * c_expected);
-      EXPECT_EQ(c.profile.hinges[static_cast<std::size_t>(tank.hinges[k])].drive.damping,
+      EXPECT_EQ(c.profile().hinges[static_cast<std::size_t>(tank.hinges[k])].drive.damping,
                 tank.damping[k]);
     }
   }
   // A fuller tank is a heavier craft: the case's J_B(t0) follows the hub's mass.
-  EXPECT_LT(BuildCase(spec, 0).profile.model.hinged.hub.body.mass,
-            BuildCase(spec, 4).profile.model.hinged.hub.body.mass);
+  EXPECT_LT(BuildCase(spec, 0).profile().model.hinged.hub.body.mass,
+            BuildCase(spec, 4).profile().model.hinged.hub.body.mass);
 }
 
 TEST_F(AppendageSweepTest, ACaseWithoutAppendageParametersKeepsTheBaseModel) {
   const SweepSpec spec = Load("grid:\n  - {parameter: spin_rate_rpm, values: [5]}\n");
   const Case c = BuildCase(spec, 0);
-  EXPECT_EQ(c.profile.model.appendages[0].beam, spec.base.model.appendages[0].beam);
-  EXPECT_EQ(c.profile.model.appendages[0].stiffness, spec.base.model.appendages[0].stiffness);
+  EXPECT_EQ(c.profile().model.appendages[0].beam, spec.base.model.appendages[0].beam);
+  EXPECT_EQ(c.profile().model.appendages[0].stiffness, spec.base.model.appendages[0].stiffness);
 }
 
 TEST_F(AppendageSweepTest, TheShippedSloshDampingSweepLoads) {
@@ -204,8 +204,8 @@ TEST_F(AppendageSweepTest, TheShippedSloshDampingSweepLoads) {
   const Case bare = BuildCase(spec, 0);
   const Case baffled = BuildCase(spec, 1);
   for (const std::string tank : {"tank_px", "tank_mx"}) {
-    const double c_bare = Named(bare.profile, tank).damping[0];
-    const double c_baffled = Named(baffled.profile, tank).damping[0];
+    const double c_bare = Named(bare.profile(), tank).damping[0];
+    const double c_baffled = Named(baffled.profile(), tank).damping[0];
     EXPECT_NEAR(c_baffled, 10.0 * c_bare, kRoundoff * c_baffled) << tank;
     EXPECT_EQ(c_baffled, Named(spec.base, tank).damping[0]) << tank;  // the model's 5 %
   }

@@ -55,7 +55,7 @@ grid:
   for (const std::size_t i : {0u, 5u, 10u, 15u}) {
     const Case c = BuildCase(spec, i);
     const CaseOutcome o = SimulateOutcome(c, spec.outcome);
-    schedule::Profile p = c.profile;
+    schedule::Profile p = c.profile();
     p.output.dt = kMissionSampling;
     const analysis::MissionResult m = analysis::RunMission(p);
     SCOPED_TRACE("case " + std::to_string(i) + " " + DescribeParameters(spec, c.parameters));
@@ -125,7 +125,7 @@ TEST_F(SweepDirTest, FinalMotionOfRigidBodies) {
     const Case c = BuildCase(minor, i);
     const CaseOutcome o = SimulateOutcome(c, minor.outcome);
     SCOPED_TRACE(DescribeParameters(minor, c.parameters));
-    const BruteForce b = Sample(*c.profile.initial.H_B, 0, c.spin_axis_B, 20.0);
+    const BruteForce b = Sample(*c.profile().initial.H_B, 0, c.spin_axis_B, 20.0);
     EXPECT_EQ(c.spin_axis_B, math::Vec3::UnitX());
     EXPECT_NEAR(o.final_cone_angle, b.cone, kConeTolerance);
     EXPECT_NEAR(o.max_spin_axis_angle, b.max_angle, 2.5e-9);  // [rad] measured 5.3e-10
@@ -179,7 +179,7 @@ TEST_F(SweepDirTest, SeparatrixDistanceAndFlipPeriodOfRigidBodies) {
     SCOPED_TRACE(DescribeParameters(inter, c.parameters));
     const analysis::FreeBodySolution sol(
         math::InertiaTensor::FromPrincipalMoments(math::Vec3(1.0, 2.0, 3.0)),
-        *c.profile.initial.H_B);
+        *c.profile().initial.H_B);
     const double expected = (sol.D() - 2.0) / (3.0 - 1.0);
     // Measured: 6e-17 (D and the run's final state agree to the integration error).
     EXPECT_NEAR(o.final_separatrix_distance, expected, 1e-15);
@@ -195,7 +195,7 @@ TEST_F(SweepDirTest, SeparatrixDistanceAndFlipPeriodOfRigidBodies) {
                 1e-13 * sol.flip_half_period());  // measured 9e-15 relative
     // The flips of a longer run come every predicted_flip_half_period.
     const double half = o.predicted_flip_half_period;
-    schedule::Profile p = c.profile;
+    schedule::Profile p = c.profile();
     p.stages.back().t_end = 4.0 * half;
     p.output.dt = 0.05;
     const analysis::MissionResult m = analysis::RunMission(p);
@@ -272,6 +272,7 @@ TEST_F(SweepDirTest, AnalyzeAndSweepAgreeBitForBitNearTheSeparatrix) {
     at.t = 1.0;
     rec.ClosePhase(at);
     analysis::MissionResult m;
+    m.run = analysis::CompiledRun::Uncompiled({});  // a result assembled by hand
     m.final_state.H_B = b.H;
     rec.Finish(m);
     ASSERT_EQ(m.stages.size(), 1u);
@@ -311,8 +312,7 @@ TEST_F(SweepDirTest, AnalyzeAndSweepRunsAgreeOnTheFinalSeparatrixDistance) {
     const schedule::Profile p = io::LoadProfile(Write("near.yaml", text));
     const analysis::MissionResult m = analysis::RunMission(p);
     Case c;
-    c.profile = p;
-    c.schedule = std::make_shared<const schedule::DeploymentSchedule>(p);
+    c.run = analysis::CompiledRun::Compile(p);
     c.spin_axis_B = m.spin_axis_B;
     const CaseOutcome o = SimulateOutcome(c, OutcomeSettings{});
     ASSERT_EQ(m.stages.size(), 1u);
@@ -344,7 +344,7 @@ grid:
   EXPECT_GE(l.flip_count, 2);
   // The same motion after the deployment (to the integration error; measured 4e-16).
   EXPECT_NEAR(l.predicted_flip_half_period, half, 1e-13 * half);
-  schedule::Profile p = BuildCase(longer, 0).profile;
+  schedule::Profile p = BuildCase(longer, 0).profile();
   p.output.dt = 1.0;
   const analysis::MissionResult m = analysis::RunMission(p);
   ASSERT_GE(m.flip_times.size(), 2u);
@@ -371,7 +371,7 @@ grid:
     const Case c = BuildCase(spec, i);
     SCOPED_TRACE(DescribeParameters(spec, c.parameters));
     const CaseOutcome o = SimulateOutcome(c, spec.outcome);
-    const analysis::MissionResult m = analysis::RunMission(c.profile);
+    const analysis::MissionResult m = analysis::RunMission(c.profile());
     ASSERT_EQ(o.termination, integrators::Termination::kReachedEnd);
     ASSERT_EQ(m.termination, integrators::Termination::kReachedEnd);
     // Hinge events.
@@ -479,7 +479,7 @@ grid:
     const Case c = BuildCase(spec, i);
     outcomes.push_back(SimulateOutcome(c, spec.outcome));
     const CaseOutcome& o = outcomes.back();
-    const analysis::MotionOutcome full = analysis::RunMission(c.profile).outcome;
+    const analysis::MotionOutcome full = analysis::RunMission(c.profile()).outcome;
     EXPECT_EQ(o.outcome_class, static_cast<std::int32_t>(full.outcome));
     EXPECT_EQ(o.time_to_tumble_measured, full.time_to_tumble_measured ? 1 : 0);
     EXPECT_NEAR(o.time_to_tumble, full.time_to_tumble, 1e-9 * full.time_to_tumble);
@@ -528,7 +528,7 @@ grid:
   - {parameter: spin_rate_rpm, values: [0.2]}
 )"));
   const Case c = BuildCase(spec, 0);
-  const analysis::MotionOutcome o = analysis::RunMission(c.profile).outcome;
+  const analysis::MotionOutcome o = analysis::RunMission(c.profile()).outcome;
   ASSERT_TRUE(o.trend.significant());
   EXPECT_LT(o.trend.rate, 0.0);
   EXPECT_EQ(o.linear.verdict, "unstable");

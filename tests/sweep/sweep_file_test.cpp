@@ -140,7 +140,7 @@ TEST_F(SweepDirTest, CaseProfilesApplyTheParameters) {
   for (std::size_t i : {0u, 21u, 35u}) {
     const Case c = BuildCase(spec, i);
     const std::vector<double>& v = c.parameters.values;
-    const schedule::Profile& p = c.profile;
+    const schedule::Profile& p = c.profile();
     // Timing: move stages scaled, holds kept, stages contiguous from 0.
     ASSERT_EQ(p.stages.size(), base.stages.size());
     EXPECT_EQ(p.stages[0].t_begin, 0.0);
@@ -160,7 +160,7 @@ TEST_F(SweepDirTest, CaseProfilesApplyTheParameters) {
     EXPECT_NEAR(p.model.hinged.panels[0].body.mass, 6.0 * v[2], kTight);
     EXPECT_EQ(p.model.hinged.panels[1].body.mass, 6.0);
     // Initial state: spin rate about s and nutation of H_B from s.
-    const dynamics::InertiaSample s0 = c.schedule->Evaluate(0.0);
+    const dynamics::InertiaSample s0 = c.run->schedule()->Evaluate(0.0);
     ASSERT_TRUE(p.initial.H_B.has_value());
     EXPECT_FALSE(p.initial.w_NB_B.has_value());
     const math::Vec3 H = *p.initial.H_B;
@@ -183,15 +183,15 @@ grid:
   EXPECT_EQ(spec.targets()[0].column, "stage_duration[3]");
   const Case a = BuildCase(spec, 0);  // 5 s, quasi-rigid, azimuth 0
   const Case b = BuildCase(spec, 7);  // 40 s, exact, azimuth 90
-  EXPECT_EQ(a.profile.stages[3].t_end - a.profile.stages[3].t_begin, 5.0);
-  EXPECT_EQ(b.profile.stages[3].t_end - b.profile.stages[3].t_begin, 40.0);
-  EXPECT_EQ(a.profile.stages[4].t_end - a.profile.stages[4].t_begin, 440.0);  // hold kept
-  EXPECT_EQ(a.profile.coupling, schedule::Coupling::kQuasiRigid);
-  EXPECT_EQ(b.profile.coupling, schedule::Coupling::kExact);
+  EXPECT_EQ(a.profile().stages[3].t_end - a.profile().stages[3].t_begin, 5.0);
+  EXPECT_EQ(b.profile().stages[3].t_end - b.profile().stages[3].t_begin, 40.0);
+  EXPECT_EQ(a.profile().stages[4].t_end - a.profile().stages[4].t_begin, 440.0);  // hold kept
+  EXPECT_EQ(a.profile().coupling, schedule::Coupling::kQuasiRigid);
+  EXPECT_EQ(b.profile().coupling, schedule::Coupling::kExact);
   // Azimuth turns the transverse momentum about s by 90 deg, keeping the nutation.
   const math::Vec3 s = a.spin_axis_B;
-  const math::Vec3 ta = *a.profile.initial.H_B - a.profile.initial.H_B->dot(s) * s;
-  const math::Vec3 tb = *b.profile.initial.H_B - b.profile.initial.H_B->dot(s) * s;
+  const math::Vec3 ta = *a.profile().initial.H_B - a.profile().initial.H_B->dot(s) * s;
+  const math::Vec3 tb = *b.profile().initial.H_B - b.profile().initial.H_B->dot(s) * s;
   EXPECT_NEAR(ta.normalized().dot(tb.normalized()), 0.0, 1e-12);
   EXPECT_NEAR(ta.norm(), tb.norm(), 1e-12 * ta.norm());
 }
@@ -253,9 +253,9 @@ monte_carlo:
     const Case c = BuildCase(spec, i);
     SCOPED_TRACE(DescribeParameters(spec, c.parameters));
     const std::vector<double>& v = c.parameters.values;
-    const schedule::FreeDrive& plus = c.profile.hinges[0].drive;
-    const schedule::FreeDrive& minus = c.profile.hinges[1].drive;
-    EXPECT_EQ(c.schedule, nullptr);  // hinge profiles run without a DeploymentSchedule
+    const schedule::FreeDrive& plus = c.profile().hinges[0].drive;
+    const schedule::FreeDrive& minus = c.profile().hinges[1].drive;
+    EXPECT_EQ(c.run->schedule(), nullptr);  // hinge profiles run without a DeploymentSchedule
     EXPECT_EQ(c.latches_expected, 2);
     EXPECT_EQ(plus.spring.stiffness, v[0]);
     EXPECT_EQ(minus.spring.stiffness, v[0] * v[8]);  // set, then scaled
@@ -281,8 +281,8 @@ monte_carlo:
     EXPECT_EQ(plus.motor.torque, v[9]);
     EXPECT_EQ(minus.motor.kind, schedule::Motor::Kind::kNone);
     // Initial state: the spin rate about s, with J_B(t0) and h_rel_B(t0) of the hinges.
-    const dynamics::InertiaSample s0 = schedule::InitialInertia(c.profile);
-    const math::Vec3 w = s0.J_inv_B * (*c.profile.initial.H_B - s0.h_rel_B);
+    const dynamics::InertiaSample s0 = schedule::InitialInertia(c.profile());
+    const math::Vec3 w = s0.J_inv_B * (*c.profile().initial.H_B - s0.h_rel_B);
     EXPECT_NEAR(w.dot(c.spin_axis_B), v[1], kTight * v[1]);
     EXPECT_NEAR(c.spin_axis_B.y(), 1.0, kTight);
   }
@@ -298,15 +298,15 @@ grid:
   const Case ok = BuildCase(spec, 0);      // no, 0
   const Case failed = BuildCase(spec, 2);  // yes, 0
   const Case jammed = BuildCase(spec, 3);  // yes, 0.8: the jam comes first
-  EXPECT_TRUE(ok.profile.hinges[0].drive.latch.enabled);
-  EXPECT_EQ(ok.profile.hinges[1].drive.release.kind, schedule::Release::Kind::kAfterLatch);
-  EXPECT_FALSE(failed.profile.hinges[0].drive.latch.enabled);
-  const schedule::Release& never = failed.profile.hinges[1].drive.release;
+  EXPECT_TRUE(ok.profile().hinges[0].drive.latch.enabled);
+  EXPECT_EQ(ok.profile().hinges[1].drive.release.kind, schedule::Release::Kind::kAfterLatch);
+  EXPECT_FALSE(failed.profile().hinges[0].drive.latch.enabled);
+  const schedule::Release& never = failed.profile().hinges[1].drive.release;
   EXPECT_EQ(never.kind, schedule::Release::Kind::kAtTime);
   EXPECT_GT(never.time, base.t_end());
-  EXPECT_TRUE(jammed.profile.hinges[0].drive.latch.enabled);
-  EXPECT_EQ(jammed.profile.hinges[0].drive.latch.jam_fraction, 0.8);
-  EXPECT_EQ(jammed.profile.hinges[1].drive.release.kind, schedule::Release::Kind::kAfterLatch);
+  EXPECT_TRUE(jammed.profile().hinges[0].drive.latch.enabled);
+  EXPECT_EQ(jammed.profile().hinges[0].drive.latch.jam_fraction, 0.8);
+  EXPECT_EQ(jammed.profile().hinges[1].drive.release.kind, schedule::Release::Kind::kAfterLatch);
   // Both cases still expect two latches: the failure shows as all_latched = 0.
   EXPECT_EQ(failed.latches_expected, 2);
   EXPECT_EQ(jammed.latches_expected, 2);
@@ -331,11 +331,11 @@ grid:
   - {parameter: damping, values: [0.1]}
 )"));
   const Case c = BuildCase(spec, 1);
-  EXPECT_EQ(c.profile.hinges[0].drive.motor.stall_torque, -0.4);
-  EXPECT_EQ(c.profile.hinges[0].drive.motor.no_load_speed,
+  EXPECT_EQ(c.profile().hinges[0].drive.motor.stall_torque, -0.4);
+  EXPECT_EQ(c.profile().hinges[0].drive.motor.no_load_speed,
             spec.base.hinges[0].drive.motor.no_load_speed);
-  EXPECT_EQ(c.profile.hinges[0].drive.damping, 0.1);
-  EXPECT_EQ(c.profile.hinges[1].kind, schedule::HingePlan::Kind::kLocked);
+  EXPECT_EQ(c.profile().hinges[0].drive.damping, 0.1);
+  EXPECT_EQ(c.profile().hinges[1].kind, schedule::HingePlan::Kind::kLocked);
   EXPECT_EQ(c.latches_expected, 1);
   auto message = [this](const std::string& grid) {
     try {

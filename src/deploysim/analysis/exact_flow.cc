@@ -23,7 +23,7 @@ constexpr double kStepsPerPeriod = 8.0;
 
 ExactFlowStepper::ExactFlowStepper(std::unique_ptr<integrators::Stepper> fallback)
     : fallback_(std::move(fallback)) {
-  info_.name = "exact";
+  info_.name = kExactMethod;
   info_.summary = "closed-form constant-inertia flow (elliptic functions); " +
                   fallback_->info().name + " where the inertia changes";
   info_.reference =
@@ -232,12 +232,12 @@ double ExactFlowStepper::MaxStep(const integrators::Problem& problem,
 
 std::vector<std::string> StepperNames() {
   std::vector<std::string> names = integrators::NumericalStepperNames();
-  names.push_back("exact");
+  names.push_back(kExactMethod);
   return names;
 }
 
 bool RunsFreeHinges(const std::string& method) {
-  return method == "exact" || integrators::IsShapeMethod(method);
+  return IsExact(method) || integrators::IsShapeMethod(method);
 }
 
 std::string FreeHingeMethodRule() {
@@ -248,8 +248,9 @@ std::string FreeHingeMethodRule() {
 }
 
 std::unique_ptr<integrators::Stepper> MakeStepper(const std::string& name) {
-  if (name == "exact") {
-    return std::make_unique<ExactFlowStepper>(integrators::MakeNumericalStepper("rkmk-rkf78"));
+  if (IsExact(name)) {
+    return std::make_unique<ExactFlowStepper>(
+        integrators::MakeNumericalStepper(NumericalMethodOf(name)));
   }
   return integrators::MakeNumericalStepper(name);
 }

@@ -77,10 +77,25 @@ class ExactFlowStepper final : public integrators::Stepper {
   integrators::StepperInfo info_;
 };
 
+/// The closed-form method's name, and the numerical method it hands every segment the
+/// closed form cannot take (a moving stage, a free hinge): the one statement of that
+/// fallback (MakeStepper, the free-hinge runs and the work estimate use it).
+inline constexpr const char* kExactMethod = "exact";
+inline constexpr const char* kExactFallback = "rkmk-rkf78";
+
+/// True for the closed-form method.
+inline bool IsExact(const std::string& method) { return method == kExactMethod; }
+
+/// The numerical method that integrates `method`'s non-rigid segments: `method` itself,
+/// or kExactFallback for exact.
+inline std::string NumericalMethodOf(const std::string& method) {
+  return IsExact(method) ? kExactFallback : method;
+}
+
 /// All stepper names: the numerical ones and "exact".
 std::vector<std::string> StepperNames();
 
-/// A stepper by name ("exact" uses rkmk-rkf78 on non-rigid segments).
+/// A stepper by name ("exact" uses kExactFallback on non-rigid segments).
 std::unique_ptr<integrators::Stepper> MakeStepper(const std::string& name);
 
 /// True when `method` can run a profile with free hinges: a Lie-group method

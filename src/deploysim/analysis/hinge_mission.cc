@@ -121,14 +121,14 @@ integrators::State HingeInitialState(const schedule::Profile& profile,
 
 class HingeRun {
  public:
-  HingeRun(const schedule::Profile& profile,
+  HingeRun(const CompiledRun& run,
            SampleSink* sink,
            const std::function<void(double)>& progress,
            const RunOptions& options);
   MissionResult Run();
 
  private:
-  /// The body of the profile, validated.
+  /// The body of the (validated) profile, its hinge axes normalized.
   static model::HingedBody BodyOf(const schedule::Profile& profile, const std::string& where);
   RunSample SampleOf(double t,
                      const Vec3& H_B,
@@ -184,6 +184,7 @@ class HingeRun {
   const FreeHingeSystem::Snapshot& SnapOf(const integrators::ShapeState& y) const;
   Mat3 JdotOf(const integrators::ShapeState& y) const;
 
+  const schedule::Profile& profile_;
   const std::string where_;
   const model::HingedBody body_;
   const int n_;
@@ -228,7 +229,6 @@ class HingeRun {
 };
 
 model::HingedBody HingeRun::BodyOf(const schedule::Profile& profile, const std::string& where) {
-  schedule::ValidateProfile(profile);
   const model::Model& model = profile.model;
   if (model.kind != model::ModelKind::kHinged) {
     throw std::invalid_argument(where + ": hinges: the model is not a hinged model");
@@ -237,23 +237,24 @@ model::HingedBody HingeRun::BodyOf(const schedule::Profile& profile, const std::
                                     model.source.empty() ? where + ": model" : model.source);
 }
 
-HingeRun::HingeRun(const schedule::Profile& profile,
+HingeRun::HingeRun(const CompiledRun& run,
                    SampleSink* sink,
                    const std::function<void(double)>& progress,
                    const RunOptions& options)
-    : where_(profile.source.empty() ? profile.name : profile.source),
-      body_(BodyOf(profile, where_)),
+    : profile_(run.profile()),
+      where_(profile_.source.empty() ? profile_.name : profile_.source),
+      body_(BodyOf(profile_, where_)),
       n_(static_cast<int>(body_.panels.size())),
-      plans_(profile.hinges),
+      plans_(profile_.hinges),
       options_(options),
-      t0_(profile.t_begin()),
-      t1_(profile.t_end()),
+      t0_(profile_.t_begin()),
+      t1_(profile_.t_end()),
       sys_(body_,
            plans_,
-           profile.model.configuration(profile.initial.configuration).hinge_angles,
-           schedule::ModalGroupsOf(profile.model)),
-      plans_rate0_(profile.initial.hinge_rates),
-      y_(HingeInitialState(profile, sys_, body_)),
+           profile_.model.configuration(profile_.initial.configuration).hinge_angles,
+           schedule::ModalGroupsOf(profile_.model)),
+      plans_rate0_(profile_.initial.hinge_rates),
+      y_(HingeInitialState(profile_, sys_, body_)),
       t_(t0_),
       s_(options.spin_axis_B ? *options.spin_axis_B
                              : InitialSpinAxis(sys_.Evaluate(t0_).J_B, y_.H_B)),
@@ -266,21 +267,17 @@ HingeRun::HingeRun(const schedule::Profile& profile,
       unheld_offset_(static_cast<std::size_t>(n_), 0.0),
       last_impact_(static_cast<std::size_t>(n_), -std::numeric_limits<double>::infinity()),
       windows_(sys_.Breakpoints(t0_, t1_)),
-      settings_(SettingsOf(profile)),
-      full_grid_(t0_, t1_, profile.output.dt),
+      settings_(run.settings()),
+      full_grid_(t0_, t1_, profile_.output.dt),
       grid_(full_grid_, 0, sink != nullptr ? full_grid_.size() : 0),
       message_(integrators::ToString(termination_)) {
-  const std::string& method = profile.integrator.method;
-  shape_method_ = method == "exact" ? "rkmk-rkf78" : method;
+  const std::string& method = profile_.integrator.method;
+  shape_method_ = NumericalMethodOf(method);
   rigid_stepper_ = MakeStepper(method);
-  if (profile.has_free_hinge() && !RunsFreeHinges(method)) {
-    throw std::invalid_argument(where_ + ": integrator.method = " + method + ": " +
-                                FreeHingeMethodRule());
-  }
   // Releases: time-based ones now; after-latch ones when their latch happens. Every free
   // hinge is at rest (held) until its release.
   const Eigen::VectorXd theta0 =
-      profile.model.configuration(profile.initial.configuration).hinge_angles;
+      profile_.model.configuration(profile_.initial.configuration).hinge_angles;
   release_angle_.assign(theta0.data(), theta0.data() + n_);
   for (int k = 0; k < n_; ++k) {
     const HingePlan& p = plans_[static_cast<std::size_t>(k)];
@@ -299,9 +296,9 @@ HingeRun::HingeRun(const schedule::Profile& profile,
     x_ = sys_.ShapeState(t0_, y_.H_B, theta0, rates0);
   }
   // The stiffest hinge rate times the run's length: the radians its swing can cover.
-  project_energy_ = profile.has_free_hinge() &&
-                    EstimateWork(profile).hinge_rate * (t1_ - t0_) > kProjectionRadians;
-  out_.profile = profile;
+  project_energy_ =
+      profile_.has_free_hinge() && run.work().hinge_rate * (t1_ - t0_) > kProjectionRadians;
+  out_.run = run.handle();
   out_.spin_axis_B = s_;
   out_.latch_times.assign(static_cast<std::size_t>(n_), std::numeric_limits<double>::quiet_NaN());
   rec_.SpinAxisCos(s_.dot(y_.H_B) / M_);
@@ -497,9 +494,9 @@ double HingeRun::NextChange() const {
   for (double r : release_time_) {
     if (r > t_) t_next = std::min(t_next, r);
   }
-  for (double w : windows_) {
-    if (w > t_) t_next = std::min(t_next, w);
-  }
+  // windows_ ascends: the first boundary after t_ (a rotor may have 10^4 windows).
+  const auto w = std::upper_bound(windows_.begin(), windows_.end(), t_);
+  if (w != windows_.end()) t_next = std::min(t_next, *w);
   return t_next;
 }
 
@@ -944,9 +941,7 @@ void HingeRun::OpenPhase(const RunSample& start) {
   y << start.H_B, x;
   // The phase lasts to the next window boundary of a prescribed hinge (beyond the run's
   // end too: a rotor held through the run is one phase however short the run).
-  const std::vector<double> later = sys_.Breakpoints(start.t, 1e300);
-  const double length =
-      later.empty() ? std::numeric_limits<double>::infinity() : later.front() - start.t;
+  const double length = sys_.NextBreakpoint(start.t) - start.t;
   SteadySpin s = LinearizeSteadySpin(
       FlowOf(sys_, start.t, length, RotorPeriod(start.t), WindingHinges(), WindingAxes()), y);
   if (s.orbit_rotor >= 0) s.orbit_rotor_panel = sys_.free_hinges()[s.orbit_rotor];
@@ -1009,7 +1004,7 @@ MissionResult HingeRun::Run() {
     if (end == SegmentEnd::kStopped) break;
     if (end == SegmentEnd::kHingeEvent) continue;
     // A prescribed window boundary: a phase boundary.
-    if (t_ < t1_ && std::find(windows_.begin(), windows_.end(), t_) != windows_.end()) {
+    if (t_ < t1_ && std::binary_search(windows_.begin(), windows_.end(), t_)) {
       const RunSample before = Current(dynamics::Side::kLeft);
       rec_.ClosePhase(before);
       // A prescribed rate may jump here: the drive's impulsive work.
@@ -1040,12 +1035,12 @@ MissionResult HingeRun::Run() {
 
 }  // namespace
 
-MissionResult RunHingeMission(const schedule::Profile& profile,
+MissionResult RunHingeMission(const CompiledRun& compiled,
                               SampleSink& sink,
                               const std::function<void(double)>& progress,
                               const RunOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
-  HingeRun run(profile, options.sample_trajectory ? &sink : nullptr, progress, options);
+  HingeRun run(compiled, options.sample_trajectory ? &sink : nullptr, progress, options);
   MissionResult out = run.Run();
   out.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

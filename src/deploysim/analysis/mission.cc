@@ -201,8 +201,7 @@ class CachedSchedule {
 /// the steps short against the nutation.
 class StageRun {
  public:
-  StageRun(const schedule::Profile& profile,
-           const schedule::DeploymentSchedule& sched,
+  StageRun(const CompiledRun& run,
            SampleSink* sink,
            const std::function<void(double)>& progress,
            const std::optional<math::Vec3>& spin_axis_B);
@@ -219,6 +218,7 @@ class StageRun {
   double RigidMinimum(const integrators::State& a, const integrators::State& b) const;
   double Rate(const math::Vec3& H_B, const dynamics::InertiaSample& js) const;
 
+  const CompiledRun& run_;
   const schedule::Profile& profile_;
   const schedule::DeploymentSchedule& sched_;
   double t0_, t1_;
@@ -245,29 +245,29 @@ class StageRun {
   AxisPoint prev_point_;
 };
 
-StageRun::StageRun(const schedule::Profile& profile,
-                   const schedule::DeploymentSchedule& sched,
+StageRun::StageRun(const CompiledRun& run,
                    SampleSink* sink,
                    const std::function<void(double)>& progress,
                    const std::optional<math::Vec3>& spin_axis_B)
-    : profile_(profile),
-      sched_(sched),
-      t0_(profile.t_begin()),
-      t1_(profile.t_end()),
-      y0_(InitialState(profile, sched)),
-      s0_(sched.Evaluate(t0_)),
+    : run_(run),
+      profile_(run.profile()),
+      sched_(*run.schedule()),
+      t0_(profile_.t_begin()),
+      t1_(profile_.t_end()),
+      y0_(InitialState(profile_, sched_)),
+      s0_(sched_.Evaluate(t0_)),
       kinetic0_(dynamics::TotalKineticEnergy(s0_, y0_.H_B)),
       s_(spin_axis_B ? *spin_axis_B : InitialSpinAxis(s0_.J_B, y0_.H_B)),
       M0_(y0_.H_B.norm()),
       rec_(s_, y0_.q_NB * y0_.H_B, sink, progress, t0_, t1_),
-      cache_(sched),
-      breakpoints_(sched.Breakpoints(t0_, t1_)),
-      geometry_(profile.mode == schedule::Mode::kGeometry),
-      cached_stage_(profile.stages.size()) {
-  for (const schedule::Stage& st : profile.stages) {
+      cache_(sched_),
+      breakpoints_(sched_.Breakpoints(t0_, t1_)),
+      geometry_(profile_.mode == schedule::Mode::kGeometry),
+      cached_stage_(profile_.stages.size()) {
+  for (const schedule::Stage& st : profile_.stages) {
     boundaries_.push_back(st.t_begin);
     boundaries_.push_back(st.t_end);
-    stage_rigid_.push_back(sched.IsRigidOn(st.t_begin, st.t_end));
+    stage_rigid_.push_back(sched_.IsRigidOn(st.t_begin, st.t_end));
   }
   std::sort(boundaries_.begin(), boundaries_.end());
   boundaries_.erase(std::unique(boundaries_.begin(), boundaries_.end()), boundaries_.end());
@@ -407,7 +407,7 @@ void StageRun::OnStep(const integrators::State& y) {
 
 MissionResult StageRun::Run() {
   MissionResult out;
-  out.profile = profile_;
+  out.run = run_.handle();
   out.spin_axis_B = s_;
   // The output grid plus the stage boundaries not on it, computed on demand.
   const integrators::UniformGridTimes full(t0_, t1_, profile_.output.dt);
@@ -425,7 +425,7 @@ MissionResult StageRun::Run() {
   const std::vector<integrators::EventFunction> events =
       RigidSpinAxisEvents(s_, [&cache](double t) { return cache.At(t); });
   const integrators::IntegrationResult run = integrators::Integrate(
-      *stepper, SettingsOf(profile_), sched_, y0_, t1_, times, events,
+      *stepper, run_.settings(), sched_, y0_, t1_, times, events,
       [this](const integrators::State& y) { OnStep(y); },
       [this](const integrators::State& y) { OnSample(y); });
   out.stats = run.stats;
@@ -466,20 +466,27 @@ integrators::State InitialState(const schedule::Profile& profile,
   return y0;
 }
 
-MissionResult RunMission(const schedule::Profile& profile,
+MissionResult RunMission(const CompiledRun& compiled,
                          SampleSink& sink,
                          const std::function<void(double)>& progress,
                          const RunOptions& options) {
-  if (profile.is_hinge_profile()) return RunHingeMission(profile, sink, progress, options);
+  if (compiled.profile().is_hinge_profile()) {
+    return RunHingeMission(compiled, sink, progress, options);
+  }
   const auto wall0 = std::chrono::steady_clock::now();
-  std::optional<schedule::DeploymentSchedule> own;
-  if (options.schedule == nullptr) own.emplace(profile);
-  StageRun run(profile, options.schedule ? *options.schedule : *own,
-               options.sample_trajectory ? &sink : nullptr, progress, options.spin_axis_B);
+  StageRun run(compiled, options.sample_trajectory ? &sink : nullptr, progress,
+               options.spin_axis_B);
   MissionResult out = run.Run();
   out.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return out;
+}
+
+MissionResult RunMission(const schedule::Profile& profile,
+                         SampleSink& sink,
+                         const std::function<void(double)>& progress,
+                         const RunOptions& options) {
+  return RunMission(*CompiledRun::Compile(profile), sink, progress, options);
 }
 
 }  // namespace deploysim::analysis

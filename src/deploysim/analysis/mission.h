@@ -5,10 +5,12 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "deploysim/analysis/compiled_run.h"
 #include "deploysim/analysis/flip_rule.h"
 #include "deploysim/analysis/hinge_events.h"
 #include "deploysim/analysis/motion_outcome.h"
@@ -118,7 +120,9 @@ struct DangerWindow {
 };
 
 struct MissionResult {
-  schedule::Profile profile;
+  /// The compiled run this result came from (its profile, model and estimate).
+  std::shared_ptr<const CompiledRun> run;
+  const schedule::Profile& profile() const { return run->profile(); }
   Trajectory trajectory;
   std::vector<double> flip_times;  ///< [s] located flips: sign changes of H_B along the
                                    ///< spin axis while it is the intermediate axis.
@@ -168,9 +172,6 @@ struct RunOptions {
   /// (false: event times within ~1e-12 s, about 100 fewer evaluations per event; for
   /// sweeps).
   bool refine_events = true;
-  /// Stage profiles: the profile's schedule, when the caller has built it already
-  /// (null: built by the run).
-  const schedule::DeploymentSchedule* schedule = nullptr;
   /// The body axis that flips and angles are measured from (default: InitialSpinAxis).
   std::optional<math::Vec3> spin_axis_B;
 };
@@ -194,12 +195,19 @@ class NullSink final : public SampleSink {
 /// Samples per block passed to a SampleSink.
 inline constexpr std::size_t kSampleBlock = 4096;
 
-/// Runs the profile, streaming the trajectory to `sink` (the result's trajectory stays
+/// Runs the compiled run, streaming the trajectory to `sink` (the result's trajectory stays
 /// empty; everything else, which needs no stored trajectory, is filled: flips, stage
 /// reports, danger windows, max_h_N_drift). Memory does not grow with the number of
 /// samples: the output times are computed on demand, and one block is held. Progress (fraction done
-/// in [0, 1]) is reported through `progress` if given. Throws std::invalid_argument for an invalid
-/// profile; exceptions from the sink pass through (the run stops).
+/// in [0, 1]) is reported through `progress` if given. Exceptions from the sink pass through
+/// (the run stops).
+MissionResult RunMission(const CompiledRun& run,
+                         SampleSink& sink,
+                         const std::function<void(double)>& progress = {},
+                         const RunOptions& options = {});
+
+/// RunMission of a profile: compiled (CompiledRun::Compile: throws std::invalid_argument
+/// for an invalid profile), then run.
 MissionResult RunMission(const schedule::Profile& profile,
                          SampleSink& sink,
                          const std::function<void(double)>& progress = {},
@@ -207,7 +215,7 @@ MissionResult RunMission(const schedule::Profile& profile,
 
 /// RunMission for a hinge profile (schedule::Profile::is_hinge_profile()): the hybrid
 /// run of analysis/hinge_mission.cc (RunMission calls it).
-MissionResult RunHingeMission(const schedule::Profile& profile,
+MissionResult RunHingeMission(const CompiledRun& run,
                               SampleSink& sink,
                               const std::function<void(double)>& progress = {},
                               const RunOptions& options = {});

@@ -4,15 +4,16 @@
 #include <cmath>
 
 #include "deploysim/math/number_format.h"
+#include "deploysim/math/units.h"
 #include "deploysim/schedule/profile.h"
 
 namespace deploysim::analysis {
 
 namespace {
 
-constexpr double kDegPerRad = 57.295779513082320877;
-
-std::string Deg(double rad) { return math::FormatSignificant(rad * kDegPerRad, 3) + " deg"; }
+std::string Deg(double rad) {
+  return math::FormatSignificant(rad * math::kDegreesPerRadian, 3) + " deg";
+}
 std::string Sec(double s) { return math::FormatSignificant(s, 4) + " s"; }
 
 /// The first 45-degree crossing beside its linear prediction: measured (with how far off

@@ -356,7 +356,7 @@ MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
   if (flips.size() >= 2)
     o.flip_interval = (flips.back() - flips.front()) / static_cast<double>(flips.size() - 1);
   o.max_excursion = out.max_spin_axis_angle;
-  o.faults = DeploymentFaults(out.profile, out.hinge_events, end.t);
+  o.faults = DeploymentFaults(out.profile(), out.hinge_events, end.t);
   o.linear = steady_;
   const double nu45 = std::acos(kCos45);
   if (o.linear.found && o.linear.growth_rate > 0.0 && o.nutation_begin > 0.0 &&

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -460,7 +461,9 @@ WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
                                   ? std::abs(mv.rate)
                                   : 2.0 * std::abs(mv.angle) / d);
       }
-    } else if (h.kind == schedule::HingePlan::Kind::kFree) {
+    } else if (h.kind == schedule::HingePlan::Kind::kFree && I_k > 0.0) {
+      // (A rod's segment has no inertia about its axis and no bound here: its swing is
+      // the free hinges' stiffest rate's, in the steps.)
       const schedule::FreeDrive& d = h.drive;
       rate = std::sqrt(d.spring.stiffness / I_k);
       if (d.motor.kind == schedule::Motor::Kind::kConstant) {
@@ -486,7 +489,7 @@ WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
   const double segments = Segments(profile, rates);
   // The shape state's coordinates (a modal group's count as its modes).
   int free_plans = rates.coordinates;
-  const bool lie = info.lie_group || profile.integrator.method == "exact";
+  const bool lie = info.lie_group || IsExact(profile.integrator.method);
   // A Lie-group method resolves H_B's motion in the body: before the release, and once the
   // latching hinges have latched (a deployment can make the spin axis intermediate).
   double spin = w.max_rate;
@@ -507,7 +510,9 @@ WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
     out.steps = w.fixed_steps;
   } else {
     const integrators::StepperInfo free_info =
-        profile.integrator.method == "exact" ? MakeStepper("rkmk-rkf78")->info() : info;
+        IsExact(profile.integrator.method)
+            ? MakeStepper(NumericalMethodOf(profile.integrator.method))->info()
+            : info;
     // While hinges move the faster of the two motions sets the steps.
     out.steps =
         StepsPerRadian(info, profile.integrator.rtol) * spin * (w.duration - out.free_time) +
@@ -523,9 +528,15 @@ WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
   return out;
 }
 
+std::atomic<std::uint64_t> estimates{0};
+
 }  // namespace
 
-WorkEstimate EstimateWork(const schedule::Profile& profile) {
+std::uint64_t WorkEstimateCount() { return estimates.load(); }
+
+WorkEstimate EstimateWork(const schedule::Profile& profile,
+                          const schedule::DeploymentSchedule* schedule) {
+  ++estimates;
   if (profile.is_hinge_profile()) return EstimateHingeWork(profile);
   WorkEstimate out;
   if (profile.stages.empty()) return out;
@@ -549,15 +560,16 @@ WorkEstimate EstimateWork(const schedule::Profile& profile) {
   if (profile.initial.H_B) {
     H0 = *profile.initial.H_B;
   } else if (profile.initial.w_NB_B) {
-    const schedule::DeploymentSchedule sched(profile);
-    const dynamics::InertiaSample s0 = sched.Evaluate(profile.t_begin());
+    const dynamics::InertiaSample s0 =
+        schedule ? schedule->Evaluate(profile.t_begin())
+                 : schedule::DeploymentSchedule(profile).Evaluate(profile.t_begin());
     H0 = s0.J_B * *profile.initial.w_NB_B + s0.h_rel_B;
   }
   const double M = H0.norm();
   out.momentum = M;
   const integrators::StepperInfo info = MakeStepper(profile.integrator.method)->info();
   const bool adaptive = info.adaptive;
-  const bool lie = info.lie_group || profile.integrator.method == "exact";
+  const bool lie = info.lie_group || IsExact(profile.integrator.method);
 
   // Geometry-mode moves: J_B >= the sum of the parts' own inertias about their CoMs (the
   // parallel-axis terms are positive semi-definite), so its smallest moment is at least
@@ -619,7 +631,7 @@ WorkEstimate EstimateWork(const schedule::Profile& profile) {
     const double resolved =
         lie ? (lie_rate >= 0.0 ? lie_rate : kLieRateFraction * w.max_rate) : w.max_rate;
     // `exact` on a hold: the closed form's steps, kExactStepsPerPeriod per period.
-    const double per_radian = profile.integrator.method == "exact" && st.is_hold()
+    const double per_radian = IsExact(profile.integrator.method) && st.is_hold()
                                   ? kExactStepsPerPeriod / kTwoPi
                                   : StepsPerRadian(info, profile.integrator.rtol);
     out.steps +=
@@ -635,10 +647,6 @@ WorkEstimate EstimateWork(const schedule::Profile& profile) {
   return out;
 }
 
-double StiffestHingeRate(const schedule::Profile& profile) {
-  return EstimateWork(profile).hinge_rate;
-}
-
 std::string DescribeWork(const WorkEstimate& e) {
   std::string s = "estimated " + Num(e.steps) + " steps";
   if (e.hinge_rate > 0.0) {
@@ -648,11 +656,18 @@ std::string DescribeWork(const WorkEstimate& e) {
   return s + ", about " + Num(e.seconds) + " s on one core";
 }
 
-void CheckWork(const schedule::Profile& profile) {
-  const WorkEstimate e = EstimateWork(profile);
-  if (!e.finite || e.stages.empty()) return;
+void CheckWork(const schedule::Profile& profile, const WorkEstimate& e) {
+  if (e.stages.empty()) return;
   const std::string where =
       profile.source.empty() ? "profile '" + profile.name + "'" : profile.source;
+  if (!e.finite || !std::isfinite(e.momentum) || !std::isfinite(e.seconds)) {
+    // Every number was finite (ValidateProfile), so a product or a square overflowed.
+    throw std::invalid_argument(
+        where + ": the run's work overflows (|H_B(t0)| = " + Num(e.momentum) + " kg m^2/s, " +
+        Num(e.turns) + " turns, " + Num(e.steps) +
+        " steps; rule: the initial spin, the inertias and the hinges' parameters must keep "
+        "these finite: a value of 1e154 or more overflows when squared)");
+  }
   // The stage that asks the most, for the message.
   std::size_t worst = 0;
   for (std::size_t k = 1; k < e.stages.size(); ++k) {

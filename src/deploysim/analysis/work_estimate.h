@@ -1,7 +1,7 @@
 #pragma once
 
 /// Up-front estimate of the work a profile asks for, and the run limits checked from it
-/// (io::CheckRunSettings calls CheckWork, so simulate, analyze, crosscheck and every
+/// (CompiledRun::Compile calls CheckWork, so simulate, analyze, crosscheck and every
 /// sweep case are refused before they start). A torque-free run's cost grows with the
 /// number of turns of the body: every integrator resolves the rotation (or, for the
 /// Lie-group and exact methods, the motion of H_B in the body, which is no faster), and
@@ -23,10 +23,15 @@
 /// spring frequency sqrt(k / I_min), a constant motor's |tau| D / I_min, a torque-speed
 /// motor's no-load speed; I_min its panel's smallest moment).
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "deploysim/schedule/profile.h"
+
+namespace deploysim::schedule {
+class DeploymentSchedule;
+}  // namespace deploysim::schedule
 
 namespace deploysim::analysis {
 
@@ -52,9 +57,15 @@ struct WorkEstimate {
   double momentum = 0.0;          ///< M = |H_B(t0)| [kg m^2/s].
   double turns = 0.0;             ///< Sum over the stages.
   double fixed_steps = 0.0;       ///< Sum over the stages (0 for adaptive methods).
-  bool finite = true;             ///< False if a rate is not finite (invalid input elsewhere).
-  /// Hinge profiles: the stiffest rate of the free hinges' motion linearized at the start
-  /// [rad/s] (StiffestHingeRate), 0 without free hinges.
+  bool finite = true;             ///< False if a rate is not finite (an overflow).
+  /// Hinge profiles: the stiffest rate [rad/s] of the free hinges' motion linearized at
+  /// the start: the largest of sqrt(lambda) over the generalized eigenvalues lambda of
+  /// (K, S) plus the largest of (C, S), with S the free hinges' mass matrix with the hub
+  /// free (the Schur complement of J_B in M, docs/design.md 2.7), K their spring and servo
+  /// stiffnesses plus the centrifugal stiffness of the spin (|w|^2 times S's diagonal: a
+  /// panel on a spinning hub swings at about the spin rate), and C their dampers, servo
+  /// damping and the regularized friction's slope (torque / regularization speed). 0
+  /// without free hinges.
   double hinge_rate = 0.0;
   /// The time the free hinges are estimated to move [s] (from each release to its latch,
   /// estimated as half a period of its stiffest rate, or to the end).
@@ -68,15 +79,6 @@ struct WorkEstimate {
   double seconds = 0.0;
 };
 
-/// The stiffest rate [rad/s] of a hinge profile's free hinges at the start: the largest
-/// of sqrt(lambda) over the generalized eigenvalues lambda of (K, S) plus the largest of
-/// (C, S), with S the free hinges' mass matrix with the hub free (the Schur complement of
-/// J_B in M, docs/design.md 2.7), K their spring and servo stiffnesses plus the centrifugal
-/// stiffness of the spin (|w|^2 times S's diagonal: a panel on a spinning hub swings at
-/// about the spin rate), and C their dampers, servo damping and the regularized friction's
-/// slope (torque / regularization speed). 0 without free hinges.
-double StiffestHingeRate(const schedule::Profile& profile);
-
 /// The longest run accepted: its estimated wall time on one core [s]. Beyond it the run
 /// is refused before it starts, with the estimate and what to change.
 inline constexpr double kMaxRunSeconds = 3600.0;
@@ -89,12 +91,19 @@ inline constexpr double kLongRunSeconds = 60.0;
 std::string DescribeWork(const WorkEstimate& e);
 
 /// The estimate for a valid profile (schedule::ValidateProfile passed; the integrator
-/// method known). Throws only what DeploymentSchedule throws.
-WorkEstimate EstimateWork(const schedule::Profile& profile);
+/// method known). `schedule`: the stage profile's schedule when the caller has it (else
+/// one is built when initial.H_B is not given). Throws only what DeploymentSchedule throws.
+WorkEstimate EstimateWork(const schedule::Profile& profile,
+                          const schedule::DeploymentSchedule* schedule = nullptr);
 
-/// EstimateWork, then the limits kMaxTurns, kMaxFixedSteps and kMaxRunSeconds: throws
-/// std::invalid_argument "<profile source>: <what>: <numbers> (rule: ...)", one line.
-/// Estimates that are not finite pass (other checks report their cause).
-void CheckWork(const schedule::Profile& profile);
+/// How many times EstimateWork has run in this process (a compiled run estimates once:
+/// tests count it).
+std::uint64_t WorkEstimateCount();
+
+/// The limits kMaxTurns, kMaxFixedSteps and kMaxRunSeconds on the estimate `e` of
+/// `profile`: throws std::invalid_argument "<profile source>: <what>: <numbers> (rule:
+/// ...)", one line. An estimate that is not finite (a value in the profile whose square or
+/// product overflows) is refused.
+void CheckWork(const schedule::Profile& profile, const WorkEstimate& e);
 
 }  // namespace deploysim::analysis

@@ -127,8 +127,8 @@ void PrintWarnings(const deploysim::schedule::Profile& p) {
   }
 }
 
-deploysim::schedule::Profile Load(const std::string& path, const Overrides& o) {
-  deploysim::schedule::Profile p = deploysim::io::LoadProfile(path);
+std::shared_ptr<const deploysim::analysis::CompiledRun> Load(const std::string& path,
+                                                             const Overrides& o) {
   deploysim::io::ProfileOverrides po;
   po.method = o.method;
   po.coupling = o.coupling;
@@ -138,17 +138,17 @@ deploysim::schedule::Profile Load(const std::string& path, const Overrides& o) {
   po.step = o.step;
   po.output_dt = o.dt;
   po.until = o.until;
-  deploysim::io::ApplyOverrides(p, po);
-  PrintWarnings(p);
-  return p;
+  std::shared_ptr<const deploysim::analysis::CompiledRun> run = deploysim::io::LoadRun(path, po);
+  PrintWarnings(run->profile());
+  return run;
 }
 
 // A progress bar on a terminal. A run estimated to be long (analysis::kLongRunSeconds)
 // says so first, and off a terminal prints a line at every tenth of the run instead;
 // other runs are short and print nothing (sweeps have their own progress).
-std::function<void(double)> Progress(bool quiet, const deploysim::schedule::Profile& profile) {
+std::function<void(double)> Progress(bool quiet, const deploysim::analysis::CompiledRun& run) {
   if (quiet) return {};
-  const deploysim::analysis::WorkEstimate e = deploysim::analysis::EstimateWork(profile);
+  const deploysim::analysis::WorkEstimate& e = run.work();
   const bool long_run = e.seconds > deploysim::analysis::kLongRunSeconds;
   if (long_run) {
     std::cerr << "deploysim: a long run: " << deploysim::analysis::DescribeWork(e) << "\n";
@@ -482,7 +482,8 @@ int RunSweepCommand(const CommandLine& cl, const deploysim::sweep::MpiSession& m
 
 // `deploysim simulate`: runs the profile into its trajectory file(s), then prints the
 // summary, the deployment timeline and, on request, the coupling comparison.
-int RunSimulate(CommandLine& cl, const deploysim::schedule::Profile& profile, bool comparable) {
+int RunSimulate(CommandLine& cl, const deploysim::analysis::CompiledRun& run, bool comparable) {
+  const deploysim::schedule::Profile& profile = run.profile();
   if (cl.out_path.empty()) {
     cl.out_path = std::filesystem::path(cl.profile_path).stem().string() + ".h5";
   }
@@ -494,12 +495,10 @@ int RunSimulate(CommandLine& cl, const deploysim::schedule::Profile& profile, bo
   deploysim::io::RemoveTemporariesOnSignals();
   deploysim::io::TrajectoryOutputs outputs(cl.out_path, cl.csv ? cl.out_path + ".csv" : "",
                                            profile);
-  const MissionResult r = NamingFile(cl.profile_path,
-                                     [&] {
-                                       return deploysim::analysis::RunMission(
-                                           profile, outputs, Progress(cl.quiet, profile));
-                                     },
-                                     {cl.out_path, cl.out_path + ".csv"});
+  const MissionResult r = NamingFile(
+      cl.profile_path,
+      [&] { return deploysim::analysis::RunMission(run, outputs, Progress(cl.quiet, run)); },
+      {cl.out_path, cl.out_path + ".csv"});
   if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
     std::cerr << "deploysim: error: " << cl.profile_path << ": integration " << r.message << "\n";
     return kExitIncomplete;
@@ -583,12 +582,13 @@ int RunCrosscheck(CommandLine& cl, const deploysim::schedule::Profile& profile, 
 // `deploysim analyze`: the summary and timeline tables (or JSON), with the coupling
 // comparison where it applies.
 int RunAnalyze(const CommandLine& cl,
-               const deploysim::schedule::Profile& profile,
+               const deploysim::analysis::CompiledRun& run,
                bool comparable) {
+  const deploysim::schedule::Profile& profile = run.profile();
   // The table needs no trajectory: its samples are dropped as they come (bounded memory).
   deploysim::analysis::NullSink discard;
   const MissionResult r = NamingFile(cl.profile_path, [&] {
-    return deploysim::analysis::RunMission(profile, discard, Progress(false, profile));
+    return deploysim::analysis::RunMission(run, discard, Progress(false, run));
   });
   std::optional<deploysim::analysis::CouplingComparison> c;
   if (comparable) {
@@ -678,16 +678,18 @@ int main(int argc, char** argv) {
 #ifdef DEPLOYSIM_HAVE_SWEEP
     if (cmds.swp->parsed()) return RunSweepCommand(cl, mpi);
 #endif
-    const deploysim::schedule::Profile profile = Load(cl.profile_path, cl.ov);
+    const std::shared_ptr<const deploysim::analysis::CompiledRun> run =
+        Load(cl.profile_path, cl.ov);
+    const deploysim::schedule::Profile& profile = run->profile();
     const bool geometry = profile.mode == deploysim::schedule::Mode::kGeometry;
     // The exact vs quasi-rigid comparison concerns prescribed stages; free hinges are
     // always coupled exactly.
     const bool comparable = geometry && !profile.is_hinge_profile();
-    if (cmds.sim->parsed()) return RunSimulate(cl, profile, comparable);
+    if (cmds.sim->parsed()) return RunSimulate(cl, *run, comparable);
 #ifdef DEPLOYSIM_HAVE_CROSSCHECK
     if (cmds.cc->parsed()) return RunCrosscheck(cl, profile, geometry);
 #endif
-    if (cmds.ana->parsed()) return RunAnalyze(cl, profile, comparable);
+    if (cmds.ana->parsed()) return RunAnalyze(cl, *run, comparable);
   } catch (const std::exception& e) {
     std::cerr << "deploysim: error: " << e.what() << "\n";
 #ifdef DEPLOYSIM_HAVE_SWEEP

@@ -11,6 +11,7 @@
 
 #include "deploysim/analysis/work_estimate.h"
 #include "deploysim/math/number_format.h"
+#include "deploysim/math/units.h"
 #include "deploysim/schedule/profile_warnings.h"
 
 namespace deploysim::cli {
@@ -25,7 +26,7 @@ std::string JsonList(const std::vector<double>& v) {
   return o + "]";
 }
 
-constexpr double kDegPerRad = 180.0 / M_PI;
+constexpr double kDegPerRad = math::kDegreesPerRadian;
 
 /// One sample as a JSON object, a member per column of the schema: a number (scalars),
 /// a list (vectors, quaternions w x y z, per-panel values) or a list of rows (matrices).
@@ -54,7 +55,7 @@ std::string SampleJson(const analysis::Trajectory& t,
 }
 
 std::string PanelName(const analysis::MissionResult& r, int panel) {
-  const auto& panels = r.profile.model.hinged.panels;
+  const auto& panels = r.profile().model.hinged.panels;
   if (panel < 0 || static_cast<std::size_t>(panel) >= panels.size()) {
     return "#" + std::to_string(panel);
   }
@@ -160,7 +161,7 @@ std::string AppendagesLine(const model::Model& m) {
 std::size_t StageNameWidth(const analysis::MissionResult& r) {
   std::size_t w = 18;
   for (const auto& s : r.stages) {
-    w = std::max(w, std::min<std::size_t>(PhaseLabel(r.profile.model, s.name).size(), 48));
+    w = std::max(w, std::min<std::size_t>(PhaseLabel(r.profile().model, s.name).size(), 48));
   }
   return w;
 }
@@ -214,7 +215,7 @@ std::string FormatLedger(const analysis::MissionResult& r) {
 std::string FormatOutcome(const analysis::MissionResult& r) {
   const analysis::MotionOutcome& o = r.outcome;
   if (o.headline.empty()) return "";  // a result not made by a run
-  constexpr double kDeg = 57.295779513082320877;
+  constexpr double kDeg = math::kDegreesPerRadian;
   std::string t = fmt::format("verdict: {}\n", o.headline);
   t += fmt::format(
       "  measured: {} from {} s; spin axis {} ({}) -> {} ({}); nutation {} -> {} deg, largest "
@@ -270,7 +271,7 @@ std::string FormatOutcome(const analysis::MissionResult& r) {
 
 std::string FormatSummary(const analysis::MissionResult& r) {
   std::string o;
-  const auto& p = r.profile;
+  const auto& p = r.profile();
   o += fmt::format("deploysim analysis of '{}' ({}; model '{}', mode {}, coupling {})\n", p.name,
                    p.source, p.model.name, schedule::ToString(p.mode),
                    schedule::ToString(p.coupling));
@@ -279,7 +280,7 @@ std::string FormatSummary(const analysis::MissionResult& r) {
                    p.integrator.method, r.stats.steps, r.stats.rejected, r.stats.evaluations,
                    r.wall_seconds, r.message);
   // The estimate made before the run (analysis/work_estimate.h), beside what it took.
-  const analysis::WorkEstimate e = analysis::EstimateWork(p);
+  const analysis::WorkEstimate& e = r.run->work();
   if (e.steps > 0.0) {
     o += fmt::format("work estimate before the run: {} (measured {:.3g} of the steps)\n",
                      analysis::DescribeWork(e), static_cast<double>(r.stats.steps) / e.steps);
@@ -369,7 +370,7 @@ std::string FormatSummary(const analysis::MissionResult& r) {
 /// panel when it locked and how (the locking event at that time); the appendages' bending
 /// hinges left out (free springs, they never lock). Empty for stage profiles.
 std::string LockedLine(const analysis::MissionResult& r) {
-  const std::vector<int> owner = BendingHingeOwners(r.profile.model);
+  const std::vector<int> owner = BendingHingeOwners(r.profile().model);
   std::string locked;
   for (std::size_t k = 0; k < r.latch_times.size(); ++k) {
     if (k < owner.size() && owner[k] >= 0) continue;
@@ -399,8 +400,8 @@ std::string LockedLine(const analysis::MissionResult& r) {
 /// them once). The file and --json keep them. `hidden`: how many were left out.
 std::vector<analysis::HingeEvent> ListedEvents(const analysis::MissionResult& r,
                                                std::size_t& hidden) {
-  const std::vector<int> owner = BendingHingeOwners(r.profile.model);
-  const double t0 = r.profile.t_begin();
+  const std::vector<int> owner = BendingHingeOwners(r.profile().model);
+  const double t0 = r.profile().t_begin();
   std::vector<analysis::HingeEvent> out;
   hidden = 0;
   for (const analysis::HingeEvent& e : r.hinge_events) {
@@ -416,9 +417,9 @@ std::vector<analysis::HingeEvent> ListedEvents(const analysis::MissionResult& r,
 }
 
 std::string FormatTimeline(const analysis::MissionResult& r) {
-  if (!r.profile.is_hinge_profile() && r.hinge_events.empty()) return "";
+  if (!r.profile().is_hinge_profile() && r.hinge_events.empty()) return "";
   std::size_t name_width = 5;  // "panel"
-  for (const auto& p : r.profile.model.hinged.panels) {
+  for (const auto& p : r.profile().model.hinged.panels) {
     name_width = std::max(name_width, p.name.size());
   }
   std::string o = "deployment timeline (hinge events):\n";
@@ -442,7 +443,7 @@ std::string FormatTimeline(const analysis::MissionResult& r) {
     o += fmt::format(
         "  ({} hinges the appendages generated, free from t = {} s, not listed: their "
         "releases are in --json and the HDF5 file)\n",
-        hidden, Num(r.profile.t_begin()));
+        hidden, Num(r.profile().t_begin()));
   }
   for (std::size_t i = 0; i < events.size();) {
     // A run of stop impacts of one panel (bounces, which with restitution e < 1 can number
@@ -493,7 +494,7 @@ std::string FormatCouplingComparison(const analysis::CouplingComparison& c) {
                    Num(c.w_scale > 0 ? c.max_w_difference_deploying / c.w_scale : 0.0));
   o += fmt::format("  attitude offset at the end of deployment (t = {} s): {} rad ({} deg)\n",
                    Num(c.deployment_end), Num(c.attitude_offset_at_deployment_end),
-                   Num(c.attitude_offset_at_deployment_end * 180.0 / M_PI));
+                   Num(c.attitude_offset_at_deployment_end * kDegPerRad));
   o += fmt::format("  after deployment: max attitude difference {} rad, max |dH_B|/|H| {}\n",
                    Num(c.max_attitude_difference_after), Num(c.max_H_B_difference_after));
   o += fmt::format("  flips: exact {}, quasi-rigid {}\n", c.exact.flip_times.size(),
@@ -504,7 +505,7 @@ std::string FormatCouplingComparison(const analysis::CouplingComparison& c) {
 std::string FormatJson(const analysis::MissionResult& r,
                        const analysis::CouplingComparison* c,
                        const analysis::TrajectorySchema& schema) {
-  const auto& p = r.profile;
+  const auto& p = r.profile();
   std::string o = "{\n";
   o += fmt::format("  \"profile\": {},\n  \"source\": {},\n  \"model\": {},\n",
                    math::JsonString(p.name), math::JsonString(p.source),

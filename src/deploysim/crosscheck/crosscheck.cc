@@ -105,7 +105,6 @@ CrosscheckResult RunCrosscheck(const schedule::Profile& profile, const Crosschec
     }
     p.output.dt = *options.output_dt;
   }
-  schedule::ValidateProfile(p);
 
   CrosscheckResult r;
   r.accuracy = options.accuracy;

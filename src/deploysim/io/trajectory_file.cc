@@ -35,20 +35,20 @@ using hdf5::TextType;
 
 /// Number of hinge angles per sample written for r (0: no /hinge_angles dataset).
 std::size_t HingeColumns(const analysis::MissionResult& r) {
-  if (r.profile.mode != schedule::Mode::kGeometry) return 0;
-  return r.profile.model.hinged.panels.size();
+  if (r.profile().mode != schedule::Mode::kGeometry) return 0;
+  return r.profile().model.hinged.panels.size();
 }
 
 /// The analysis of r fits its profile: one report per stage (a hinge profile: one per
 /// phase, any number), ordered danger windows, latch times empty or one per panel, hinge
 /// events naming panels of the model.
 void CheckAnalysis(const std::string& path, const analysis::MissionResult& r) {
-  if (!r.profile.is_hinge_profile() && r.stages.size() != r.profile.stages.size()) {
+  if (!r.profile().is_hinge_profile() && r.stages.size() != r.profile().stages.size()) {
     throw std::invalid_argument(path + ": " + std::to_string(r.stages.size()) +
-                                " stage reports for " + std::to_string(r.profile.stages.size()) +
+                                " stage reports for " + std::to_string(r.profile().stages.size()) +
                                 " profile stages (rule: one report per stage)");
   }
-  const std::size_t panels = r.profile.model.hinged.panels.size();
+  const std::size_t panels = r.profile().model.hinged.panels.size();
   if (!r.latch_times.empty() && r.latch_times.size() != panels) {
     throw std::invalid_argument(path + ": " + std::to_string(r.latch_times.size()) +
                                 " latch times for " + std::to_string(panels) +
@@ -87,7 +87,7 @@ std::string StatisticsText(const integrators::Statistics& s) {
 /// has no stages: one row per phase between hinge events, as its reports describe them
 /// (no configurations: from and to empty).
 void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
-  const schedule::Profile& p = r.profile;
+  const schedule::Profile& p = r.profile();
   const bool phases = p.is_hinge_profile();
   std::vector<double> t_begin, t_end, moments, one_minus_k2, separatrix, half_period, max_diff;
   std::vector<long long> index, rigid, predicted, observed, rigid_only;
@@ -172,7 +172,7 @@ void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
 /// The hinge event table /events/hinge/* (one row per event, in time order), the latch
 /// time of every panel and the model's panel names (geometry mode).
 void WriteHingeOutputs(Hdf5Writer& w, const analysis::MissionResult& r, bool geometry) {
-  const std::vector<model::Panel>& panels = r.profile.model.hinged.panels;
+  const std::vector<model::Panel>& panels = r.profile().model.hinged.panels;
   std::vector<double> time, angle, before, after, impulse, jump, dissipated, drive;
   std::vector<long long> panel;
   std::vector<std::string> panel_name, kind;
@@ -273,7 +273,7 @@ void WriteAnalysis(Hdf5Writer& w, const analysis::MissionResult& r, bool geometr
   WriteStageTable(w, r);
   WriteDangerWindows(w, r);
 
-  const schedule::Profile& p = r.profile;
+  const schedule::Profile& p = r.profile();
   w.Attribute("/", "deploysim_version", DEPLOYSIM_VERSION);
   w.Attribute("/", "schema_version", std::to_string(kTrajectorySchemaVersion));
   w.Attribute("/", "profile_name", p.name);
@@ -787,7 +787,7 @@ void WriteTrajectoryFile(const std::string& path,
                          const analysis::TrajectorySchema& schema) {
   schema.Check(path, r.trajectory, HingeColumns(r));
   CheckAnalysis(path, r);
-  TrajectoryFileWriter w(path, r.profile, schema);  // atomic: nothing at `path` unless Commit()
+  TrajectoryFileWriter w(path, r.profile(), schema);  // atomic: nothing at `path` unless Commit()
   w.Append(r.trajectory);
   w.Finish(r);
   w.Commit();

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "deploysim/math/types.h"
+#include "deploysim/math/units.h"
 
 namespace deploysim::io::yaml {
 
@@ -75,9 +76,9 @@ inline constexpr std::size_t kMaxShownPathBytes = 160;
 inline constexpr std::size_t kMaxNameBytes = 200;
 /// Degrees in files (`..._deg`, `..._deg_s`) become radians (rad/s) on load by this factor
 /// (nothing downstream sees degrees).
-inline constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
+using math::kRadiansPerDegree;
 /// Rates in revolutions per minute (`..._rpm`) become rad/s on load by this factor.
-inline constexpr double kRadPerSecondPerRpm = 2.0 * 3.14159265358979323846 / 60.0;
+using math::kRadPerSecondPerRpm;
 
 /// The whole file as bytes: a regular file of at most kMaxFileBytes bytes. Throws
 /// std::runtime_error "<path>: cannot read: <reason>" (missing, unreadable, not a regular

@@ -17,16 +17,13 @@ namespace deploysim::io {
 
 namespace {
 
-using math::FormatNumber;
-
-std::string Join(const std::vector<std::string>& names) {
-  std::string s;
-  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
-
 std::string Where(const schedule::Profile& p) {
   return p.source.empty() ? "profile '" + p.name + "'" : p.source;
+}
+
+void CheckRunSettings(const schedule::Profile& p) {
+  analysis::CheckRunSettings(p);
+  analysis::CheckWork(p, analysis::EstimateWork(p));
 }
 
 void Validate(const schedule::Profile& p) {
@@ -35,38 +32,6 @@ void Validate(const schedule::Profile& p) {
 }
 
 }  // namespace
-
-void CheckRunSettings(const schedule::Profile& p) {
-  const std::string where = Where(p);
-  const std::string& method = p.integrator.method;
-  const std::vector<std::string> names = analysis::StepperNames();
-  bool known = false;
-  for (const std::string& n : names) known = known || n == method;
-  if (!known) {
-    throw std::invalid_argument(where + ": integrator.method = " + method +
-                                ": unknown integrator (valid: " + Join(names) + ")");
-  }
-  if (!analysis::MakeStepper(method)->info().adaptive && !(p.integrator.step > 0.0)) {
-    throw std::invalid_argument(where + ": integrator.step = " + FormatNumber(p.integrator.step) +
-                                ": the fixed-step method " + method +
-                                " needs integrator.step > 0 [s]");
-  }
-  if (p.has_free_hinge() && !analysis::RunsFreeHinges(method)) {
-    throw std::invalid_argument(where + ": integrator.method = " + method + ": " +
-                                analysis::FreeHingeMethodRule());
-  }
-  if ((!p.stages.empty() || p.is_hinge_profile()) && p.output.dt > 0.0) {
-    const double samples = (p.t_end() - p.t_begin()) / p.output.dt + 1.0;
-    if (!(samples <= kMaxOutputSamples)) {
-      throw std::invalid_argument(where + ": output.dt = " + FormatNumber(p.output.dt) +
-                                  ": gives " + FormatNumber(std::ceil(samples)) +
-                                  " output samples over " + FormatNumber(p.t_end() - p.t_begin()) +
-                                  " s (at most " + FormatNumber(kMaxOutputSamples) + ")");
-    }
-  }
-  // Turns of the body and fixed steps against the run limits (analysis/work_estimate.h).
-  analysis::CheckWork(p);
-}
 
 schedule::Profile LoadProfile(const std::string& path) {
   schedule::Profile p = ReadProfile(path);
@@ -119,11 +84,9 @@ void EndStagesAt(schedule::Profile& p, double until, const std::string& where) {
   st.back().t_end = until;
 }
 
-}  // namespace
-
-void ApplyOverrides(schedule::Profile& profile, const ProfileOverrides& o) {
-  const std::string where = Where(profile);
-  schedule::Profile p = profile;
+/// The overrides applied to `p`, unchecked (the caller validates the result).
+void Override(schedule::Profile& p, const ProfileOverrides& o) {
+  const std::string where = Where(p);
   if (o.method) p.integrator.method = *o.method;
   if (o.rtol) p.integrator.rtol = *o.rtol;
   if (o.atol) p.integrator.atol = *o.atol;
@@ -152,8 +115,22 @@ void ApplyOverrides(schedule::Profile& profile, const ProfileOverrides& o) {
     }
     p.coupling = *c;
   }
+}
+
+}  // namespace
+
+void ApplyOverrides(schedule::Profile& profile, const ProfileOverrides& o) {
+  schedule::Profile p = profile;
+  Override(p, o);
   Validate(p);
   profile = std::move(p);
+}
+
+std::shared_ptr<const analysis::CompiledRun> LoadRun(const std::string& path,
+                                                     const ProfileOverrides& o) {
+  schedule::Profile p = ParseProfile(path);
+  Override(p, o);
+  return analysis::CompiledRun::Compile(std::move(p));
 }
 
 }  // namespace deploysim::io

@@ -6,18 +6,20 @@
 /// (std::invalid_argument for bad content, std::runtime_error for unreadable files).
 /// Library deploysim::io.
 
+#include <memory>
 #include <optional>
 #include <string>
 
+#include "deploysim/analysis/compiled_run.h"
 #include "deploysim/io/yaml_reader.h"
 
 namespace deploysim::io {
 
-/// ReadProfile (yaml_reader.h), then CheckRunSettings: the result has passed
-/// schedule::ValidateProfile and CheckRunSettings.
+/// ReadProfile (yaml_reader.h), then the run-setting rules (analysis::CheckRunSettings):
+/// a profile that can be run. A run compiles it (LoadRun validates once instead).
 schedule::Profile LoadProfile(const std::string& path);
 
-/// LoadProfile of a text that is no file (ReadProfileText, then CheckRunSettings).
+/// LoadProfile of a text that is no file (ReadProfileText, then the run-setting rules).
 schedule::Profile LoadProfileText(const std::string& text,
                                   const std::string& source,
                                   const std::string& base_dir,
@@ -40,19 +42,15 @@ struct ProfileOverrides {
 };
 
 /// Applies the overrides and re-validates the whole profile (ValidateProfile and
-/// CheckRunSettings); throws std::invalid_argument "<profile source>: <key> = <value>:
-/// <rule>" for an unknown method, mode or coupling or a combination that is not valid.
-/// `profile` is modified only if the result is valid.
+/// analysis::CheckRunSettings); throws std::invalid_argument "<profile source>: <key> =
+/// <value>: <rule>" for an unknown method, mode or coupling or a combination that is not
+/// valid. `profile` is modified only if the result is valid.
 void ApplyOverrides(schedule::Profile& profile, const ProfileOverrides& overrides);
 
-/// The io-level rules on a profile's run settings that schedule::ValidateProfile leaves
-/// to the reader: the integrator method exists (analysis::StepperNames), fixed-step
-/// methods have integrator.step > 0, the output grid has at most kMaxOutputSamples
-/// samples, and the work is within the run limits (analysis::CheckWork: turns of the
-/// body, fixed steps). Throws std::invalid_argument naming the key or the limit.
-void CheckRunSettings(const schedule::Profile& profile);
-
-/// Largest number of output samples a profile may ask for ((t_end - t_begin)/dt + 1).
-inline constexpr double kMaxOutputSamples = 1e7;
+/// The run of a profile file with the overrides, compiled (what `deploysim simulate` and
+/// `analyze` run): parsed (ParseProfile), overridden, then validated once and compiled
+/// (analysis::CompiledRun::Compile). Throws as LoadProfile and ApplyOverrides.
+std::shared_ptr<const analysis::CompiledRun> LoadRun(const std::string& path,
+                                                     const ProfileOverrides& overrides = {});
 
 }  // namespace deploysim::io

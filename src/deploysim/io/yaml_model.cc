@@ -8,6 +8,7 @@
 #include "deploysim/io/yaml_fields.h"
 #include "deploysim/io/yaml_reader.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/math/units.h"
 #include "deploysim/model/appendages.h"
 #include "deploysim/model/flexible_beam.h"
 #include "deploysim/model/mass_properties.h"
@@ -17,11 +18,11 @@ namespace deploysim::io {
 
 namespace {
 
+using math::kRadiansPerDegree;
+using math::kRadPerSecondPerRpm;
 using yaml::Fields;
 using yaml::YamlDocument;
 using yaml::YamlNode;
-
-constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
 
 /// Validates J with math::InertiaTensor::Check; the message names the file and key.
 void RequireValidInertia(const Fields& f, const std::string& key, const math::Mat3& J) {
@@ -229,7 +230,6 @@ void ReadTank(const Fields& f, model::SloshSpec& s) {
 model::SloshSpec ReadSlosh(const Fields& f,
                            const std::string& name,
                            const std::vector<model::Panel>& panels) {
-  constexpr double kRadPerSecondPerRpm = 2.0 * 3.14159265358979323846 / 60.0;
   model::SloshSpec s;
   s.name = name;
   s.parent = ParentPanel(f, "parent", panels);

@@ -483,10 +483,28 @@ schedule::Profile ReadProfile(const std::string& path) {
   return ReadProfileText(text, path, std::filesystem::path(path).parent_path().string());
 }
 
+schedule::Profile ParseProfile(const std::string& path) {
+  const std::string text = yaml::ReadTextFile(path);
+  return ParseProfileText(text, path, std::filesystem::path(path).parent_path().string());
+}
+
 schedule::Profile ReadProfileText(const std::string& text,
                                   const std::string& source,
                                   const std::string& base_dir,
                                   const model::Model* model) {
+  schedule::Profile p = ParseProfileText(text, source, base_dir, model);
+  schedule::ValidateProfile(p);
+  if (p.initial.spin) {
+    // J_B(t0) needs the validated model and plans.
+    p.initial.H_B = schedule::SpinMomentum(schedule::InitialInertia(p), *p.initial.spin);
+  }
+  return p;
+}
+
+schedule::Profile ParseProfileText(const std::string& text,
+                                   const std::string& source,
+                                   const std::string& base_dir,
+                                   const model::Model* model) {
   const std::string& path = source;
   const YamlDocument doc(source, text, base_dir);
   const Fields top(
@@ -559,11 +577,6 @@ schedule::Profile ReadProfileText(const std::string& text,
   }
   p.integrator = ReadIntegrator(top);
   p.output = ReadOutput(top);
-  schedule::ValidateProfile(p);
-  if (p.initial.spin) {
-    // J_B(t0) needs the validated model and plans.
-    p.initial.H_B = schedule::SpinMomentum(schedule::InitialInertia(p), *p.initial.spin);
-  }
   return p;
 }
 

@@ -44,6 +44,11 @@ model::Model LoadModel(const std::string& path);
 /// the integrators (use io::LoadProfile for a profile that is to be run).
 schedule::Profile ReadProfile(const std::string& path);
 
+/// ReadProfile without the cross-field rules: the keys, types and per-key ranges are
+/// checked, schedule::ValidateProfile is not run and `initial.spin` is not resolved. For a
+/// profile that is compiled next (analysis::CompiledRun::Compile validates it once).
+schedule::Profile ParseProfile(const std::string& path);
+
 /// LoadModel of a text that is no file (a document built in memory, e.g. from Python
 /// dicts by the deploysim Python package): the same rules and the same one-line messages,
 /// with `source` where a file's messages name the file. Model::source = source,
@@ -58,6 +63,12 @@ schedule::Profile ReadProfileText(const std::string& text,
                                   const std::string& source,
                                   const std::string& base_dir,
                                   const model::Model* model = nullptr);
+
+/// ParseProfile of a text that is no file (the arguments of ReadProfileText).
+schedule::Profile ParseProfileText(const std::string& text,
+                                   const std::string& source,
+                                   const std::string& base_dir,
+                                   const model::Model* model = nullptr);
 
 /// "tensor" | "geometry" -> Mode, "quasi-rigid" | "exact" -> Coupling (the names of
 /// schedule::ToString). Throw std::invalid_argument "<name>: unknown mode (valid: ...)".

@@ -42,11 +42,13 @@ dynamics::InertiaSample RigidSampleOf(const math::Mat3& J_B) {
 }  // namespace
 
 DeploymentSchedule::DeploymentSchedule(const Profile& profile)
+    : DeploymentSchedule((ValidateProfile(profile), profile), kValidated) {}
+
+DeploymentSchedule::DeploymentSchedule(const Profile& profile, Validated)
     : stages_(profile.stages),
       mode_(profile.mode),
       coupling_(profile.coupling),
       model_(profile.model) {
-  ValidateProfile(profile);
   if (profile.is_hinge_profile()) {
     // Its panels follow their own plans (hinge_plan.h), not a stage table.
     throw std::invalid_argument(

@@ -34,12 +34,19 @@
 
 namespace deploysim::schedule {
 
+/// Marks a profile that has passed ValidateProfile (analysis::CompiledRun builds the
+/// schedule of the profile it has just validated).
+struct Validated {};
+inline constexpr Validated kValidated{};
+
 class DeploymentSchedule final : public dynamics::InertiaSource {
  public:
   /// Validates the profile (ValidateProfile; throws std::invalid_argument), resolves an
   /// empty `from` to the previous stage's `to`, and precomputes the configurations.
   /// A hinge profile (Profile::is_hinge_profile) has no stages: std::invalid_argument.
   explicit DeploymentSchedule(const Profile& profile);
+  /// The same for a profile that has passed ValidateProfile: not validated again.
+  DeploymentSchedule(const Profile& profile, Validated);
 
   dynamics::InertiaSample Evaluate(double t,
                                    dynamics::Side side = dynamics::Side::kRight) const override;

@@ -622,6 +622,13 @@ double FreeHingeSystem::Torque(
   return q;
 }
 
+double FreeHingeSystem::NextBreakpoint(double t) const {
+  double next = std::numeric_limits<double>::infinity();
+  for (const PrescribedHinge& p : prescribed_) next = std::min(next, p.NextBreakpoint(t));
+  for (const PrescribedHinge& p : servo_ref_) next = std::min(next, p.NextBreakpoint(t));
+  return next;
+}
+
 std::vector<double> FreeHingeSystem::Breakpoints(double t0, double t1) const {
   std::vector<double> out;
   for (const PrescribedHinge& p : prescribed_) {

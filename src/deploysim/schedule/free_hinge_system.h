@@ -107,6 +107,8 @@ class FreeHingeSystem final : public dynamics::ShapeSystem, public dynamics::Ine
                 Eigen::VectorXd& x_dot) const override;
   /// Window boundaries of the prescribed hinges in (t0, t1) (both interfaces).
   std::vector<double> Breakpoints(double t0, double t1) const override;
+  /// The first prescribed or servo window boundary after t (+inf if none), beyond any end.
+  double NextBreakpoint(double t) const;
 
   // dynamics::InertiaSource, valid while no hinge is free (throws std::logic_error
   // otherwise): J_B, dJ_B/dt, h_rel_B, T_rel of the locked and prescribed hinges at t (modal

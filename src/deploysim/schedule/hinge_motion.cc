@@ -1,59 +1,72 @@
 #include "deploysim/schedule/hinge_motion.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace deploysim::schedule {
 
 PrescribedHinge::PrescribedHinge(std::vector<HingeMove> moves, double initial_angle)
-    : moves_(std::move(moves)), initial_angle_(initial_angle) {
+    : moves_(std::move(moves)) {
   double angle = initial_angle;
   start_angles_.reserve(moves_.size());
   for (const HingeMove& m : moves_) {
     start_angles_.push_back(angle);
     angle = m.kind == HingeMove::Kind::kTo ? m.angle : angle + m.rate * (m.t_end - m.t_begin);
   }
+  end_angle_ = angle;
 }
 
 HingeKinematics PrescribedHinge::At(double t, dynamics::Side side) const {
   HingeKinematics k;
-  k.angle = initial_angle_;
-  for (std::size_t j = 0; j < moves_.size(); ++j) {
-    const HingeMove& m = moves_[j];
-    const double theta_b = start_angles_[j];
-    // Before this window (from the left at its start): hold the angle reached so far.
-    const bool before = t < m.t_begin || (t == m.t_begin && side == dynamics::Side::kLeft);
-    if (before) return k;
-    const bool after = t > m.t_end || (t == m.t_end && side == dynamics::Side::kRight);
-    const double D = m.t_end - m.t_begin;
-    if (m.kind == HingeMove::Kind::kTo) {
-      if (after) {
-        k.angle = m.angle;
-        continue;
-      }
-      const LawValue v = EvaluateLaw(m.law, (t - m.t_begin) / D);
-      const double swing = m.angle - theta_b;
-      k.angle = theta_b + v.s * swing;
-      k.rate = v.ds / D * swing;
-      k.acceleration = v.dds / (D * D) * swing;
-      return k;
-    }
-    if (after) {
-      k.angle = theta_b + m.rate * D;
-      continue;
-    }
-    k.angle = theta_b + m.rate * (t - m.t_begin);
-    k.rate = m.rate;
-    k.acceleration = 0.0;
+  // The first window not over at t (from the right at its end): the windows ascend and
+  // do not overlap, so a binary search finds it (a rotor may have 10^4 windows).
+  const auto over = [&](const HingeMove& m) {
+    return t > m.t_end || (t == m.t_end && side == dynamics::Side::kRight);
+  };
+  const std::size_t j = static_cast<std::size_t>(
+      std::partition_point(moves_.begin(), moves_.end(), over) - moves_.begin());
+  if (j == moves_.size()) {
+    k.angle = end_angle_;
     return k;
   }
+  const HingeMove& m = moves_[j];
+  const double theta_b = start_angles_[j];
+  k.angle = theta_b;
+  // Before this window (from the left at its start): hold the angle reached so far.
+  if (t < m.t_begin || (t == m.t_begin && side == dynamics::Side::kLeft)) return k;
+  const double D = m.t_end - m.t_begin;
+  if (m.kind == HingeMove::Kind::kTo) {
+    const LawValue v = EvaluateLaw(m.law, (t - m.t_begin) / D);
+    const double swing = m.angle - theta_b;
+    k.angle = theta_b + v.s * swing;
+    k.rate = v.ds / D * swing;
+    k.acceleration = v.dds / (D * D) * swing;
+    return k;
+  }
+  k.angle = theta_b + m.rate * (t - m.t_begin);
+  k.rate = m.rate;
+  k.acceleration = 0.0;
   return k;
+}
+
+std::vector<HingeMove>::const_iterator PrescribedHinge::FirstNotOver(double t) const {
+  return std::partition_point(moves_.begin(), moves_.end(),
+                              [t](const HingeMove& m) { return m.t_end <= t; });
+}
+
+double PrescribedHinge::NextBreakpoint(double t) const {
+  const auto m = FirstNotOver(t);
+  if (m == moves_.end()) return std::numeric_limits<double>::infinity();
+  return m->t_begin > t ? m->t_begin : m->t_end;
 }
 
 std::vector<double> PrescribedHinge::Breakpoints(double t0, double t1) const {
   std::vector<double> out;
-  for (const HingeMove& m : moves_) {
-    for (double b : {m.t_begin, m.t_end}) {
+  // The moves that end after t0, up to the first that starts at or after t1.
+  for (auto m = FirstNotOver(t0); m != moves_.end() && m->t_begin < t1; ++m) {
+    for (double b : {m->t_begin, m->t_end}) {
       if (b > t0 && b < t1 && (out.empty() || out.back() < b)) out.push_back(b);
     }
   }

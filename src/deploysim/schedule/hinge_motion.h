@@ -32,13 +32,18 @@ class PrescribedHinge {
   HingeKinematics At(double t, dynamics::Side side = dynamics::Side::kRight) const;
   /// Window boundaries strictly inside (t0, t1), ascending.
   std::vector<double> Breakpoints(double t0, double t1) const;
+  /// The first window boundary after t (+inf if none).
+  double NextBreakpoint(double t) const;
   /// True when the hinge does not move anywhere in (t0, t1).
   bool IsAtRestOn(double t0, double t1) const;
 
  private:
+  /// The first move that ends after t (moves ascend: a binary search).
+  std::vector<HingeMove>::const_iterator FirstNotOver(double t) const;
+
   std::vector<HingeMove> moves_;
   std::vector<double> start_angles_;  // angle at each move's t_begin
-  double initial_angle_ = 0.0;
+  double end_angle_ = 0.0;            // after the last move
 };
 
 /// The generalized force of a free hinge's drive Q(theta, theta') [N m] (hinge_plan.h):

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "deploysim/math/units.h"
 #include "deploysim/schedule/laws.h"
 
 namespace deploysim::schedule {
@@ -165,7 +166,7 @@ inline constexpr double kContactTime = 1e-3;
 /// describes no deployable panel's hardware, and the run's cost cannot be bounded (a
 /// spring's rest angle of 1e12 deg stores 1e23 J; the steps follow sqrt(k / I)).
 /// Angles: stops, latch and spring rest angles, 10 turns either way [rad].
-inline constexpr double kMaxDriveAngle = 3600.0 * 3.14159265358979323846 / 180.0;
+inline constexpr double kMaxDriveAngle = 3600.0 * math::kRadiansPerDegree;
 /// Spring and servo stiffness [N m/rad].
 inline constexpr double kMaxDriveStiffness = 1e9;
 /// Damper and servo damping [N m s/rad].
@@ -177,7 +178,7 @@ inline constexpr double kMaxDriveSpeed = 2000.0 * 3.14159265358979323846;
 /// The regularized friction law's smallest speed, 0.01 deg/s [rad/s]: below it the law's
 /// viscous slope torque / speed makes the equations stiff (at 1e-6 deg/s a 600 s run did
 /// not finish in a minute). Exact Coulomb friction (stick and slip) needs no speed.
-inline constexpr double kMinRegularizationSpeed = 0.01 * 3.14159265358979323846 / 180.0;
+inline constexpr double kMinRegularizationSpeed = 0.01 * math::kRadiansPerDegree;
 
 /// "locked", "prescribed", "free".
 std::string ToString(HingePlan::Kind kind);

@@ -1,6 +1,7 @@
 #include "deploysim/schedule/profile.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -10,6 +11,7 @@
 
 #include "deploysim/math/inertia.h"
 #include "deploysim/math/number_format.h"
+#include "deploysim/math/units.h"
 #include "deploysim/model/mass_properties.h"
 
 namespace deploysim::schedule {
@@ -18,6 +20,7 @@ namespace {
 
 /// The project's number formatting (math/number_format.h) under a short local name.
 constexpr auto& Num = math::FormatNumber;
+using math::kDegreesPerRadian;
 
 std::string Vec(const Eigen::VectorXd& v) {
   std::string s = "[";
@@ -70,6 +73,15 @@ void ValidateModel(const Profile& p, const std::string& where) {
       }
       if (!c.hinge_angles.allFinite()) {
         Fail(model_where, key + " = " + Vec(c.hinge_angles) + " [rad]: must be finite");
+      }
+      // The angles a hinge may be driven to (kMaxDriveAngle): a spring stretched over more
+      // turns than that drives no physical panel, and its torque overflows the steps.
+      for (Eigen::Index k = 0; k < c.hinge_angles.size(); ++k) {
+        if (!(std::abs(c.hinge_angles[k]) <= kMaxDriveAngle)) {
+          Fail(model_where,
+               key + "[" + std::to_string(k) + "] = " + Num(c.hinge_angles[k] * kDegreesPerRadian) +
+                   " deg: must be within +-" + Num(kMaxDriveAngle * kDegreesPerRadian) + " deg");
+        }
       }
     }
   } else {
@@ -195,8 +207,6 @@ void ValidateInitial(const Profile& p, const std::string& where) {
 }
 
 // --- Hinge profiles (`hinges:`, hinge_plan.h, docs/file_formats.md "Hinge profiles") ------
-
-constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
 
 /// An angle [rad] (or a rate [rad/s]) as the file gives it, in degrees (deg/s), to 12
 /// significant digits: the file's `95` reads back as "95", not "95.00000000000001".
@@ -648,7 +658,14 @@ std::string ToString(Coupling c) {
   return "unknown";
 }
 
+namespace {
+std::atomic<std::uint64_t> validations{0};
+}  // namespace
+
+std::uint64_t ValidationCount() { return validations.load(); }
+
 void ValidateProfile(const Profile& p) {
+  ++validations;
   const std::string where = p.source.empty() ? "profile '" + p.name + "'" : p.source;
   if (p.is_hinge_profile()) {
     ValidateHingeModes(p, where);

@@ -4,6 +4,7 @@
 /// integrator and the output sampling (docs/design.md 2.6, 5). io/ reads it from YAML with
 /// strict validation; docs/file_formats.md documents the file.
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -163,6 +164,10 @@ inline constexpr double kMinStageDurationFraction = 1e-8;
 /// std::invalid_argument "<file>: <key path> = <value>: <rule>" (key paths as in the file:
 /// `hinges.wing_plus_x.free.latch.angle_deg`, angles shown in degrees).
 void ValidateProfile(const Profile& p);
+
+/// How many times ValidateProfile has run in this process (a compiled run validates its
+/// profile once: tests count it).
+std::uint64_t ValidationCount();
 
 /// Sets the plans of the model's appendages' bending hinges (model.h Appendage): free from
 /// the start, on the spring (rest angle 0) and damper the model generated. `plans` has one

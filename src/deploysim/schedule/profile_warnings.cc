@@ -5,13 +5,11 @@
 #include <limits>
 
 #include "deploysim/math/number_format.h"
+#include "deploysim/math/units.h"
 
 namespace deploysim::schedule {
 
 namespace {
-
-constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
-constexpr double kRpmPerRadS = 60.0 / (2.0 * 3.14159265358979323846);
 
 /// A derived quantity for a message, to 4 significant digits.
 std::string Short(double x) {
@@ -20,7 +18,7 @@ std::string Short(double x) {
   return buf;
 }
 
-std::string Deg(double rad) { return Short(rad * kDegPerRad); }
+std::string Deg(double rad) { return Short(rad * math::kDegreesPerRadian); }
 
 struct Collector {
   std::string where;
@@ -160,7 +158,7 @@ void CheckSpin(const Profile& p, Collector& out) {
   if (in.spin) {
     // In rpm the unit was chosen on purpose: only rad/s and deg/s are mistaken for it.
     if (in.spin->rate > kMaxPlausibleSpin && !in.spin->rate_in_rpm) {
-      out.Add("initial.spin.rate = " + Short(in.spin->rate * kRpmPerRadS) + " rpm",
+      out.Add("initial.spin.rate = " + Short(in.spin->rate / math::kRadPerSecondPerRpm) + " rpm",
               "faster than spacecraft spin (at most ~60 rpm): check the unit");
     }
     return;
@@ -169,8 +167,8 @@ void CheckSpin(const Profile& p, Collector& out) {
   if (!in.w_NB_B) return;
   const double w = in.w_NB_B->norm();
   if (w > kMaxPlausibleSpin) {
-    out.Add("initial.angular_velocity (|w| = " + Short(w) + " rad/s = " + Short(w * kRpmPerRadS) +
-                " rpm)",
+    out.Add("initial.angular_velocity (|w| = " + Short(w) +
+                " rad/s = " + Short(w / math::kRadPerSecondPerRpm) + " rpm)",
             "faster than spacecraft spin (at most ~60 rpm): angular_velocity is in rad/s; "
             "angular_velocity_deg_s, angular_velocity_rpm or spin take other units");
   }

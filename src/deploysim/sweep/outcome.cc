@@ -188,7 +188,7 @@ CaseOutcome CommonOutcome(const Case& c,
                           const OutcomeSettings& settings) {
   const math::Vec3& s = m.spin_axis_B;
   CaseOutcome out;
-  out.end_time = c.profile.t_end();
+  out.end_time = c.profile().t_end();
   out.termination = m.termination;
   out.steps = m.stats.steps;
   out.rejected = m.stats.rejected;
@@ -210,7 +210,7 @@ CaseOutcome CommonOutcome(const Case& c,
 void SetHingeColumns(const Case& c, const analysis::MissionResult& m, CaseOutcome& out) {
   using analysis::HingeEvent;
   double first_release = std::numeric_limits<double>::infinity();
-  std::vector<char> released(c.profile.hinges.size(), 0);
+  std::vector<char> released(c.profile().hinges.size(), 0);
   for (const HingeEvent& e : m.hinge_events) {
     switch (e.kind) {
       case HingeEvent::Kind::kRelease:
@@ -234,7 +234,7 @@ void SetHingeColumns(const Case& c, const analysis::MissionResult& m, CaseOutcom
     }
   }
   out.all_latched = out.latched_count == c.latches_expected ? 1 : 0;
-  out.deploy_end_time = c.profile.t_begin();
+  out.deploy_end_time = c.profile().t_begin();
   if (!std::isfinite(first_release)) return;
   for (std::size_t k = 0; k < released.size(); ++k) {
     if (released[k]) out.deploy_end_time = std::max(out.deploy_end_time, m.latch_times[k]);
@@ -271,16 +271,13 @@ CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings) {
   analysis::NullSink sink;
   analysis::RunOptions options;
   options.sample_trajectory = false;
-  if (!c.profile.is_hinge_profile()) {
-    options.schedule = c.schedule.get();
-    options.spin_axis_B = c.spin_axis_B;
-  }
-  const analysis::MissionResult m = analysis::RunMission(c.profile, sink, {}, options);
+  if (!c.profile().is_hinge_profile()) options.spin_axis_B = c.spin_axis_B;
+  const analysis::MissionResult m = analysis::RunMission(*c.run, sink, {}, options);
   CaseOutcome out = CommonOutcome(c, m, settings);
-  if (c.profile.is_hinge_profile()) {
+  if (c.profile().is_hinge_profile()) {
     SetHingeColumns(c, m, out);
   } else {
-    SetStageColumns(c.profile, out);
+    SetStageColumns(c.profile(), out);
   }
   out.run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return out;

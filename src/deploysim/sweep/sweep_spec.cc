@@ -472,25 +472,6 @@ void ApplyModelParameters(const std::vector<Target>& targets,
   }
 }
 
-/// Applies the hinge or stage parameters to the case's profile and returns J_B(t0) (and
-/// the rest of the inertia sample) of the result. Stage profiles: sets the case's schedule.
-dynamics::InertiaSample ApplyProfileParameters(const std::vector<Target>& targets,
-                                               const std::vector<double>& v,
-                                               Case& c) {
-  schedule::Profile& p = c.profile;
-  if (p.is_hinge_profile()) {
-    // 2. Free-hinge drives and failures; the plans are checked before J_B(t0) is
-    // formed from them.
-    ApplyHingeParameters(targets, v, p);
-    schedule::ValidateProfile(p);
-    return schedule::InitialInertia(p);
-  }
-  ApplyStageParameters(targets, v, p);
-  // The schedule validates the profile (model, modes, stages) and gives J_B(t0).
-  c.schedule = std::make_shared<const schedule::DeploymentSchedule>(p);
-  return c.schedule->Evaluate(p.t_begin());
-}
-
 /// The initial-state parameters a case sets (unset: the base profile's value stands).
 struct InitialParameters {
   std::optional<double> nutation, azimuth, spin_rate;
@@ -518,14 +499,12 @@ InitialParameters InitialParametersOf(const std::vector<Target>& targets,
 }
 
 /// Step 4 of the file comment of sweep_spec.h: H_B(t0) of the case, from the profile's
-/// initial state with the nutation, azimuth and spin rate the case sets.
+/// H_B(t0) (H) with the nutation, azimuth and spin rate the case sets.
 math::Vec3 InitialMomentum(const std::vector<Target>& targets,
                            const std::vector<double>& v,
-                           const schedule::Profile& p,
+                           math::Vec3 H,
                            const dynamics::InertiaSample& s0,
                            const math::Vec3& s) {
-  math::Vec3 H =
-      p.initial.H_B ? *p.initial.H_B : math::Vec3(s0.J_B * *p.initial.w_NB_B + s0.h_rel_B);
   const InitialParameters in = InitialParametersOf(targets, v);
   if (in.nutation || in.azimuth) H = schedule::TiltMomentum(H, s, s0.J_B, in.nutation, in.azimuth);
   if (in.spin_rate) H = schedule::ScaleToSpinRate(H, s, s0, *in.spin_rate);
@@ -534,8 +513,11 @@ math::Vec3 InitialMomentum(const std::vector<Target>& targets,
 
 /// A hinge-profile case: its run measures angles from the same spin axis as the case
 /// (RunHingeMission: the principal axis nearest H_B(t0)); counts the latches expected.
-void FinishHingeCase(const SweepSpec& spec, const dynamics::InertiaSample& s0, Case& c) {
-  const math::Vec3 run_axis = analysis::InitialSpinAxis(s0.J_B, *c.profile.initial.H_B);
+void FinishHingeCase(const SweepSpec& spec,
+                     const dynamics::InertiaSample& s0,
+                     const math::Vec3& H_B,
+                     Case& c) {
+  const math::Vec3 run_axis = analysis::InitialSpinAxis(s0.J_B, H_B);
   if ((run_axis - c.spin_axis_B).norm() > kSameAxis) {
     throw std::invalid_argument(
         "initial: H_B(t0) is nearer another principal axis than the spin axis s (rule: a "
@@ -557,27 +539,30 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
   c.parameters = ParametersOf(spec, index);
   const std::vector<Target> targets = spec.targets();
   const std::vector<double>& v = c.parameters.values;
-  schedule::Profile& p = c.profile;
-  p = spec.base;
+  schedule::Profile p = spec.base;
   const std::string where = (spec.source.empty() ? std::string("sweep") : spec.source) + ": case " +
                             std::to_string(index) + " " + DescribeParameters(spec, c.parameters);
   try {
     // 1. Model: the appendages, then panel and inertia factors.
     ApplyAppendageParameters(targets, v, p);
     ApplyModelParameters(targets, v, p);
-    // 2-3. Hinges, or coupling, law and timing.
-    const dynamics::InertiaSample s0 = ApplyProfileParameters(targets, v, c);
+    // 2-3. Hinges (free-hinge drives and failures), or coupling, law and timing.
+    const bool hinges = p.is_hinge_profile();
+    if (hinges) {
+      ApplyHingeParameters(targets, v, p);
+    } else {
+      ApplyStageParameters(targets, v, p);
+    }
     const math::Vec3 base_axis =
         spec.base_spin_axis_B ? *spec.base_spin_axis_B : BaseSpinAxis(spec.base);
-    c.spin_axis_B = analysis::InitialSpinAxis(s0.J_B, base_axis);
-
-    // 4. Initial state.
-    p.initial.H_B = InitialMomentum(targets, v, p, s0, c.spin_axis_B);
-    p.initial.w_NB_B.reset();
-    p.initial.spin.reset();  // H_B is the case's own now
-    if (p.is_hinge_profile()) FinishHingeCase(spec, s0, c);
-    schedule::ValidateProfile(p);
-    io::CheckRunSettings(p);
+    // 4. Initial state, once the case's J_B(t0) is known; validated and compiled once.
+    c.run = analysis::CompiledRun::Compile(
+        std::move(p), [&](const dynamics::InertiaSample& s0, const math::Vec3& H_B) {
+          c.spin_axis_B = analysis::InitialSpinAxis(s0.J_B, base_axis);
+          const math::Vec3 H = InitialMomentum(targets, v, H_B, s0, c.spin_axis_B);
+          if (hinges) FinishHingeCase(spec, s0, H, c);
+          return H;
+        });
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(where + ": " + e.what());
   }
