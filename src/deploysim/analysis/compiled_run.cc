@@ -15,12 +15,6 @@ namespace deploysim::analysis {
 
 namespace {
 
-std::string Join(const std::vector<std::string>& names) {
-  std::string s;
-  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
-
 std::string Where(const schedule::Profile& p) {
   return p.source.empty() ? "profile '" + p.name + "'" : p.source;
 }
@@ -31,17 +25,14 @@ void CheckRunSettings(const schedule::Profile& p) {
   using math::FormatNumber;
   const std::string where = Where(p);
   const std::string& method = p.integrator.method;
-  const std::vector<std::string> names = StepperNames();
-  bool known = false;
-  for (const std::string& n : names) known = known || n == method;
-  if (!known) {
-    throw std::invalid_argument(where + ": integrator.method = " + method +
-                                ": unknown integrator (valid: " + Join(names) + ")");
+  std::string rule = MethodRuleViolated(method);
+  if (!rule.empty()) {
+    throw std::invalid_argument(where + ": integrator.method = " + method + ": " + rule);
   }
-  if (!MakeStepper(method)->info().adaptive && !(p.integrator.step > 0.0)) {
+  rule = StepRuleViolated(method, p.integrator.step);
+  if (!rule.empty()) {
     throw std::invalid_argument(where + ": integrator.step = " + FormatNumber(p.integrator.step) +
-                                ": the fixed-step method " + method +
-                                " needs integrator.step > 0 [s]");
+                                ": " + rule);
   }
   if (p.has_free_hinge() && !RunsFreeHinges(method)) {
     throw std::invalid_argument(where + ": integrator.method = " + method + ": " +

@@ -236,6 +236,21 @@ std::vector<std::string> StepperNames() {
   return names;
 }
 
+std::string MethodRuleViolated(const std::string& method) {
+  const std::vector<std::string> names = StepperNames();
+  std::string list;
+  for (const std::string& n : names) {
+    if (n == method) return "";
+    list += (list.empty() ? "" : ", ") + n;
+  }
+  return "unknown integrator (valid: " + list + ")";
+}
+
+std::string StepRuleViolated(const std::string& method, double step) {
+  if (MakeStepper(method)->info().adaptive || step > 0.0) return "";
+  return "the fixed-step method " + method + " needs integrator.step > 0 [s]";
+}
+
 bool RunsFreeHinges(const std::string& method) {
   return IsExact(method) || integrators::IsShapeMethod(method);
 }

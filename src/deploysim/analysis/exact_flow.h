@@ -98,6 +98,13 @@ std::vector<std::string> StepperNames();
 /// A stepper by name ("exact" uses kExactFallback on non-rigid segments).
 std::unique_ptr<integrators::Stepper> MakeStepper(const std::string& name);
 
+/// The rules on `integrator.method` and `integrator.step`, as the text a message puts after
+/// the key ("unknown integrator (valid: ...)", "the fixed-step method rk4 needs
+/// integrator.step > 0 [s]"); empty when kept. The one statement of them, for profiles
+/// (CheckRunSettings) and sweep files.
+std::string MethodRuleViolated(const std::string& method);
+std::string StepRuleViolated(const std::string& method, double step);
+
 /// True when `method` can run a profile with free hinges: a Lie-group method
 /// (integrators::ShapeMethodNames: h_N exact by construction) or exact (closed form while
 /// every hinge is locked, rkmk-rkf78 while one is free).

@@ -658,10 +658,8 @@ void ReadIntegrator(const Fields& top, schedule::Profile& base) {
   schedule::IntegratorSpec& s = base.integrator;
   if (f.Has("method")) {
     s.method = f.Text("method");
-    const std::vector<std::string> names = analysis::StepperNames();
-    bool known = false;
-    for (const std::string& n : names) known = known || n == s.method;
-    if (!known) f.Fail("method", "unknown integrator (valid: " + JoinNames(names) + ")");
+    const std::string rule = analysis::MethodRuleViolated(s.method);
+    if (!rule.empty()) f.Fail("method", rule);
   }
   for (const auto& [key, value] : {std::pair<const char*, double*>{"rtol", &s.rtol},
                                    {"atol", &s.atol},
@@ -672,10 +670,10 @@ void ReadIntegrator(const Fields& top, schedule::Profile& base) {
     const std::string rule = schedule::IntegratorRuleViolated(key, *value);
     if (!rule.empty()) f.Fail(key, rule);
   }
-  if (!analysis::MakeStepper(s.method)->info().adaptive && !(s.step > 0.0)) {
+  const std::string step_rule = analysis::StepRuleViolated(s.method, s.step);
+  if (!step_rule.empty()) {
     top.doc().Fail(f.Key(f.Has("method") ? "method" : "step"),
-                   f.Get(f.Has("method") ? "method" : "step"),
-                   "the fixed-step method " + s.method + " needs integrator.step > 0 [s]");
+                   f.Get(f.Has("method") ? "method" : "step"), step_rule);
   }
 }
 
