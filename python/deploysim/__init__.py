@@ -136,11 +136,12 @@ class EventTable(Table):
 
 
 # The units of the tables that are not trajectory columns: the strings of the `units`
-# attributes of the same datasets in the HDF5 file (docs/file_formats.md).
+# attributes of the same datasets in the HDF5 file (docs/file_formats.md). The hinge
+# events' come from their one table in the library (a vector's three columns _x, _y, _z).
 EVENT_UNITS = {
-    "time": "s", "panel": "1", "panel_name": "none", "kind": "none", "angle": "rad",
-    "rate_before": "rad/s", "rate_after": "rad/s", "impulse": "N m s", "w_jump_B_x": "rad/s",
-    "w_jump_B_y": "rad/s", "w_jump_B_z": "rad/s", "energy_dissipated": "J", "drive_work": "J",
+    (c["name"] + s if c["type"] == "vector3" else c["name"]): c["units"]
+    for c in _deploysim._hinge_event_columns()
+    for s in (("_x", "_y", "_z") if c["type"] == "vector3" else ("",))
 }
 STAGE_UNITS = {
     "index": "1", "name": "none", "law": "none", "from": "none", "to": "none", "t_begin": "s",
@@ -235,14 +236,13 @@ class SimulationResult:
         self.units.update((c["name"], c["units"]) for c in trajectory_columns())
         self.flips = raw.pop("flip_times")
         self.predicted_flips = raw.pop("predicted_flip_times")
-        events = raw.pop("hinge_events")
-        jump = events.pop("w_jump_B")
         columns = {}
-        for k, v in events.items():
-            if k == "energy_dissipated":  # the jump's columns where the file's array is
+        for k, v in raw.pop("hinge_events").items():  # a vector: three columns in its place
+            if isinstance(v, _np.ndarray) and v.ndim == 2:
                 for i, c in enumerate("xyz"):
-                    columns[f"w_jump_B_{c}"] = _np.ascontiguousarray(jump[:, i])
-            columns[k] = v
+                    columns[f"{k}_{c}"] = _np.ascontiguousarray(v[:, i])
+            else:
+                columns[k] = v
         self.events = EventTable(columns, EVENT_UNITS)
         self.danger_windows = Table(raw.pop("danger_windows"), {"t_begin": "s", "t_end": "s"})
         self.outcome = _json.loads(raw.pop("outcome_json"))

@@ -67,40 +67,6 @@ py::dict StageDict(const analysis::StageReport& a, const schedule::Profile& p, s
   return d;
 }
 
-py::dict EventColumns(const analysis::MissionResult& r) {
-  const std::size_t n = r.hinge_events.size();
-  std::vector<double> time, angle, before, after, impulse, dissipated, drive;
-  std::vector<math::Vec3> jump;
-  std::vector<long long> panel;
-  py::list kind, name;
-  for (const analysis::HingeEvent& e : r.hinge_events) {
-    time.push_back(e.t);
-    panel.push_back(e.panel);
-    kind.append(analysis::ToString(e.kind));
-    name.append(r.profile().model.hinged.panels.at(static_cast<std::size_t>(e.panel)).name);
-    angle.push_back(e.angle);
-    before.push_back(e.rate_before);
-    after.push_back(e.rate_after);
-    impulse.push_back(e.impulse);
-    jump.push_back(e.w_jump_B);
-    dissipated.push_back(e.energy_dissipated);
-    drive.push_back(e.drive_work);
-  }
-  py::dict d;
-  d["time"] = Doubles(std::move(time));
-  d["panel"] = py::array_t<long long>(static_cast<py::ssize_t>(n), panel.data());
-  d["panel_name"] = name;
-  d["kind"] = kind;
-  d["angle"] = Doubles(std::move(angle));
-  d["rate_before"] = Doubles(std::move(before));
-  d["rate_after"] = Doubles(std::move(after));
-  d["impulse"] = Doubles(std::move(impulse));
-  d["w_jump_B"] = Vec3s(std::move(jump));
-  d["energy_dissipated"] = Doubles(std::move(dissipated));
-  d["drive_work"] = Doubles(std::move(drive));
-  return d;
-}
-
 py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
   const schedule::Profile& p = r.profile();
   const bool geometry = p.mode == schedule::Mode::kGeometry;
@@ -126,7 +92,7 @@ py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
   windows["t_begin"] = Doubles(std::move(wb));
   windows["t_end"] = Doubles(std::move(we));
   d["danger_windows"] = windows;
-  d["hinge_events"] = EventColumns(r);
+  d["hinge_events"] = HingeEventArrays(r);
   d["latch_times"] = DoublesCopy(r.latch_times);
   std::vector<std::string> panels;
   if (geometry) {
@@ -197,8 +163,24 @@ py::list TrajectoryColumns() {
   return out;
 }
 
+/// The hinge event table's columns as the package describes them: name, units, type.
+py::list HingeEventColumns() {
+  static const char* const kTypes[] = {"real", "integer", "text", "vector3"};
+  py::list out;
+  for (const analysis::HingeEventColumn& c : analysis::HingeEventTable::Columns()) {
+    py::dict d;
+    d["name"] = c.name;
+    d["units"] = c.units;
+    d["type"] = kTypes[static_cast<int>(c.type)];
+    d["description"] = c.description;
+    out.append(d);
+  }
+  return out;
+}
+
 void RegisterSimulate(py::module_& m) {
   m.def("_trajectory_columns", &TrajectoryColumns);
+  m.def("_hinge_event_columns", &HingeEventColumns);
   m.def(
       "_simulate",
       [](const schedule::Profile& profile, py::object progress, const std::string& output,

@@ -45,4 +45,34 @@ py::dict TrajectoryArrays::ToDict() && {
   return d;
 }
 
+// The hinge event table, a column per analysis::HingeEventTable entry: numbers as numpy
+// arrays ((E,) or (E, 3)), text as lists.
+py::dict HingeEventArrays(const analysis::MissionResult& r) {
+  using Column = analysis::HingeEventColumn;
+  std::vector<std::string> names;
+  for (const model::Panel& p : r.profile().model.hinged.panels) names.push_back(p.name);
+  const std::size_t n = r.hinge_events.size();
+  py::dict d;
+  for (const Column& c : analysis::HingeEventTable::Columns()) {
+    if (c.type == Column::Type::kText) {
+      py::list text;
+      for (const analysis::HingeEvent& e : r.hinge_events) text.append(c.text(e, names));
+      d[c.name.c_str()] = text;
+      continue;
+    }
+    std::vector<double> v(n * static_cast<std::size_t>(c.width()));
+    for (std::size_t i = 0; i < n; ++i) c.number(r.hinge_events[i], &v[i * c.width()]);
+    if (c.type == Column::Type::kInteger) {
+      const std::vector<long long> k(v.begin(), v.end());
+      d[c.name.c_str()] = py::array_t<long long>(static_cast<py::ssize_t>(n), k.data());
+    } else if (c.width() == 1) {
+      d[c.name.c_str()] = Doubles(std::move(v));
+    } else {
+      d[c.name.c_str()] =
+          py::array_t<double>({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(3)}, v.data());
+    }
+  }
+  return d;
+}
+
 }  // namespace deploysim::python

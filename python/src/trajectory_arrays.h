@@ -1,6 +1,6 @@
 #pragma once
 
-// The trajectory's numpy arrays, one per column of the trajectory schema
+// The run's numpy arrays: the trajectory's, one per column of the trajectory schema
 // (analysis::TrajectorySchema): collected from the run's sample blocks without the GIL,
 // handed to numpy without copies.
 
@@ -34,5 +34,9 @@ class TrajectoryArrays final : public analysis::SampleSink {
   std::size_t rows_ = 0;
   std::vector<std::vector<double>> flat_;  // per column, row-major
 };
+
+/// With the GIL: the run's hinge event table, {name: column} per analysis::HingeEventTable
+/// entry (numbers as arrays (E,) or (E, 3), text as lists).
+pybind11::dict HingeEventArrays(const analysis::MissionResult& r);
 
 }  // namespace deploysim::python

@@ -7,6 +7,8 @@
 /// hub's angular-velocity jump (the latch shock) and the energy dissipated.
 
 #include <array>
+#include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -50,5 +52,39 @@ inline constexpr std::array<HingeEvent::Kind, 8> kHingeEventKinds = {
 
 /// "release", "latch", "jam", "stop", "rest", "lift-off", "stick", "slip".
 std::string ToString(HingeEvent::Kind kind);
+
+/// The kind named `name` (ToString's names); std::invalid_argument naming the valid ones.
+HingeEvent::Kind ParseHingeEventKind(const std::string& name);
+
+/// One column of the hinge event table, described once: the HDF5 group /events/hinge, its
+/// reader, `analyze --json` and the Python package's event table are all derived from
+/// HingeEventTable (docs/design.md 4, "Records described once").
+struct HingeEventColumn {
+  enum class Type { kReal, kInteger, kText, kVector3 };
+  std::string name;         ///< HDF5 dataset, JSON key and Python column
+  std::string units;        ///< as the HDF5 `units` attribute ("none" for text)
+  std::string description;  ///< as the HDF5 `description` attribute
+  Type type = Type::kReal;
+  /// The event's value: numbers (one, three for kVector3) ...
+  std::function<void(const HingeEvent& e, double* out)> number;
+  /// ... or text; `panel_names`: the model's panel names, in panel order.
+  std::function<std::string(const HingeEvent& e, const std::vector<std::string>& panel_names)> text;
+  /// Readers: the value read back into the event (null: derived from other columns).
+  std::function<void(HingeEvent& e, const double* in)> set_number;
+  std::function<void(HingeEvent& e, const std::string& in)> set_text;
+  /// A file written before the column existed reads this value (NaN: the column is
+  /// required).
+  double missing = std::numeric_limits<double>::quiet_NaN();
+  /// Values per event: 3 for kVector3, else 1.
+  int width() const { return type == Type::kVector3 ? 3 : 1; }
+};
+
+/// The hinge event table: the standard columns in file order, and Extend (a column added
+/// by a test or an extension before any output is written reaches every output).
+class HingeEventTable {
+ public:
+  static const std::vector<HingeEventColumn>& Columns();
+  static void Extend(HingeEventColumn column);
+};
 
 }  // namespace deploysim::analysis

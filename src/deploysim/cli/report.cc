@@ -502,6 +502,36 @@ std::string FormatCouplingComparison(const analysis::CouplingComparison& c) {
   return o;
 }
 
+namespace {
+
+/// One hinge event as a JSON object, a key per column of analysis::HingeEventTable.
+std::string HingeEventJson(const analysis::MissionResult& r, const analysis::HingeEvent& e) {
+  using Column = analysis::HingeEventColumn;
+  std::vector<std::string> names;
+  for (const model::Panel& p : r.profile().model.hinged.panels) names.push_back(p.name);
+  std::string o = "{";
+  for (const Column& c : analysis::HingeEventTable::Columns()) {
+    o += (o.size() > 1 ? ", " : "") + math::JsonString(c.name) + ": ";
+    if (c.type == Column::Type::kText) {
+      o += math::JsonString(c.text(e, names));
+      continue;
+    }
+    double v[3];
+    c.number(e, v);
+    if (c.type == Column::Type::kInteger) {
+      o += std::to_string(static_cast<long long>(v[0]));
+    } else if (c.width() == 1) {
+      o += math::JsonNumber(v[0]);
+    } else {
+      o += fmt::format("[{}, {}, {}]", math::JsonNumber(v[0]), math::JsonNumber(v[1]),
+                       math::JsonNumber(v[2]));
+    }
+  }
+  return o + "}";
+}
+
+}  // namespace
+
 std::string FormatJson(const analysis::MissionResult& r,
                        const analysis::CouplingComparison* c,
                        const analysis::TrajectorySchema& schema) {
@@ -549,17 +579,7 @@ std::string FormatJson(const analysis::MissionResult& r,
   // Hinge profiles only; empty lists otherwise. SI units, as in the HDF5 file.
   o += ",\n  \"hinge_events\": [";
   for (std::size_t i = 0; i < r.hinge_events.size(); ++i) {
-    const analysis::HingeEvent& e = r.hinge_events[i];
-    o += fmt::format(
-        "{}\n    {{\"t\": {}, \"panel\": {}, \"panel_name\": {}, \"kind\": {}, \"angle\": {}, "
-        "\"rate_before\": {}, \"rate_after\": {}, \"impulse\": {}, \"w_jump_B\": [{}, {}, {}], "
-        "\"energy_dissipated\": {}}}",
-        i ? "," : "", math::JsonNumber(e.t), e.panel, math::JsonString(PanelName(r, e.panel)),
-        math::JsonString(analysis::ToString(e.kind)), math::JsonNumber(e.angle),
-        math::JsonNumber(e.rate_before), math::JsonNumber(e.rate_after),
-        math::JsonNumber(e.impulse), math::JsonNumber(e.w_jump_B[0]),
-        math::JsonNumber(e.w_jump_B[1]), math::JsonNumber(e.w_jump_B[2]),
-        math::JsonNumber(e.energy_dissipated));
+    o += (i ? ",\n    " : "\n    ") + HingeEventJson(r, r.hinge_events[i]);
   }
   o += r.hinge_events.empty() ? "]" : "\n  ]";
   o += ",\n  \"latch_times\": {";

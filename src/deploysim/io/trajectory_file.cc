@@ -173,54 +173,32 @@ void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
 /// time of every panel and the model's panel names (geometry mode).
 void WriteHingeOutputs(Hdf5Writer& w, const analysis::MissionResult& r, bool geometry) {
   const std::vector<model::Panel>& panels = r.profile().model.hinged.panels;
-  std::vector<double> time, angle, before, after, impulse, jump, dissipated, drive;
-  std::vector<long long> panel;
-  std::vector<std::string> panel_name, kind;
-  for (const analysis::HingeEvent& e : r.hinge_events) {
-    time.push_back(e.t);
-    panel.push_back(e.panel);
-    panel_name.push_back(panels[static_cast<std::size_t>(e.panel)].name);
-    kind.push_back(analysis::ToString(e.kind));
-    angle.push_back(e.angle);
-    before.push_back(e.rate_before);
-    after.push_back(e.rate_after);
-    impulse.push_back(e.impulse);
-    jump.insert(jump.end(), {e.w_jump_B[0], e.w_jump_B[1], e.w_jump_B[2]});
-    dissipated.push_back(e.energy_dissipated);
-    drive.push_back(e.drive_work);
+  std::vector<std::string> names;
+  for (const model::Panel& p : panels) names.push_back(p.name);
+  const std::size_t count = r.hinge_events.size();
+  // One dataset per column of the table (analysis::HingeEventTable).
+  for (const analysis::HingeEventColumn& c : analysis::HingeEventTable::Columns()) {
+    const std::string path = "/events/hinge/" + c.name;
+    if (c.type == analysis::HingeEventColumn::Type::kText) {
+      std::vector<std::string> text;
+      for (const analysis::HingeEvent& e : r.hinge_events) text.push_back(c.text(e, names));
+      w.Strings(path, text, c.description);
+      continue;
+    }
+    std::vector<double> v(count * static_cast<std::size_t>(c.width()));
+    for (std::size_t i = 0; i < count; ++i) c.number(r.hinge_events[i], &v[i * c.width()]);
+    if (c.type == analysis::HingeEventColumn::Type::kInteger) {
+      w.Integers(path, std::vector<long long>(v.begin(), v.end()), c.units, c.description);
+    } else if (c.width() == 1) {
+      w.Doubles(path, {count}, v, c.units, c.description);
+    } else {
+      w.Doubles(path, {count, 3}, v, c.units, c.description);
+    }
   }
-  const std::size_t count = time.size();
-  const std::string g = "/events/hinge/";
-  w.Doubles(g + "time", {count}, time, "s",
-            "time of the hinge event (release, latch, jam, stop, rest), located on the dense "
-            "output");
-  w.Integers(g + "panel", panel, "1", "index of the panel (hinge) in the model, from 0");
-  w.Strings(g + "panel_name", panel_name, "name of the panel in the model");
-  w.Strings(g + "kind", kind,
-            "release (starts to move), latch (plastic impulse at the latch angle, then "
-            "locked), jam (plastic impulse part-way, then locked), stop (impact on a hard stop "
-            "with restitution) or rest (came to rest on a stop, then locked)");
-  w.Doubles(g + "angle", {count}, angle, "rad", "hinge angle at the event");
-  w.Doubles(g + "rate_before", {count}, before, "rad/s", "hinge rate just before the event");
-  w.Doubles(g + "rate_after", {count}, after, "rad/s", "hinge rate just after the event");
-  w.Doubles(g + "impulse", {count}, impulse, "N m s",
-            "angular impulse of the torque pair at the hinge: the jump of the hinge's "
-            "conjugate momentum (0 for a release)");
-  w.Doubles(g + "w_jump_B", {count, 3}, jump, "rad/s",
-            "jump of the hub's angular velocity w_NB_B+ - w_NB_B- (the latch shock), B "
-            "components");
-  w.Doubles(g + "energy_dissipated", {count}, dissipated, "J",
-            "energy the impulse at the hinge dissipates: minus its work, ((rate_before)^2 - "
-            "(rate_after)^2) / (2 (M^-1)_kk) (0 for a release)");
-  w.Doubles(g + "drive_work", {count}, drive, "J",
-            "impulsive work of the drives of the prescribed hinges moving at the event (they "
-            "keep their rates); the kinetic energy jumps by drive_work - energy_dissipated");
   w.Doubles("/hinge_latch_time", {r.latch_times.size()}, r.latch_times, "s",
             "per panel, the time it locked (latch, jam or rest on a stop); NaN if it never "
             "did; empty for stage profiles");
   if (geometry) {
-    std::vector<std::string> names;
-    for (const model::Panel& p : panels) names.push_back(p.name);
     w.Strings("/panel_names", names,
               "names of the model's panels in panel order (the columns of /hinge_angles, "
               "/hinge_rates and the entries of /hinge_latch_time)");
@@ -392,69 +370,56 @@ H5::Group OpenGroup(const std::string& path, const H5::Group& parent, const std:
 }
 
 /// The kind named `name` ("latch", ...: analysis::ToString); throws naming the file.
-analysis::HingeEvent::Kind ParseKind(const std::string& path, const std::string& name) {
-  using Kind = analysis::HingeEvent::Kind;
-  std::string names;
-  for (Kind k : analysis::kHingeEventKinds) {
-    if (analysis::ToString(k) == name) return k;
-    names += (names.empty() ? "" : ", ") + analysis::ToString(k);
-  }
-  throw std::runtime_error(path + ": /events/hinge/kind: '" + name +
-                           "' is not a hinge event kind (" + names + ")");
-}
-
-/// The table /events/hinge/* (all columns of one length).
+/// The table /events/hinge/* (all columns of one length), column by column of the table
+/// (analysis::HingeEventTable); a column a file predates reads its `missing` value.
 void ReadHingeEvents(const std::string& path, const H5::Group& g, TrajectoryFile& out) {
+  using Column = analysis::HingeEventColumn;
   const std::string gp = "/events/hinge";
   hsize_t count = 0;
-  const std::vector<double> time = ReadDoubles(path, g, gp, "time", {}, count, out);
-  auto doubles = [&](const std::string& name, const std::vector<hsize_t>& trailing) {
-    hsize_t rows = 0;
-    std::vector<double> v = ReadDoubles(path, g, gp, name, trailing, rows, out);
-    if (rows != count) {
-      throw std::runtime_error(path + ": " + gp + "/" + name + ": has " + std::to_string(rows) +
-                               " rows, " + gp + "/time has " + std::to_string(count));
-    }
-    return v;
-  };
+  ReadDoubles(path, g, gp, "time", {}, count, out);
+  std::vector<HingeEventRow> rows(count);
   auto same_length = [&](const std::string& name, std::size_t size) {
     if (size != count) {
       throw std::runtime_error(path + ": " + gp + "/" + name + ": has " + std::to_string(size) +
                                " rows, " + gp + "/time has " + std::to_string(count));
     }
   };
-  const std::vector<long long> panel = ReadIntegers(path, g, gp, "panel", out);
-  same_length("panel", panel.size());
-  const std::vector<std::string> names = ReadStrings(path, g, gp, "panel_name", out);
-  same_length("panel_name", names.size());
-  const std::vector<std::string> kinds = ReadStrings(path, g, gp, "kind", out);
-  same_length("kind", kinds.size());
-  const std::vector<double> angle = doubles("angle", {});
-  const std::vector<double> before = doubles("rate_before", {});
-  const std::vector<double> after = doubles("rate_after", {});
-  const std::vector<double> impulse = doubles("impulse", {});
-  const std::vector<double> jump = doubles("w_jump_B", {3});
-  const std::vector<double> dissipated = doubles("energy_dissipated", {});
-  // Files written before the column existed: no drive work recorded (0).
-  const std::vector<double> drive = g.nameExists("drive_work")
-                                        ? doubles("drive_work", {})
-                                        : std::vector<double>(time.size(), 0.0);
-  for (std::size_t i = 0; i < time.size(); ++i) {
-    HingeEventRow row;
-    analysis::HingeEvent& e = row.event;
-    e.kind = ParseKind(path, kinds[i]);
-    e.t = time[i];
-    e.panel = static_cast<int>(panel[i]);
-    e.angle = angle[i];
-    e.rate_before = before[i];
-    e.rate_after = after[i];
-    e.impulse = impulse[i];
-    e.w_jump_B = math::Vec3(jump[3 * i], jump[3 * i + 1], jump[3 * i + 2]);
-    e.energy_dissipated = dissipated[i];
-    e.drive_work = drive[i];
-    row.panel_name = names[i];
-    out.hinge_events.push_back(row);
+  for (const Column& c : analysis::HingeEventTable::Columns()) {
+    if (!g.nameExists(c.name) && !std::isnan(c.missing)) {
+      for (HingeEventRow& row : rows) {
+        const double v[3] = {c.missing, c.missing, c.missing};
+        if (c.set_number) c.set_number(row.event, v);
+      }
+      continue;
+    }
+    if (c.type == Column::Type::kText) {
+      const std::vector<std::string> text = ReadStrings(path, g, gp, c.name, out);
+      same_length(c.name, text.size());
+      for (std::size_t i = 0; i < count; ++i) {
+        if (c.name == "panel_name") rows[i].panel_name = text[i];
+        if (!c.set_text) continue;
+        try {
+          c.set_text(rows[i].event, text[i]);
+        } catch (const std::invalid_argument& e) {
+          throw std::runtime_error(path + ": " + gp + "/" + c.name + ": " + e.what());
+        }
+      }
+      continue;
+    }
+    std::vector<double> v;
+    if (c.type == Column::Type::kInteger) {
+      const std::vector<long long> n = ReadIntegers(path, g, gp, c.name, out);
+      v.assign(n.begin(), n.end());
+    } else {
+      hsize_t n = 0;
+      v = ReadDoubles(path, g, gp, c.name,
+                      c.width() == 1 ? std::vector<hsize_t>{} : std::vector<hsize_t>{3}, n, out);
+    }
+    same_length(c.name, v.size() / static_cast<std::size_t>(c.width()));
+    if (!c.set_number) continue;
+    for (std::size_t i = 0; i < count; ++i) c.set_number(rows[i].event, &v[i * c.width()]);
   }
+  for (HingeEventRow& row : rows) out.hinge_events.push_back(std::move(row));
 }
 
 /// `path` can be opened for reading and holds an HDF5 file.
