@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <stdexcept>
 
@@ -65,79 +66,74 @@ class Reader {
   const char* p_;
 };
 
+/// One field of the journal's record of a CaseOutcome: how it is written and read back.
+struct Field {
+  std::function<void(Writer&, const CaseOutcome&)> put;
+  std::function<void(Reader&, CaseOutcome&)> get;
+};
+
+template <typename T>
+Field Member(T CaseOutcome::*m) {
+  return {[m](Writer& w, const CaseOutcome& o) { w.Put(o.*m); },
+          [m](Reader& r, CaseOutcome& o) { o.*m = r.Get<T>(); }};
+}
+
+/// An enumeration, stored as its int32 value.
+template <typename E>
+Field Enum(E CaseOutcome::*m) {
+  return {[m](Writer& w, const CaseOutcome& o) { w.Put(static_cast<std::int32_t>(o.*m)); },
+          [m](Reader& r, CaseOutcome& o) { o.*m = static_cast<E>(r.Get<std::int32_t>()); }};
+}
+
+/// The record's fields in order: the one list that writing and reading both follow (a
+/// field added to CaseOutcome is stored by adding it here; bump kRecordLayoutVersion).
+const std::vector<Field>& RecordFields() {
+  static const std::vector<Field> fields = {
+      Enum(&CaseOutcome::termination),
+      Member(&CaseOutcome::flip_count),
+      Member(&CaseOutcome::first_flip_time),
+      Member(&CaseOutcome::max_spin_axis_angle),
+      Member(&CaseOutcome::final_spin_axis_angle),
+      Enum(&CaseOutcome::final_class),
+      Member(&CaseOutcome::final_axis),
+      Member(&CaseOutcome::final_regime),
+      Member(&CaseOutcome::final_cone_angle),
+      Member(&CaseOutcome::energy_initial),
+      Member(&CaseOutcome::energy_final),
+      Member(&CaseOutcome::deploy_end_time),
+      Member(&CaseOutcome::deploy_duration),
+      Member(&CaseOutcome::end_time),
+      Member(&CaseOutcome::steps),
+      Member(&CaseOutcome::rejected),
+      Member(&CaseOutcome::final_separatrix_distance),
+      Member(&CaseOutcome::predicted_flip_half_period),
+      Member(&CaseOutcome::latched_count),
+      Member(&CaseOutcome::all_latched),
+      Member(&CaseOutcome::max_latch_w_jump),
+      Member(&CaseOutcome::max_latch_impulse),
+      Member(&CaseOutcome::energy_dissipated_events),
+      Member(&CaseOutcome::outcome_class),
+      Member(&CaseOutcome::outcome_role_phase),
+      Member(&CaseOutcome::outcome_role_end),
+      Member(&CaseOutcome::outcome_phase_begin),
+      Member(&CaseOutcome::nutation_rate),
+      Member(&CaseOutcome::nutation_rate_sigma),
+      Member(&CaseOutcome::linear_growth_rate),
+      Member(&CaseOutcome::transition_time),
+      Member(&CaseOutcome::time_to_tumble),
+      Member(&CaseOutcome::time_to_tumble_measured),
+      Member(&CaseOutcome::run_time),
+  };
+  return fields;
+}
+
 void PutOutcome(Writer& w, const CaseOutcome& o) {
-  w.Put(static_cast<std::int32_t>(o.termination));
-  w.Put(o.flip_count);
-  w.Put(o.first_flip_time);
-  w.Put(o.max_spin_axis_angle);
-  w.Put(o.final_spin_axis_angle);
-  w.Put(static_cast<std::int32_t>(o.final_class));
-  w.Put(o.final_axis);
-  w.Put(o.final_regime);
-  w.Put(o.final_cone_angle);
-  w.Put(o.energy_initial);
-  w.Put(o.energy_final);
-  w.Put(o.deploy_end_time);
-  w.Put(o.deploy_duration);
-  w.Put(o.end_time);
-  w.Put(o.steps);
-  w.Put(o.rejected);
-  w.Put(o.final_separatrix_distance);
-  w.Put(o.predicted_flip_half_period);
-  w.Put(o.latched_count);
-  w.Put(o.all_latched);
-  w.Put(o.max_latch_w_jump);
-  w.Put(o.max_latch_impulse);
-  w.Put(o.energy_dissipated_events);
-  w.Put(o.outcome_class);
-  w.Put(o.outcome_role_phase);
-  w.Put(o.outcome_role_end);
-  w.Put(o.outcome_phase_begin);
-  w.Put(o.nutation_rate);
-  w.Put(o.nutation_rate_sigma);
-  w.Put(o.linear_growth_rate);
-  w.Put(o.transition_time);
-  w.Put(o.time_to_tumble);
-  w.Put(o.time_to_tumble_measured);
-  w.Put(o.run_time);
+  for (const Field& f : RecordFields()) f.put(w, o);
 }
 
 CaseOutcome GetOutcome(Reader& r) {
   CaseOutcome o;
-  o.termination = static_cast<integrators::Termination>(r.Get<std::int32_t>());
-  o.flip_count = r.Get<std::int64_t>();
-  o.first_flip_time = r.Get<double>();
-  o.max_spin_axis_angle = r.Get<double>();
-  o.final_spin_axis_angle = r.Get<double>();
-  o.final_class = static_cast<MotionClass>(r.Get<std::int32_t>());
-  o.final_axis = r.Get<std::int32_t>();
-  o.final_regime = r.Get<std::int32_t>();
-  o.final_cone_angle = r.Get<double>();
-  o.energy_initial = r.Get<double>();
-  o.energy_final = r.Get<double>();
-  o.deploy_end_time = r.Get<double>();
-  o.deploy_duration = r.Get<double>();
-  o.end_time = r.Get<double>();
-  o.steps = r.Get<std::int64_t>();
-  o.rejected = r.Get<std::int64_t>();
-  o.final_separatrix_distance = r.Get<double>();
-  o.predicted_flip_half_period = r.Get<double>();
-  o.latched_count = r.Get<std::int64_t>();
-  o.all_latched = r.Get<std::int32_t>();
-  o.max_latch_w_jump = r.Get<double>();
-  o.max_latch_impulse = r.Get<double>();
-  o.energy_dissipated_events = r.Get<double>();
-  o.outcome_class = r.Get<std::int32_t>();
-  o.outcome_role_phase = r.Get<std::int32_t>();
-  o.outcome_role_end = r.Get<std::int32_t>();
-  o.outcome_phase_begin = r.Get<double>();
-  o.nutation_rate = r.Get<double>();
-  o.nutation_rate_sigma = r.Get<double>();
-  o.linear_growth_rate = r.Get<double>();
-  o.transition_time = r.Get<double>();
-  o.time_to_tumble = r.Get<double>();
-  o.time_to_tumble_measured = r.Get<std::int32_t>();
-  o.run_time = r.Get<double>();
+  for (const Field& f : RecordFields()) f.get(r, o);
   return o;
 }
 
