@@ -166,7 +166,8 @@ inline constexpr double kContactTime = 1e-3;
 /// describes no deployable panel's hardware, and the run's cost cannot be bounded (a
 /// spring's rest angle of 1e12 deg stores 1e23 J; the steps follow sqrt(k / I)).
 /// Angles: stops, latch and spring rest angles, 10 turns either way [rad].
-inline constexpr double kMaxDriveAngle = 3600.0 * math::kRadiansPerDegree;
+inline constexpr double kMaxDriveAngleDeg = 3600.0;  ///< the same [deg], as files give it
+inline constexpr double kMaxDriveAngle = kMaxDriveAngleDeg * math::kRadiansPerDegree;
 /// Spring and servo stiffness [N m/rad].
 inline constexpr double kMaxDriveStiffness = 1e9;
 /// Damper and servo damping [N m s/rad].
