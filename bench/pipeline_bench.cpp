@@ -71,10 +71,8 @@ Row Measure(const schedule::Profile& base, const std::string& method, int reps) 
         bench::TimeCold(1, [&] { mission = analysis::RunMission(profile); }).seconds.front());
     to.seconds.push_back(bench::TimeCold(1, [&] {
                            sweep::Case cs;
-                           cs.profile = outcome_profile;
-                           cs.schedule =
-                               std::make_shared<const schedule::DeploymentSchedule>(cs.profile);
-                           cs.spin_axis_B = sweep::BaseSpinAxis(cs.profile);
+                           cs.run = analysis::CompiledRun::Compile(outcome_profile);
+                           cs.spin_axis_B = sweep::BaseSpinAxis(cs.profile());
                            outcome = sweep::SimulateOutcome(cs, sweep::OutcomeSettings{});
                          }).seconds.front());
   }

@@ -66,9 +66,7 @@ std::shared_ptr<const CompiledRun> CompiledRun::Compile(schedule::Profile profil
       p.initial.H_B = schedule::SpinMomentum(s0, *p.initial.spin);
     }
     if (rule) {
-      const math::Vec3 H =
-          p.initial.H_B ? *p.initial.H_B : math::Vec3(s0.J_B * *p.initial.w_NB_B + s0.h_rel_B);
-      p.initial.H_B = rule(s0, H);
+      p.initial.H_B = rule(s0, InitialMomentum(p, s0));
       p.initial.w_NB_B.reset();
       p.initial.spin.reset();  // the rule's momentum is the run's own now
     }
