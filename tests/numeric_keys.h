@@ -4,9 +4,14 @@
 /// tests that give each numeric key of a profile, model or sweep an extreme value (the
 /// overflow tests of the io and sweep modules).
 
+#include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <iterator>
 #include <string>
 #include <variant>
 #include <vector>
@@ -81,6 +86,35 @@ inline std::string WithValue(const std::string& text,
   YAML::Emitter out;
   out << root;
   return out.c_str();
+}
+
+/// Gives every numeric key of the file at `path` the values 1e308, -1e308, 1e154 and
+/// -1e154 in turn and asks `outcome` ("" when accepted, else the refusal) each time: a
+/// refusal must be one line. Checks first that the file as it is is accepted; restores it
+/// at the end. Returns how many values were accepted (DEPLOYSIM_SHOW_ACCEPTED lists them).
+inline int GiveEveryKeyExtremes(const std::string& path,
+                                const std::function<std::string()>& outcome) {
+  std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(outcome(), "") << path << " as shipped";
+  int accepted = 0;
+  for (const KeyPath& key : NumericKeys(text)) {
+    for (const char* value : {"1e308", "-1e308", "1e154", "-1e154"}) {
+      std::ofstream(path) << WithValue(text, key, value);
+      const std::string what = outcome();
+      SCOPED_TRACE(path + ": " + ToString(key) + " = " + value);
+      if (what.empty()) {
+        if (std::getenv("DEPLOYSIM_SHOW_ACCEPTED") != nullptr) {  // to review them
+          std::printf("accepted %s: %s = %s\n", path.c_str(), ToString(key).c_str(), value);
+        }
+        ++accepted;
+      } else {
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;  // one line
+      }
+    }
+  }
+  std::ofstream(path) << text;
+  return accepted;
 }
 
 }  // namespace deploysim::testing

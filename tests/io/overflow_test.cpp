@@ -25,13 +25,6 @@ namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
 
-const char* const kExtremes[] = {"1e308", "-1e308", "1e154", "-1e154"};
-
-std::string Read(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 class OverflowTest : public testing::TempDirTest {
  protected:
   /// The profile and its model copied into the test's directory, as in the repository.
@@ -68,28 +61,7 @@ class OverflowTest : public testing::TempDirTest {
   int Mutate(const std::string& file,
              const std::string& profile,
              std::optional<double> until = std::nullopt) {
-    const fs::path path = Path(file);
-    const std::string text = Read(path);
-    EXPECT_EQ(Outcome(Path(profile), until), "") << "the file as shipped runs";
-    int accepted = 0;
-    for (const testing::KeyPath& key : testing::NumericKeys(text)) {
-      for (const char* value : kExtremes) {
-        std::ofstream(path) << testing::WithValue(text, key, value);
-        const std::string what = Outcome(Path(profile), until);
-        SCOPED_TRACE(file + ": " + testing::ToString(key) + " = " + value);
-        if (what.empty()) {
-          if (std::getenv("DEPLOYSIM_SHOW_ACCEPTED") != nullptr) {  // to review them
-            std::printf("accepted %s: %s = %s\n", file.c_str(), testing::ToString(key).c_str(),
-                        value);
-          }
-          ++accepted;
-        } else {
-          EXPECT_EQ(what.find('\n'), std::string::npos) << what;  // one line
-        }
-      }
-    }
-    std::ofstream(path) << text;
-    return accepted;
+    return testing::GiveEveryKeyExtremes(Path(file), [&] { return Outcome(Path(profile), until); });
   }
 };
 
