@@ -8,6 +8,7 @@
 #include <string>
 
 #include "deploysim/integrators/butcher_tableau.h"
+#include "deploysim/math/units.h"
 
 namespace deploysim::analysis {
 
@@ -211,7 +212,7 @@ std::vector<VectorXd> ConservedGradients(const MatrixXd& monodromy,
 PeriodicOrbit SolvePeriodicOrbit(const OrbitProblem& p, const VectorXd& y_guess) {
   PeriodicOrbit out;
   const double fastest =
-      std::max({p.fastest, SpectralRadius(p, y_guess), 6.283185307179586 / p.period_guess});
+      std::max({p.fastest, SpectralRadius(p, y_guess), math::kTwoPi / p.period_guess});
   if (StepsFor(p.period_guess, fastest) > kMaxSteps) {
     out.reason = "the periodic motion's period is more than " + std::to_string(kMaxSteps) +
                  " steps of its fastest mode: not linearized";

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "deploysim/math/quaternion.h"
+#include "deploysim/math/units.h"
 
 namespace deploysim::analysis {
 
@@ -23,7 +24,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Boost.Math evaluates double special functions in extended precision by default (10x slower
 /// here); R_J in double is accurate to a few ulp, all the periodic part of psi needs.
 using FastPolicy = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
-constexpr double kPi = 3.14159265358979323846;
+using math::kPi;
 /// Accepted deviation of |q_NB0| from 1.
 constexpr double kUnitQuatTol = math::kUnitQuaternionTolerance;  // math::ValidateUnitQuaternion
 

@@ -10,6 +10,7 @@
 #include "deploysim/math/inertia.h"
 #include "deploysim/math/number_format.h"
 #include "deploysim/math/so3.h"
+#include "deploysim/math/units.h"
 #include "deploysim/schedule/free_hinge_system.h"
 
 namespace deploysim::analysis {
@@ -22,7 +23,7 @@ using math::Mat3;
 using math::Vec3;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kPi = 3.14159265358979323846;
+using math::kPi;
 
 /// The scale of each coordinate of y (its finite-difference step is 1e-4 of it): |H| for
 /// the momenta (H_B and p_f alike: a hinge's momentum is a part of the system's), 1 rad

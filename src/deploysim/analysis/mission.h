@@ -195,7 +195,8 @@ class NullSink final : public SampleSink {
 /// Samples per block passed to a SampleSink.
 inline constexpr std::size_t kSampleBlock = 4096;
 
-/// Runs the compiled run, streaming the trajectory to `sink` (the result's trajectory stays
+/// Runs the compiled run (the one run loop, run_loop.h, with the body of its profile:
+/// StageBody or HingeBody), streaming the trajectory to `sink` (the result's trajectory stays
 /// empty; everything else, which needs no stored trajectory, is filled: flips, stage
 /// reports, danger windows, max_h_N_drift). Memory does not grow with the number of
 /// samples: the output times are computed on demand, and one block is held. Progress (fraction done
@@ -212,13 +213,6 @@ MissionResult RunMission(const schedule::Profile& profile,
                          SampleSink& sink,
                          const std::function<void(double)>& progress = {},
                          const RunOptions& options = {});
-
-/// RunMission for a hinge profile (schedule::Profile::is_hinge_profile()): the hybrid
-/// run of analysis/hinge_mission.cc (RunMission calls it).
-MissionResult RunHingeMission(const CompiledRun& run,
-                              SampleSink& sink,
-                              const std::function<void(double)>& progress = {},
-                              const RunOptions& options = {});
 
 /// The initial momentum H_B(t0) of a profile: initial.H_B as given, or J_B w + h_rel_B
 /// from initial.w_NB_B, with the inertia sample s0 at t0.

@@ -75,9 +75,7 @@ void EnvelopeTracker::AddMeanSquare(double t, double nu) {
       const EnvelopePeak& p = window_samples_[i - 1];
       const EnvelopePeak& q = window_samples_[i];
       if (p.t < a || q.t > a + window_) continue;
-      auto w = [a, this](double x) {
-        return 1.0 - std::cos(6.283185307179586 * (x - a) / window_);
-      };
+      auto w = [a, this](double x) { return 1.0 - std::cos(math::kTwoPi * (x - a) / window_); };
       const double h = 0.5 * (q.t - p.t);
       num += h * (w(p.t) * p.nu * p.nu + w(q.t) * q.nu * q.nu);
       den += h * (w(p.t) + w(q.t));

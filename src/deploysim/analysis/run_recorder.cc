@@ -239,9 +239,8 @@ void RunRecorder::OpenPhase(const PhaseInfo& info, const RunSample& start) {
   // Windows of one nutation period, at most 1/64 of the run (a nutation that hardly turns
   // in the body, as near a dual-spin stability boundary, still gives an envelope).
   const double rate = HeldNutationRate(start.J_B, start.h_rel_B, start.H_B);
-  constexpr double two_pi = 6.283185307179586477;
   const double longest = (t1_ - t0_) / 64.0;
-  envelope_.Reset(rate * longest > two_pi ? two_pi / rate : longest);
+  envelope_.Reset(rate * longest > math::kTwoPi ? math::kTwoPi / rate : longest);
   steady_ = SteadySpin();
   if (!phases_.empty() && phases_.back().start.t == start.t) {
     phases_.back() = {info, start};  // zero-length phase: replaced
@@ -268,8 +267,7 @@ void RunRecorder::SetSteadySpin(const SteadySpin& s) {
     const double f = s.frequency > 0.0 ? s.frequency : pi / s.period;
     envelope_.ResetMeanSquare(std::min(2.0 * pi / f, (t1_ - t0_) / 6.0));
   } else if (s.found && s.frequency > 0.0) {
-    constexpr double two_pi = 6.283185307179586477;
-    envelope_.Reset(std::min(two_pi / s.frequency, (t1_ - t0_) / 64.0));
+    envelope_.Reset(std::min(math::kTwoPi / s.frequency, (t1_ - t0_) / 64.0));
   }
   StartNutation();
 }

@@ -1,8 +1,7 @@
 #pragma once
 
-/// The bookkeeping every mission run shares, in one place. A runner (the stage run of
-/// mission.cc, the hinge run of hinge_mission.cc) integrates; the recorder receives what
-/// it sees and makes the result from it:
+/// The bookkeeping of a mission run, in one place. The run loop (run_loop.h) and its body
+/// integrate; the recorder receives what they see and makes the result from it:
 ///   - samples on the output grid -> the trajectory, block by block, every field filled
 ///     here; the largest h_N drift; the danger windows (the spin axis is the
 ///     intermediate principal axis of J);

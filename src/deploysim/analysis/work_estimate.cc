@@ -14,6 +14,7 @@
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/math/inertia.h"
 #include "deploysim/math/number_format.h"
+#include "deploysim/math/units.h"
 #include "deploysim/model/mass_matrix.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/model/model.h"
@@ -24,8 +25,6 @@
 namespace deploysim::analysis {
 
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586;
 
 // Largest |w|^2 = sum h_i^2 / I_i^2 of a rigid body with principal moments I (ascending)
 // over every h with |h|^2 = M2 and sum h_i^2 / I_i = two_T: a linear programme in
@@ -474,7 +473,7 @@ WorkEstimate EstimateHingeWork(const schedule::Profile& profile) {
     }
     w.max_rate += rate;
   }
-  w.turns = w.max_rate * w.duration / kTwoPi;
+  w.turns = w.max_rate * w.duration / math::kTwoPi;
   const integrators::StepperInfo info = MakeStepper(profile.integrator.method)->info();
   if (!info.adaptive && profile.integrator.step > 0.0) {
     w.fixed_steps = std::ceil(w.duration / profile.integrator.step);
@@ -624,7 +623,7 @@ WorkEstimate EstimateWork(const schedule::Profile& profile,
                                : std::min(I_of(st.from), I_of(st.to));
       w.max_rate = M / I_min;
     }
-    w.turns = w.max_rate * w.duration / kTwoPi;
+    w.turns = w.max_rate * w.duration / math::kTwoPi;
     if (!adaptive && profile.integrator.step > 0.0) {
       w.fixed_steps = std::ceil(w.duration / profile.integrator.step);
     }
@@ -632,7 +631,7 @@ WorkEstimate EstimateWork(const schedule::Profile& profile,
         lie ? (lie_rate >= 0.0 ? lie_rate : kLieRateFraction * w.max_rate) : w.max_rate;
     // `exact` on a hold: the closed form's steps, kExactStepsPerPeriod per period.
     const double per_radian = IsExact(profile.integrator.method) && st.is_hold()
-                                  ? kExactStepsPerPeriod / kTwoPi
+                                  ? kExactStepsPerPeriod / math::kTwoPi
                                   : StepsPerRadian(info, profile.integrator.rtol);
     out.steps +=
         w.fixed_steps > 0.0 ? w.fixed_steps : per_radian * resolved * w.duration + kStepsPerSegment;

@@ -112,7 +112,7 @@ std::string GroupedList(const model::Model& m,
 }
 
 /// A hinge profile's phase name as the text shows it: each list of panels ("free: a, b;
-/// moved: c", analysis/hinge_mission.cc) with an appendage's bending hinges named once,
+/// moved: c", analysis/hinge_body.cc) with an appendage's bending hinges named once,
 /// by the appendage and their count ("free: boom_px (12), boom_mx (6)"). The name itself
 /// (the HDF5 file's /stages/name, --json) keeps every hinge.
 std::string PhaseLabel(const model::Model& m, const std::string& name) {

@@ -1,7 +1,7 @@
 #pragma once
 
 /// The Simbody cross-check of a hinge profile: the reduced free-hinge model
-/// (analysis::RunMission -> RunHingeMission) against the independent Simbody model of
+/// (analysis::RunMission with an analysis::HingeBody) against the independent Simbody model of
 /// simbody_free_hinges.h, from the same initial state on the same output grid. Compared:
 ///   trajectories: H_B / |H_B(t0)|, attitude [rad], w_NB_B [rad/s] (CompareTrajectories);
 ///   events, paired in time order (kind and panel must match): time [s], impulse lambda

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "deploysim/math/number_format.h"
+#include "deploysim/math/units.h"
 
 namespace deploysim::io {
 
@@ -14,7 +15,7 @@ namespace {
 using math::JsonNumber;
 using math::JsonString;
 
-constexpr double kPi = 3.14159265358979323846;
+using math::kPi;
 
 std::string Vec(const math::Vec3& v) {
   return "[" + JsonNumber(v[0]) + ", " + JsonNumber(v[1]) + ", " + JsonNumber(v[2]) + "]";

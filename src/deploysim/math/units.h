@@ -6,6 +6,8 @@
 namespace deploysim::math {
 
 inline constexpr double kPi = 3.14159265358979323846;
+/// [rad] one turn
+inline constexpr double kTwoPi = 2.0 * kPi;
 /// [rad/deg]
 inline constexpr double kRadiansPerDegree = kPi / 180.0;
 /// [deg/rad]

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "deploysim/math/number_format.h"
+#include "deploysim/math/units.h"
 #include "deploysim/model/mass_matrix.h"
 #include "deploysim/model/mass_properties.h"
 
@@ -18,7 +19,7 @@ namespace {
 using math::Mat3;
 using math::Vec3;
 
-constexpr double kPi = 3.14159265358979323846;
+using math::kPi;
 
 /// Inertia about its CoM of a solid rod of circular section along unit d.
 Mat3 RodInertia(double mass, double length, double radius, const Vec3& d) {

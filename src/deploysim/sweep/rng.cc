@@ -2,13 +2,14 @@
 
 #include <cmath>
 
+#include "deploysim/math/units.h"
+
 namespace deploysim::sweep {
 
 namespace {
 
 std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
-constexpr double kTwoPi = 6.283185307179586476925286766559;
 constexpr double kInvTwo53 = 1.0 / 9007199254740992.0;  // 2^-53
 
 }  // namespace
@@ -47,7 +48,7 @@ double Rng::Normal() {
   // u1 in (0, 1] so that log(u1) is finite.
   const double u1 = 1.0 - Uniform();
   const double u2 = Uniform();
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(kTwoPi * u2);
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(math::kTwoPi * u2);
 }
 
 std::uint64_t Rng::Below(std::uint64_t n) {

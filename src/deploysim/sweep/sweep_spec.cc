@@ -512,7 +512,7 @@ math::Vec3 InitialMomentum(const std::vector<Target>& targets,
 }
 
 /// A hinge-profile case: its run measures angles from the same spin axis as the case
-/// (RunHingeMission: the principal axis nearest H_B(t0)); counts the latches expected.
+/// (analysis::RunMission: the principal axis nearest H_B(t0)); counts the latches expected.
 void FinishHingeCase(const SweepSpec& spec,
                      const dynamics::InertiaSample& s0,
                      const math::Vec3& H_B,

@@ -359,7 +359,7 @@ TEST(HingeMissionTest, OutcomeRunLocatesTheLargestSpinAxisAngle) {
   } discard;
   RunOptions o;
   o.sample_trajectory = false;
-  const MissionResult lean = RunHingeMission(*CompiledRun::Compile(p), discard, {}, o);
+  const MissionResult lean = RunMission(*CompiledRun::Compile(p), discard, {}, o);
   std::printf("largest spin-axis angle: located %.12f rad, sampled every 5 ms %.12f rad\n",
               lean.max_spin_axis_angle, sampled);
   EXPECT_GE(lean.max_spin_axis_angle, sampled - 1e-9);
