@@ -8,7 +8,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "deploysim/analysis/exact_flow.h"
+#include "deploysim/analysis/compiled_run.h"
+#include "deploysim/analysis/run_loop.h"
+#include "deploysim/analysis/trajectory_schema.h"
 #include "deploysim/crosscheck/hinge_history.h"
 #include "deploysim/dynamics/rigid_body.h"
 #include "deploysim/math/inertia.h"
@@ -37,6 +39,60 @@ double LatchTime(const HingeHistory& h, Eigen::Index k, double closed, double op
   return std::numeric_limits<double>::quiet_NaN();
 }
 
+/// The reduced model driven by Simbody's hinge history, for the run loop: one phase, the
+/// hinge angles and rates interpolated from the history.
+class ReplayBody final : public analysis::RunBody {
+ public:
+  ReplayBody(const HingeHistorySource& source, const integrators::State& y0)
+      : source_(source), y0_(y0) {}
+  const dynamics::InertiaSource& source() const override { return source_; }
+  void Start(analysis::RunState& st) override { st.y = y0_; }
+  analysis::RunSample SampleOf(double t,
+                               const math::Vec3& H_B,
+                               const math::Quat& q_NB,
+                               const Eigen::VectorXd& /*x*/,
+                               dynamics::Side side) const override {
+    const dynamics::InertiaSample js = source_.Evaluate(t, side);
+    const HingeState hinges = source_.Interpolate(t, side);
+    analysis::RunSample o;
+    o.t = t;
+    o.H_B = H_B;
+    o.q_NB = q_NB;
+    o.w = dynamics::AngularVelocity(js, H_B);
+    o.J_B = js.J_B;
+    o.h_rel_B = js.h_rel_B;
+    o.kinetic = dynamics::TotalKineticEnergy(js, H_B);
+    o.theta = hinges.angle;
+    o.theta_dot = hinges.rate;
+    return o;
+  }
+  std::vector<double> PhaseBoundaries(double /*t0*/, double /*t1*/) const override { return {}; }
+  analysis::PhaseInfo Describe(double /*t*/) const override {
+    analysis::PhaseInfo info;
+    info.name = "replay of Simbody's hinge history";
+    info.law = "replayed";
+    return info;
+  }
+  analysis::SteadySpin Steady(const analysis::RunSample& /*start*/,
+                              const analysis::PhaseInfo& /*info*/) const override {
+    analysis::SteadySpin none;
+    none.reason = "the inertia follows the replayed hinge history";
+    return none;
+  }
+
+ private:
+  const HingeHistorySource& source_;
+  integrators::State y0_;
+};
+
+class CollectSink final : public analysis::SampleSink {
+ public:
+  void Append(const analysis::Trajectory& b) override {
+    analysis::TrajectorySchema::Standard().Append(all, b);
+  }
+  analysis::Trajectory all;
+};
+
 }  // namespace
 
 SpringDeploymentResult RunSpringDeployment(const schedule::Profile& profile,
@@ -47,7 +103,14 @@ SpringDeploymentResult RunSpringDeployment(const schedule::Profile& profile,
   }
   p.coupling = schedule::Coupling::kExact;
   if (options.output_dt) p.output.dt = *options.output_dt;
-  schedule::ValidateProfile(p);
+  // The replay runs with the options' integrator: compiled (and validated) once.
+  schedule::Profile replay = p;
+  replay.integrator = schedule::IntegratorSpec{};
+  replay.integrator.method = options.replay_method;
+  replay.integrator.rtol = options.replay_rtol;
+  replay.integrator.atol = options.replay_atol;
+  const std::shared_ptr<const analysis::CompiledRun> compiled =
+      analysis::CompiledRun::Compile(replay);
   (void)p.model.configuration(options.drive.open);  // throws listing the valid names
 
   SpringDeploymentResult r;
@@ -63,47 +126,26 @@ SpringDeploymentResult RunSpringDeployment(const schedule::Profile& profile,
   so.accuracy = options.accuracy;
   r.simbody = RunSimbodySpring(p, options.drive, grid, spin_axis_B, so);
 
-  // Replay with exact coupling.
+  // Replay with exact coupling, in the run loop (its flips, samples and drift).
   const auto wall0 = std::chrono::steady_clock::now();
   const HingeHistorySource source(body, r.simbody.history);
   integrators::State y0;
   y0.t = p.t_begin();
   y0.q_NB = p.initial.q_NB.normalized();
   y0.H_B = H_B0;
-  const double M = H_B0.norm();
-  const integrators::EventFunction flip{
-      "flip", [&source, spin_axis_B](const integrators::State& s) {
-        return analysis::FlipFunction(source.Evaluate(s.t).J_B, spin_axis_B, s.H_B);
-      }};
-  integrators::IntegratorSettings settings;
-  settings.tolerances = {options.replay_rtol, options.replay_atol};
-  const auto stepper = analysis::MakeStepper(options.replay_method);
-  const integrators::IntegrationResult run =
-      integrators::Integrate(*stepper, settings, source, y0, p.t_end(), grid, {flip});
+  ReplayBody replay_body(source, y0);
+  CollectSink sink;
+  analysis::RunOptions run_options;
+  run_options.spin_axis_B = spin_axis_B;
+  const analysis::MissionResult run =
+      analysis::RunLoop(*compiled, replay_body, &sink, {}, run_options);
   if (run.termination != integrators::Termination::kReachedEnd) {
     throw std::runtime_error(p.source + ": spring replay: integration " + run.message);
   }
   r.replay_stats = run.stats;
-  for (const integrators::Event& e : run.events) {
-    if (analysis::IsFlip(source.Evaluate(e.t).J_B, spin_axis_B, e.state.H_B)) {
-      r.replay_flip_times.push_back(e.t);
-    }
-  }
-  analysis::Trajectory& tr = r.replay;
-  const math::Vec3 h_N0 = y0.q_NB * H_B0;
-  for (std::size_t i = 0; i < grid.size(); ++i) {
-    const integrators::State& s = run.samples.at(i);
-    const dynamics::InertiaSample js = source.Evaluate(grid[i]);
-    tr.time.push_back(grid[i]);
-    tr.H_B.push_back(s.H_B);
-    tr.w_NB_B.push_back(dynamics::AngularVelocity(js, s.H_B));
-    tr.q_NB.push_back(s.q_NB);
-    tr.J_B.push_back(js.J_B);
-    tr.h_rel_B.push_back(js.h_rel_B);
-    tr.h_N.push_back(s.q_NB * s.H_B);
-    tr.hinge_angles.push_back(source.Interpolate(grid[i]).angle);
-    r.replay_max_h_N_drift = std::max(r.replay_max_h_N_drift, (tr.h_N.back() - h_N0).norm() / M);
-  }
+  r.replay_flip_times = run.flip_times;
+  r.replay = std::move(sink.all);
+  r.replay_max_h_N_drift = run.max_h_N_drift;
   r.replay_wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
