@@ -1,10 +1,9 @@
 // Sweeps from Python: the cases of a SweepSpec on sweep::ParallelFor (the CLI's thread
 // pool, the same per-case function sweep::SimulateCase), results as numpy columns (the
-// /cases table of the results file, sweep::ResultColumns). Nothing is written unless an
-// output is asked for, and then only once the sweep is complete (atomically), so a
-// KeyboardInterrupt leaves nothing behind.
+// /cases table of the results file and its /timing, sweep_arrays.h). Nothing is written
+// unless an output is asked for, and then only once the sweep is complete (atomically), so
+// a KeyboardInterrupt leaves nothing behind.
 
-#include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include <atomic>
@@ -18,50 +17,11 @@
 #include "deploysim/sweep/results_file.h"
 #include "deploysim/sweep/runner.h"
 #include "deploysim/sweep/sweep_file.h"
+#include "sweep_arrays.h"
 
 namespace py = pybind11;
 
 namespace deploysim::python {
-
-namespace {
-
-py::dict Columns(const sweep::SweepSpec& spec, const std::vector<sweep::CaseOutcome>& outcomes) {
-  py::dict data;
-  py::dict units;
-  py::dict roles;
-  py::dict descriptions;
-  for (sweep::ResultColumn& c : sweep::ResultColumns(spec, outcomes)) {
-    switch (c.type) {
-      case sweep::ResultColumn::Type::kDouble:
-        data[c.name.c_str()] = Doubles(std::move(c.d));
-        break;
-      case sweep::ResultColumn::Type::kInt:
-        data[c.name.c_str()] =
-            py::array_t<std::int64_t>(static_cast<py::ssize_t>(c.i.size()), c.i.data());
-        break;
-      case sweep::ResultColumn::Type::kText: {
-        py::list l;
-        for (const std::string& s : c.s) l.append(s);
-        data[c.name.c_str()] = py::module_::import("numpy").attr("array")(l, "object");
-        break;
-      }
-    }
-    units[c.name.c_str()] = c.units;
-    roles[c.name.c_str()] = c.role;
-    descriptions[c.name.c_str()] = c.description;
-  }
-  std::vector<double> run_time;
-  for (const sweep::CaseOutcome& o : outcomes) run_time.push_back(o.run_time);
-  py::dict out;
-  out["columns"] = data;
-  out["units"] = units;
-  out["roles"] = roles;
-  out["descriptions"] = descriptions;
-  out["run_time"] = Doubles(std::move(run_time));
-  return out;
-}
-
-}  // namespace
 
 void RegisterSweep(py::module_& m) {
   py::class_<sweep::SweepSpec>(m, "SweepSpec",
@@ -136,7 +96,7 @@ void RegisterSweep(py::module_& m) {
           py::gil_scoped_release release;
           sweep::WriteSweepOutputs(output, csv ? output + ".csv" : "", spec, outcomes, info);
         }
-        py::dict out = Columns(spec, outcomes);
+        py::dict out = SweepArrays(spec, outcomes);
         out["wall_seconds"] = wall;
         out["threads"] = parallel.threads;
         return out;

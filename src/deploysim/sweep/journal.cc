@@ -8,9 +8,10 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
-#include <functional>
 #include <iterator>
 #include <stdexcept>
+
+#include "deploysim/sweep/case_outcome_table.h"
 
 namespace deploysim::sweep {
 
@@ -45,6 +46,11 @@ class Writer {
     const auto* p = reinterpret_cast<const char*>(&v);
     bytes_.insert(bytes_.end(), p, p + sizeof(T));
   }
+  /// `n` bytes more at the end, to be filled.
+  char* Append(std::size_t n) {
+    bytes_.resize(bytes_.size() + n);
+    return bytes_.data() + bytes_.size() - n;
+  }
   std::vector<char>& bytes() { return bytes_; }
 
  private:
@@ -61,79 +67,31 @@ class Reader {
     p_ += sizeof(T);
     return v;
   }
+  /// The next `n` bytes.
+  const char* Take(std::size_t n) {
+    const char* p = p_;
+    p_ += n;
+    return p;
+  }
 
  private:
   const char* p_;
 };
 
-/// One field of the journal's record of a CaseOutcome: how it is written and read back.
-struct Field {
-  std::function<void(Writer&, const CaseOutcome&)> put;
-  std::function<void(Reader&, CaseOutcome&)> get;
-};
-
-template <typename T>
-Field Member(T CaseOutcome::*m) {
-  return {[m](Writer& w, const CaseOutcome& o) { w.Put(o.*m); },
-          [m](Reader& r, CaseOutcome& o) { o.*m = r.Get<T>(); }};
-}
-
-/// An enumeration, stored as its int32 value.
-template <typename E>
-Field Enum(E CaseOutcome::*m) {
-  return {[m](Writer& w, const CaseOutcome& o) { w.Put(static_cast<std::int32_t>(o.*m)); },
-          [m](Reader& r, CaseOutcome& o) { o.*m = static_cast<E>(r.Get<std::int32_t>()); }};
-}
-
-/// The record's fields in order: the one list that writing and reading both follow (a
-/// field added to CaseOutcome is stored by adding it here; bump kRecordLayoutVersion).
-const std::vector<Field>& RecordFields() {
-  static const std::vector<Field> fields = {
-      Enum(&CaseOutcome::termination),
-      Member(&CaseOutcome::flip_count),
-      Member(&CaseOutcome::first_flip_time),
-      Member(&CaseOutcome::max_spin_axis_angle),
-      Member(&CaseOutcome::final_spin_axis_angle),
-      Enum(&CaseOutcome::final_class),
-      Member(&CaseOutcome::final_axis),
-      Member(&CaseOutcome::final_regime),
-      Member(&CaseOutcome::final_cone_angle),
-      Member(&CaseOutcome::energy_initial),
-      Member(&CaseOutcome::energy_final),
-      Member(&CaseOutcome::deploy_end_time),
-      Member(&CaseOutcome::deploy_duration),
-      Member(&CaseOutcome::end_time),
-      Member(&CaseOutcome::steps),
-      Member(&CaseOutcome::rejected),
-      Member(&CaseOutcome::final_separatrix_distance),
-      Member(&CaseOutcome::predicted_flip_half_period),
-      Member(&CaseOutcome::latched_count),
-      Member(&CaseOutcome::all_latched),
-      Member(&CaseOutcome::max_latch_w_jump),
-      Member(&CaseOutcome::max_latch_impulse),
-      Member(&CaseOutcome::energy_dissipated_events),
-      Member(&CaseOutcome::outcome_class),
-      Member(&CaseOutcome::outcome_role_phase),
-      Member(&CaseOutcome::outcome_role_end),
-      Member(&CaseOutcome::outcome_phase_begin),
-      Member(&CaseOutcome::nutation_rate),
-      Member(&CaseOutcome::nutation_rate_sigma),
-      Member(&CaseOutcome::linear_growth_rate),
-      Member(&CaseOutcome::transition_time),
-      Member(&CaseOutcome::time_to_tumble),
-      Member(&CaseOutcome::time_to_tumble_measured),
-      Member(&CaseOutcome::run_time),
-  };
-  return fields;
-}
-
+/// The record's fields are CaseOutcomeTable's stored fields in slot order: the one list
+/// that writing and reading both follow (a field added to the table is stored; bump
+/// kRecordLayoutVersion).
 void PutOutcome(Writer& w, const CaseOutcome& o) {
-  for (const Field& f : RecordFields()) f.put(w, o);
+  for (const CaseOutcomeField* f : CaseOutcomeTable::RecordFields()) {
+    f->record.put(o, w.Append(f->record.size));
+  }
 }
 
 CaseOutcome GetOutcome(Reader& r) {
   CaseOutcome o;
-  for (const Field& f : RecordFields()) f.get(r, o);
+  for (const CaseOutcomeField* f : CaseOutcomeTable::RecordFields()) {
+    f->record.get(r.Take(f->record.size), o);
+  }
   return o;
 }
 
@@ -178,8 +136,7 @@ void WriteAll(int fd, const std::vector<char>& bytes, const std::string& path) {
 }  // namespace
 
 std::size_t JournalRecordSize() {
-  static const std::size_t size = Record(0, CaseOutcome{}).size();
-  return size;
+  return sizeof(std::uint64_t) + CaseOutcomeTable::RecordPayloadSize() + sizeof(std::uint64_t);
 }
 
 std::vector<char> EncodeRecords(const std::vector<CaseRecord>& records) {

@@ -13,7 +13,9 @@
 /// Layout (native byte order; the journal is a scratch file of one machine):
 ///   header  "DSWPJRN2" | u64 fingerprint | u64 case count | u32 record size |
 ///           u32 length L | L bytes: the build identity (kBuildId) | u64 FNV-1a of the header
-///   records u64 case index | payload (the CaseOutcome fields) | u64 FNV-1a of both
+///   records u64 case index | payload | u64 FNV-1a of both
+/// The payload is the case outcome's stored fields in their record order, as
+/// CaseOutcomeTable describes them (case_outcome_table.h: slot, bytes).
 /// A journal belongs to one sweep definition run by one build of deploysim: its
 /// fingerprint (Fingerprint()) covers the sweep file, the base profile and model files
 /// and the result layout, and the build identity (version, git describe of the sources,

@@ -52,7 +52,10 @@ enum class MotionClass : std::int32_t {
 std::string ToString(MotionClass c);
 
 /// What one case produced. Every field except run_time is a deterministic function of
-/// the case (bit-identical across threads, ranks and runs).
+/// the case (bit-identical across threads, ranks and runs). Its outputs (the journal's
+/// record, the results file's columns, the CSV and the Python columns) are derived from
+/// CaseOutcomeTable (case_outcome_table.h): a field added here is stored and written once
+/// it has its entry there.
 struct CaseOutcome {
   integrators::Termination termination = integrators::Termination::kReachedEnd;
   std::int64_t flip_count = 0;

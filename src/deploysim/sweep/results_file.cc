@@ -4,21 +4,17 @@
 #include "deploysim/sweep/results_file.h"
 
 #include <cerrno>
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <functional>
-#include <limits>
 #include <optional>
 #include <stdexcept>
 
-#include "deploysim/analysis/free_body_solution.h"
-#include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/io/atomic_file.h"
 #include "deploysim/io/hdf5_reader.h"
 #include "deploysim/io/hdf5_writer.h"
 #include "deploysim/math/number_format.h"
+#include "deploysim/sweep/case_outcome_table.h"
 #include "deploysim/version.h"
 
 namespace deploysim::sweep {
@@ -54,170 +50,36 @@ Column Make(std::string name,
 
 namespace {
 
-/// An outcome column: its header and how a case's outcome fills it (one entry per
-/// column, so that a header and its values cannot drift apart).
-struct OutcomeColumn {
-  const char* name;
-  const char* units;
-  std::string description;
-  ColumnType type;
-  std::function<void(Column&, const CaseOutcome&)> put;
-};
-
-template <typename F>
-OutcomeColumn Int(const char* name, const char* units, std::string description, F f) {
-  return {name, units, std::move(description), ColumnType::kInt,
-          [f](Column& c, const CaseOutcome& o) { c.i.push_back(f(o)); }};
-}
-template <typename F>
-OutcomeColumn Real(const char* name, const char* units, std::string description, F f) {
-  return {name, units, std::move(description), ColumnType::kDouble,
-          [f](Column& c, const CaseOutcome& o) { c.d.push_back(f(o)); }};
-}
-template <typename F>
-OutcomeColumn Text(const char* name, std::string description, F f) {
-  return {name, "none", std::move(description), ColumnType::kText,
-          [f](Column& c, const CaseOutcome& o) { c.s.push_back(f(o)); }};
-}
-
-// The columns every sweep has, up to the deployment's timing.
-std::vector<OutcomeColumn> MotionColumns(bool hinges) {
-  using O = const CaseOutcome&;
-  return {
-      Int("flipped", "1", "1 if the body flipped at least once (Dzhanibekov flip), else 0",
-          [](O o) -> std::int64_t { return o.flip_count > 0 ? 1 : 0; }),
-      Int("flip_count", "1",
-          "number of flips: sign changes of H_B along the spin axis while it is the "
-          "intermediate principal axis",
-          [](O o) -> std::int64_t { return o.flip_count; }),
-      Real("first_flip_time", "s", "time of the first flip (NaN: no flip)",
-           [](O o) { return o.first_flip_time; }),
-      Real("first_flip_after_deploy", "s",
-           "first_flip_time - deploy_end_time (NaN: no flip; < 0: during the deployment)",
-           [](O o) {
-             return o.flip_count > 0 ? o.first_flip_time - o.deploy_end_time : std::nan("");
-           }),
-      Real("max_spin_axis_angle", "rad",
-           "largest angle between the body spin axis and h_N over the run",
-           [](O o) { return o.max_spin_axis_angle; }),
-      Real("final_spin_axis_angle", "rad", "angle between the body spin axis and h_N at the end",
-           [](O o) { return o.final_spin_axis_angle; }),
-      Text("final_class",
-           "final motion: spin-minor | spin-major | spin-intermediate | tumbling | failed",
-           [](O o) { return ToString(o.final_class); }),
-      Text("final_axis",
-           "body axis (+x ... -z) nearest the final circulation axis, signed along H_B",
-           [](O o) {
-             return o.final_class == MotionClass::kFailed ? "none" : AxisName(o.final_axis);
-           }),
-      Text("final_regime", "torque-free regime after the end (FreeBodySolution)",
-           [](O o) {
-             return o.final_class == MotionClass::kFailed
-                        ? "none"
-                        : analysis::ToString(static_cast<analysis::Regime>(o.final_regime));
-           }),
-      Real("final_cone_angle", "rad",
-           "largest half-angle of the final momentum cone about its circulation axis",
-           [](O o) { return o.final_cone_angle; }),
-      Real("final_separatrix_distance", "1",
-           "(D - I2) / (I3 - I1) of the torque-free motion after the end (D = M^2 / 2T): < 0 "
-           "about the minor axis, > 0 about the major axis, 0 on the separatrix",
-           [](O o) { return o.final_separatrix_distance; }),
-      Real("predicted_flip_half_period", "s",
-           "time between flips of the torque-free motion after the end (closed form; inf: it "
-           "will not flip)",
-           [](O o) { return o.predicted_flip_half_period; }),
-      Int("will_flip", "1",
-          "1 if the torque-free motion after the end flips (the spin axis is then the "
-          "intermediate axis), whatever the simulated time",
-          [](O o) -> std::int64_t { return WillFlip(o) ? 1 : 0; }),
-      Real("energy_initial", "J",
-           hinges ? "total energy (kinetic + spring) at the start"
-                  : "total kinetic energy at the start",
-           [](O o) { return o.energy_initial; }),
-      Real(
-          "energy_final", "J",
-          hinges ? "total energy (kinetic + spring) at the end" : "total kinetic energy at the end",
-          [](O o) { return o.energy_final; }),
-      Real("energy_change", "1", "(energy_final - energy_initial) / energy_initial",
-           [](O o) { return (o.energy_final - o.energy_initial) / o.energy_initial; }),
-  };
-}
-
-// The outcome measured from the motion: the verdict `analyze` prints for the case, in the
-// same vocabulary (docs/design.md 2.8).
-std::vector<OutcomeColumn> VerdictColumns() {
-  using O = const CaseOutcome&;
-  return {
-      Text("outcome",
-           "measured from the motion: incomplete | flipping | flat spin | transition | growing "
-           "| decaying | tumbling | bounded",
-           [](O o) { return OutcomeName(o); }),
-      Real("nutation_rate", "1/s",
-           "exponential rate of the final phase's nutation envelope, fitted where the "
-           "nutation is small (> 0 growing; NaN: no fit)",
-           [](O o) { return o.nutation_rate; }),
-      Real("nutation_rate_sigma", "1/s", "standard error of nutation_rate",
-           [](O o) { return o.nutation_rate_sigma; }),
-      Real("nutation_time_constant", "s", "1 / |nutation_rate|",
-           [](O o) { return analysis::TimeConstant(o.nutation_rate); }),
-      Real("linear_growth_rate", "1/s",
-           "the nutation mode's rate from the linearization of the final phase's steady spin "
-           "(> 0 unstable; NaN: no steady spin)",
-           [](O o) { return o.linear_growth_rate; }),
-      Real("linear_time_constant", "s", "1 / |linear_growth_rate|",
-           [](O o) { return analysis::TimeConstant(o.linear_growth_rate); }),
-      Real("transition_time", "s",
-           "when a transition (e.g. a flat spin) passed 45 deg (NaN: no transition)",
-           [](O o) { return o.transition_time; }),
-      Real("time_to_tumble", "s",
-           "from the final phase's start to the spin axis 45 deg from h_N: measured, else "
-           "predicted from linear_growth_rate (inf: the spin does not grow; NaN: unknown)",
-           [](O o) { return o.time_to_tumble; }),
-      Int("time_to_tumble_measured", "1",
-          "1 if time_to_tumble was measured in the run, 0 if predicted",
-          [](O o) -> std::int64_t { return o.time_to_tumble_measured; }),
-  };
-}
-
-// The deployment's timing, the hinge events (hinge profiles) and the integration.
-std::vector<OutcomeColumn> RunColumns(bool hinges) {
-  using O = const CaseOutcome&;
-  std::vector<OutcomeColumn> cols{
-      Real("deploy_end_time", "s",
-           hinges ? "last lock (latch, jam or rest on a stop) of a released panel (NaN: a "
-                    "released panel is still free at the end; start: nothing released)"
-                  : "end of the last move stage",
-           [](O o) { return o.deploy_end_time; }),
-      Real("deploy_duration", "s",
-           hinges ? "deploy_end_time - the first release (0: nothing released)"
-                  : "total duration of the move stages",
-           [](O o) { return o.deploy_duration; }),
-      Real("end_time", "s", "end of the case's run", [](O o) { return o.end_time; }),
-  };
-  if (hinges) {
-    cols.push_back(Int("latched_count", "1", "latch events (panels caught by their latch)",
-                       [](O o) -> std::int64_t { return o.latched_count; }));
-    cols.push_back(Int("all_latched", "1",
-                       "1 if every free panel that has a latch in the base profile latched",
-                       [](O o) -> std::int64_t { return o.all_latched; }));
-    cols.push_back(Real("max_latch_w_jump", "rad/s",
-                        "latch shock: largest |hub angular-velocity jump| over the latch, jam, "
-                        "stop and rest events",
-                        [](O o) { return o.max_latch_w_jump; }));
-    cols.push_back(Real("max_latch_impulse", "N m s",
-                        "largest |impulse| over the latch, jam, stop and rest events",
-                        [](O o) { return o.max_latch_impulse; }));
-    cols.push_back(Real("energy_dissipated_events", "J", "energy dissipated by all hinge events",
-                        [](O o) { return o.energy_dissipated_events; }));
+ColumnType TypeOf(const CaseOutcomeField& f) {
+  switch (f.type) {
+    case CaseOutcomeField::Type::kReal:
+      return ColumnType::kDouble;
+    case CaseOutcomeField::Type::kInteger:
+      return ColumnType::kInt;
+    case CaseOutcomeField::Type::kText:
+      return ColumnType::kText;
   }
-  cols.push_back(Text("termination", "why the integration stopped",
-                      [](O o) { return integrators::ToString(o.termination); }));
-  cols.push_back(
-      Int("steps", "1", "accepted integrator steps", [](O o) -> std::int64_t { return o.steps; }));
-  cols.push_back(Int("rejected", "1", "rejected integrator step attempts",
-                     [](O o) -> std::int64_t { return o.rejected; }));
-  return cols;
+  return ColumnType::kDouble;
+}
+
+/// The column of field f (`hinges`: a sweep over a hinge profile), without values.
+Column Header(const CaseOutcomeField& f, std::string role, bool hinges) {
+  return Make(f.name, f.units, f.DescriptionFor(hinges), std::move(role), TypeOf(f));
+}
+
+/// Appends the value of field f in outcome o to its column c.
+void PutValue(const CaseOutcomeField& f, const CaseOutcome& o, Column& c) {
+  switch (c.type) {
+    case ColumnType::kDouble:
+      c.d.push_back(f.real(o));
+      break;
+    case ColumnType::kInt:
+      c.i.push_back(f.integer(o));
+      break;
+    case ColumnType::kText:
+      c.s.push_back(f.text(o));
+      break;
+  }
 }
 
 }  // namespace
@@ -244,12 +106,9 @@ std::vector<ResultColumn> ResultColumns(const SweepSpec& spec,
   }
   const std::size_t first_outcome = cols.size();
   const bool hinges = spec.base.is_hinge_profile();
-  std::vector<OutcomeColumn> outcome_cols = MotionColumns(hinges);
-  for (OutcomeColumn& c : VerdictColumns()) outcome_cols.push_back(std::move(c));
-  for (OutcomeColumn& c : RunColumns(hinges)) outcome_cols.push_back(std::move(c));
-  for (const OutcomeColumn& c : outcome_cols) {
-    cols.push_back(Make(c.name, c.units, c.description, "outcome", c.type));
-  }
+  const std::vector<const CaseOutcomeField*> outcome_fields =
+      CaseOutcomeTable::Of(CaseOutcomeField::Place::kCases, hinges);
+  for (const CaseOutcomeField* f : outcome_fields) cols.push_back(Header(*f, "outcome", hinges));
   for (std::size_t k = 0; k < n; ++k) {
     const CaseParameters p = ParametersOf(spec, k);
     cols[0].i.push_back(static_cast<std::int64_t>(p.index));
@@ -263,9 +122,20 @@ std::vector<ResultColumn> ResultColumns(const SweepSpec& spec,
         c.d.push_back(p.values[t]);
       }
     }
-    for (std::size_t j = 0; j < outcome_cols.size(); ++j) {
-      outcome_cols[j].put(cols[first_outcome + j], outcomes[k]);
+    for (std::size_t j = 0; j < outcome_fields.size(); ++j) {
+      PutValue(*outcome_fields[j], outcomes[k], cols[first_outcome + j]);
     }
+  }
+  return cols;
+}
+
+std::vector<ResultColumn> TimingColumns(const SweepSpec& spec,
+                                        const std::vector<CaseOutcome>& outcomes) {
+  const bool hinges = spec.base.is_hinge_profile();
+  std::vector<Column> cols;
+  for (const CaseOutcomeField* f : CaseOutcomeTable::Of(CaseOutcomeField::Place::kTiming, hinges)) {
+    cols.push_back(Header(*f, "timing", hinges));
+    for (const CaseOutcome& o : outcomes) PutValue(*f, o, cols.back());
   }
   return cols;
 }
@@ -296,20 +166,20 @@ std::string IntegratorSettings(const schedule::Profile& p) {
          ", step=" + FormatNumber(s.step) + ", max_step=" + FormatNumber(s.max_step);
 }
 
+/// `cols`: the /cases columns, then the /timing ones (role `timing`).
 void WriteContents(io::Hdf5Writer& out,
                    const SweepSpec& spec,
                    const std::vector<Column>& cols,
-                   const std::vector<CaseOutcome>& outcomes,
                    const RunInfo& info) {
   std::vector<std::string> names;
   for (const Column& c : cols) {
-    WriteColumn(out, "/cases", c);
-    names.push_back(c.name);
+    if (c.role == "timing") {
+      WriteColumn(out, "/timing", c);
+    } else {
+      WriteColumn(out, "/cases", c);
+      names.push_back(c.name);
+    }
   }
-  Column rt = Make("run_time", "s", "wall time of each case (varies from run to run)", "timing",
-                   ColumnType::kDouble);
-  for (const CaseOutcome& o : outcomes) rt.d.push_back(o.run_time);
-  WriteColumn(out, "/timing", rt);
   out.Attribute("/timing", "threads", std::to_string(info.threads));
   out.Attribute("/timing", "ranks", std::to_string(info.ranks));
   out.Attribute("/timing", "wall_seconds", FormatNumber(info.wall_seconds));
@@ -393,16 +263,26 @@ std::string CsvNumber(double x) { return FormatNumber(x); }
 
 namespace {
 
-/// Writes the CSV table into the temporary of `out` (complete, not yet committed).
+/// The /cases columns, then the /timing ones.
+std::vector<Column> AllColumns(const SweepSpec& spec, const std::vector<CaseOutcome>& outcomes) {
+  std::vector<Column> cols = ResultColumns(spec, outcomes);
+  for (Column& c : TimingColumns(spec, outcomes)) cols.push_back(std::move(c));
+  return cols;
+}
+
+/// Writes the CSV table of `cols` (`rows` rows) into the temporary of `out` (complete, not
+/// yet committed).
 void WriteCsvTemporary(io::AtomicFile& out,
                        const std::string& path,
                        const std::vector<Column>& cols,
-                       const std::vector<CaseOutcome>& outcomes) {
+                       std::size_t rows) {
   std::string text;
-  for (const Column& c : cols) text += c.name + " [" + c.units + "],";
-  text += "run_time [s]\n";
-  for (std::size_t r = 0; r < outcomes.size(); ++r) {
+  for (const Column& c : cols)
+    text += (&c == &cols.front() ? "" : ",") + c.name + " [" + c.units + "]";
+  text += '\n';
+  for (std::size_t r = 0; r < rows; ++r) {
     for (const Column& c : cols) {
+      if (&c != &cols.front()) text += ',';
       switch (c.type) {
         case ColumnType::kDouble:
           text += CsvNumber(c.d[r]);
@@ -414,9 +294,8 @@ void WriteCsvTemporary(io::AtomicFile& out,
           text += c.s[r];
           break;
       }
-      text += ',';
     }
-    text += CsvNumber(outcomes[r].run_time) + '\n';
+    text += '\n';
   }
   std::ofstream f(out.temporary_path());
   out.Reserve(text.size());  // a full disk or the size limit, reported by name
@@ -440,14 +319,14 @@ void WriteSweepOutputs(const std::string& path,
                        const SweepSpec& spec,
                        const std::vector<CaseOutcome>& outcomes,
                        const RunInfo& info) {
-  const std::vector<Column> cols = ResultColumns(spec, outcomes);
+  const std::vector<Column> cols = AllColumns(spec, outcomes);
   io::Hdf5Writer out(path);  // atomic: nothing at `path` unless Commit() succeeds
-  WriteContents(out, spec, cols, outcomes, info);
+  WriteContents(out, spec, cols, info);
   out.Close();
   std::optional<io::AtomicFile> csv;
   if (!csv_path.empty()) {
     csv.emplace(csv_path);
-    WriteCsvTemporary(*csv, csv_path, cols, outcomes);
+    WriteCsvTemporary(*csv, csv_path, cols, outcomes.size());
   }
   const io::SignalsHeld held;  // both files are renamed, or neither
   out.Commit();
@@ -457,9 +336,8 @@ void WriteSweepOutputs(const std::string& path,
 void WriteSweepCsv(const std::string& path,
                    const SweepSpec& spec,
                    const std::vector<CaseOutcome>& outcomes) {
-  const std::vector<Column> cols = ResultColumns(spec, outcomes);
   io::AtomicFile out(path);
-  WriteCsvTemporary(out, path, cols, outcomes);
+  WriteCsvTemporary(out, path, AllColumns(spec, outcomes), outcomes.size());
   out.Commit();
 }
 

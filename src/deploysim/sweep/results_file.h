@@ -68,16 +68,22 @@ struct ResultColumn {
   std::string name;
   std::string units;
   std::string description;
-  std::string role;  ///< index | parameter | outcome
+  std::string role;  ///< index | parameter | outcome | timing
   Type type = Type::kDouble;
   std::vector<double> d;        ///< kDouble
   std::vector<std::int64_t> i;  ///< kInt
   std::vector<std::string> s;   ///< kText
 };
 
-/// The /cases columns of `outcomes` (outcomes[i] is case i), in file order. Throws
-/// std::invalid_argument on a size mismatch.
+/// The /cases columns of `outcomes` (outcomes[i] is case i), in file order: the indices,
+/// the parameters, then the outcome columns of CaseOutcomeTable (case_outcome_table.h).
+/// Throws std::invalid_argument on a size mismatch.
 std::vector<ResultColumn> ResultColumns(const SweepSpec& spec,
+                                        const std::vector<CaseOutcome>& outcomes);
+
+/// The /timing columns of `outcomes` (role `timing`: CaseOutcomeTable's fields that vary
+/// from run to run, run_time): the datasets /timing/<name>, the CSV's last columns.
+std::vector<ResultColumn> TimingColumns(const SweepSpec& spec,
                                         const std::vector<CaseOutcome>& outcomes);
 
 /// A results file as read back (for tests, tools and comparisons).
