@@ -1,4 +1,6 @@
-// CSV trajectories (WriteTrajectoryCsv in trajectory_file.h).
+// CSV trajectories (trajectory_csv.h).
+
+#include "deploysim/io/trajectory_csv.h"
 
 #include <cerrno>
 #include <cstdint>

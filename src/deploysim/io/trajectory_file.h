@@ -22,6 +22,7 @@
 
 #include "deploysim/analysis/mission.h"
 #include "deploysim/analysis/trajectory_schema.h"
+#include "deploysim/io/trajectory_csv.h"
 
 namespace deploysim::io {
 
@@ -161,29 +162,6 @@ class TrajectoryFileWriter final : public analysis::SampleSink {
   std::unique_ptr<Impl> impl_;
 };
 
-/// The CSV of WriteTrajectoryCsv, written while the mission runs; atomic as
-/// TrajectoryFileWriter (Finish completes the temporary, Commit renames it).
-class TrajectoryCsvWriter final : public analysis::SampleSink {
- public:
-  /// `hinge_columns`: hinge angles (and as many hinge rates) per sample (0: none); one
-  /// CSV column per component of each column of `schema` (which must outlive the writer).
-  TrajectoryCsvWriter(
-      const std::string& path,
-      std::size_t hinge_columns,
-      const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
-  ~TrajectoryCsvWriter() override;
-  TrajectoryCsvWriter(const TrajectoryCsvWriter&) = delete;
-  TrajectoryCsvWriter& operator=(const TrajectoryCsvWriter&) = delete;
-
-  void Append(const analysis::Trajectory& block) override;
-  void Finish();
-  void Commit();
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-};
-
 /// The outputs of `deploysim simulate`: the HDF5 file and, if `csv_path` is not empty,
 /// its CSV, streamed side by side. Guarantee: both temporaries are written completely
 /// and flushed to disk (Finish) before either replaces anything (Commit); a failure up
@@ -211,21 +189,6 @@ class TrajectoryOutputs final : public analysis::SampleSink {
 /// another schema_version. Reads the columns of `schema`.
 TrajectoryFile ReadTrajectoryFile(
     const std::string& path,
-    const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
-
-/// Writes the trajectory as CSV: one header line of column names with units in brackets
-/// ("time [s],H_B_x [kg m^2/s],..."), then one line per output time, numbers in the
-/// shortest form that reads back exactly. The columns are those of `schema`
-/// (analysis::TrajectorySchema: the standard one lists time, H_B_{x,y,z},
-/// w_NB_B_{x,y,z}, q_NB_{w,x,y,z}, J_B_{xx,yy,zz,xy,xz,yz}, principal_moments_{1,2,3},
-/// h_rel_B_{x,y,z}, h_N_{x,y,z}, energy, energy_rigid,
-/// euler_313_{precession,nutation,spin}, spin_axis_angle, hinge_angle_{0..P-1},
-/// energy_spring, energy_total, hinge_rate_{0..P-1}: the free-hinge columns after the
-/// older ones, which keep their positions). Same atomicity and errors as
-/// WriteTrajectoryFile.
-void WriteTrajectoryCsv(
-    const std::string& path,
-    const analysis::Trajectory& trajectory,
     const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
 
 }  // namespace deploysim::io

@@ -1,5 +1,7 @@
 // LoadModel: model files (docs/file_formats.md, "Models").
 
+#include "deploysim/io/yaml_model.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>

@@ -3,6 +3,8 @@
 // that need the integrators (io::LoadProfile, CheckRunSettings) are in yaml_loader.cc
 // (deploysim::io).
 
+#include "deploysim/io/yaml_profile.h"
+
 #include <cmath>
 #include <cstddef>
 #include <filesystem>

@@ -1,5 +1,7 @@
-// deploysim: the command-line front end. Parses, runs, reports; the only place that
-// catches exceptions (one line on stderr, non-zero exit).
+// deploysim: the command-line front end (app.h). Parses, runs, reports; the only place
+// that catches exceptions (one line on stderr, non-zero exit).
+
+#include "deploysim/cli/app.h"
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -648,7 +650,9 @@ bool RefuseUnknownCommand(const CLI::App& app, int argc, char** argv) {
   return true;
 }
 
-int main(int argc, char** argv) {
+namespace deploysim::cli {
+
+int Main(int argc, char** argv) {
   // A file size limit (ulimit -f) then fails a write with EFBIG, reported by name.
   std::signal(SIGXFSZ, SIG_IGN);
 #ifdef DEPLOYSIM_HAVE_SWEEP
@@ -701,3 +705,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+}  // namespace deploysim::cli
