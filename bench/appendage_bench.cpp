@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "bench_util.h"
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/model/flexible_beam.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/schedule/profile.h"
@@ -118,10 +118,10 @@ CostRow Cost(int segments, int modes, double until, int reps) {
   row.modes = modes;
   row.coordinates = modes > 0 ? modes : segments;
   row.simulated = until;
-  analysis::MissionResult r;
+  run::MissionResult r;
   const bench::Timing t = bench::TimeCold(reps, [&] {
     // The profile is built inside: the chain's expansion and modes are part of the cost.
-    r = analysis::RunMission(BoomProfile(segments, modes, until));
+    r = run::RunMission(BoomProfile(segments, modes, until));
   });
   row.wall = t.median();
   row.steps = static_cast<long>(r.stats.steps);

@@ -1,5 +1,5 @@
 // The full mission pipeline against the outcome-only path:
-// analysis::RunMission (schedule built, integration with the dense trajectory on the
+// run::RunMission (schedule built, integration with the dense trajectory on the
 // output grid, flip events, stage reports) against sweep::SimulateOutcome (the same
 // schedule, stepper, tolerances and flip rule, no trajectory) for the same profile,
 // each timed cold (everything a user's run builds is inside the timed region), best of
@@ -25,7 +25,7 @@
 
 #include "bench_util.h"
 #include "deploysim/analysis/free_body_solution.h"
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/inertia.h"
 #include "deploysim/schedule/deployment_schedule.h"
@@ -62,16 +62,16 @@ Row Measure(const schedule::Profile& base, const std::string& method, int reps) 
   }
   Row row;
   row.method = method;
-  analysis::MissionResult mission;
+  run::MissionResult mission;
   sweep::CaseOutcome outcome;
   // Interleaved, so that both sides see the same machine load.
   bench::Timing tm, to;
   for (int r = 0; r < reps; ++r) {
     tm.seconds.push_back(
-        bench::TimeCold(1, [&] { mission = analysis::RunMission(profile); }).seconds.front());
+        bench::TimeCold(1, [&] { mission = run::RunMission(profile); }).seconds.front());
     to.seconds.push_back(bench::TimeCold(1, [&] {
                            sweep::Case cs;
-                           cs.run = analysis::CompiledRun::Compile(outcome_profile);
+                           cs.run = run::CompiledRun::Compile(outcome_profile);
                            cs.spin_axis_B = sweep::BaseSpinAxis(cs.profile());
                            outcome = sweep::SimulateOutcome(cs, sweep::OutcomeSettings{});
                          }).seconds.front());
@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
   md.Printf("### 5. Full mission pipeline against the outcome-only path (%s, %.0f s)\n\n",
             profile.name.c_str(), profile.t_end() - profile.t_begin());
   md.Printf(
-      "`analysis::RunMission` (the trajectory on the %g s output grid: %zu samples of H_B, "
+      "`run::RunMission` (the trajectory on the %g s output grid: %zu samples of H_B, "
       "w, q, J_B, h_N, energies, Euler angles; flip events; stage reports) against "
       "`sweep::SimulateOutcome` (the same schedule, stepper, tolerances and flip rule; no "
       "trajectory) for the main job's profile, per method (rtol %g). Target: the full "

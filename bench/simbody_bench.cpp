@@ -29,7 +29,7 @@
 
 #include "bench_util.h"
 #include "deploysim/analysis/exact_flow.h"
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/simbody_free_hinges.h"
 #include "deploysim/crosscheck/simbody_satellite.h"
@@ -303,7 +303,7 @@ int main(int argc, char** argv) {
       q.integrator.method = method;
       q.integrator.rtol = rtol;
       q.integrator.atol = rtol * 1e-2;
-      const analysis::MissionResult r = analysis::RunMission(q);
+      const run::MissionResult r = run::RunMission(q);
       if (r.termination != integrators::Termination::kReachedEnd) {
         throw std::runtime_error("smallsat_spring_deploy: " + method + ": " + r.message);
       }
@@ -312,8 +312,8 @@ int main(int argc, char** argv) {
     // Reference: `exact` (closed form once both wings have latched, rkmk-rkf78 while they
     // swing) at rtol 1e-13; its error is bounded by its difference from rkmk-rkf78
     // throughout at the same tolerance.
-    const analysis::MissionResult ref = deploysim_run("exact", 1e-13);
-    const analysis::MissionResult ref2 = deploysim_run("rkmk-rkf78", 1e-13);
+    const run::MissionResult ref = deploysim_run("exact", 1e-13);
+    const run::MissionResult ref2 = deploysim_run("rkmk-rkf78", 1e-13);
     const std::vector<double>& grid = ref.trajectory.time;
     const double M = ref.trajectory.H_B.front().norm();
     auto error_of = [&](const std::vector<double>& t, const std::vector<math::Vec3>& H) {
@@ -339,7 +339,7 @@ int main(int argc, char** argv) {
     const int simbody_reps = reps;
     const int deploysim_reps = args.quick ? 3 : 11;
     std::vector<crosscheck::SimbodyFreeHingeRun> simbody_runs(accuracies.size());
-    std::vector<analysis::MissionResult> our_runs(candidates.size());
+    std::vector<run::MissionResult> our_runs(candidates.size());
     std::vector<bench::Timing> simbody_times(accuracies.size()), our_times(candidates.size());
     for (int round = 0; round < std::max(simbody_reps, deploysim_reps); ++round) {
       for (std::size_t i = 0; round < simbody_reps && i < accuracies.size(); ++i) {
@@ -387,7 +387,7 @@ int main(int argc, char** argv) {
     const double worst = PrintRows(md, simbody, ours, false);
     md.Printf(
         "\n- Each run, on both sides: 0 to 300 s, output every 1 s (%zu samples), the two "
-        "releases and latches located and applied. deploysim: `analysis::RunMission` of the "
+        "releases and latches located and applied. deploysim: `run::RunMission` of the "
         "profile, as `deploysim simulate` runs it without writing the file (it also locates "
         "flips and 45-degree crossings and fills the stage reports); Simbody: "
         "`crosscheck::RunSimbodyFreeHinges` without flip location.\n",

@@ -5,7 +5,7 @@
 // A free-hinge sweep (table 4b): the small satellite's spring deployment
 // (deployment_profiles/smallsat_spring_deploy.yaml, 300 s) over spin rates x Monte Carlo
 // samples of nutation, spring, damper and failure modes, on the outcome-only mission run
-// (analysis::RunMission without output samples), at the sweep settings of
+// (run::RunMission without output samples), at the sweep settings of
 // table 4 (`exact`, rtol 1e-9, atol 1e-11) and at the profile's own integrator settings
 // (rkmk-rkf78, rtol 1e-11, atol 1e-13); the outcomes of both against a reference at rtol
 // 1e-13 on a subset of the cases.
@@ -436,7 +436,7 @@ int main(int argc, char** argv) {
       "The small satellite's spring deployment (deployment_profiles/smallsat_spring_deploy.yaml "
       "with `until: 300`: two wings on torsion springs with dampers, friction, stops and latches, "
       "the second released 2 s after the first latches), 300 s per simulation on the "
-      "outcome-only hinge mission (`analysis::RunMission` of a hinge profile without output "
+      "outcome-only hinge mission (`run::RunMission` of a hinge profile without output "
       "samples: releases, "
       "latches, stop impacts, flips and the largest spin-axis angle located; no trajectory), "
       "20 spin rates x Monte Carlo samples of nutation, spring stiffness, damping, a jam and a "

@@ -310,7 +310,7 @@ def simulate(profile, method=None, rtol=None, atol=None, step=None, dt=None, cou
               ``deploysim simulate -o OUTPUT``; csv=True also writes OUTPUT.csv. Written
               atomically, and only when the run reaches its end.
 
-    The run is ``deploysim simulate``'s (analysis::RunMission): with the same settings its
+    The run is ``deploysim simulate``'s (run::RunMission): with the same settings its
     arrays equal the HDF5 file's bit for bit. The GIL is released while it runs (other
     Python threads go on; two simulate calls in two threads use two cores). Ctrl-C raises
     KeyboardInterrupt. ValueError (the CLI's one-line message) for bad settings;

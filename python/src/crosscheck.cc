@@ -36,7 +36,7 @@ py::dict Side(std::vector<double>&& flips,
 
 py::dict ResultDict(crosscheck::CrosscheckResult&& r) {
   py::dict d;
-  analysis::Trajectory& a = r.reduced.trajectory;
+  run::Trajectory& a = r.reduced.trajectory;
   crosscheck::SimbodyTrajectory& b = r.simbody.trajectory;
   d["time"] = DoublesCopy(a.time);
   d["reduced"] = Side(std::move(r.reduced.flip_times), std::move(a.H_B), std::move(a.h_N),

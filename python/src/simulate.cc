@@ -1,4 +1,4 @@
-// simulate: analysis::RunMission (what `deploysim simulate` runs, without the file) with
+// simulate: run::RunMission (what `deploysim simulate` runs, without the file) with
 // the GIL released, the trajectory handed to numpy without copies.
 
 #include <pybind11/stl.h>
@@ -12,7 +12,7 @@
 
 #include "bindings.h"
 #include "convert.h"
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/io/body_json.h"
 #include "deploysim/io/trajectory_file.h"
@@ -29,7 +29,7 @@ namespace {
 // analyze --json` writes null: a hinge profile's phases have no from/to configuration, and
 // only rigid stages have a closed-form regime, 1 - k^2 and flip half period (0 there would
 // read as "on the separatrix" and "flips every 0 s").
-py::dict StageDict(const analysis::StageReport& a, const schedule::Profile& p, std::size_t i) {
+py::dict StageDict(const run::StageReport& a, const schedule::Profile& p, std::size_t i) {
   constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
   py::dict d;
   const bool phases = p.is_hinge_profile();
@@ -67,7 +67,7 @@ py::dict StageDict(const analysis::StageReport& a, const schedule::Profile& p, s
   return d;
 }
 
-py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
+py::dict MissionDict(run::MissionResult&& r, TrajectoryArrays&& samples) {
   const schedule::Profile& p = r.profile();
   const bool geometry = p.mode == schedule::Mode::kGeometry;
   py::dict d;
@@ -75,7 +75,7 @@ py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
   std::vector<double> predicted;
   py::list stages;
   for (std::size_t i = 0; i < r.stages.size(); ++i) {
-    const analysis::StageReport& a = r.stages[i];
+    const run::StageReport& a = r.stages[i];
     predicted.insert(predicted.end(), a.predicted_flips.begin(), a.predicted_flips.end());
     stages.append(StageDict(a, p, i));
   }
@@ -84,7 +84,7 @@ py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
   d["spin_axis_45_times"] = DoublesCopy(r.spin_axis_45_crossings);
   d["stages"] = stages;
   std::vector<double> wb, we;
-  for (const analysis::DangerWindow& w : r.danger_windows) {
+  for (const run::DangerWindow& w : r.danger_windows) {
     wb.push_back(w.t_begin);
     we.push_back(w.t_end);
   }
@@ -131,17 +131,17 @@ py::dict MissionDict(analysis::MissionResult&& r, TrajectoryArrays&& samples) {
 
 // The run's samples to the numpy arrays and, when asked, to `deploysim simulate`'s files
 // in the same pass.
-class Tee final : public analysis::SampleSink {
+class Tee final : public run::SampleSink {
  public:
-  Tee(analysis::SampleSink& arrays, analysis::SampleSink* files) : arrays_(arrays), files_(files) {}
-  void Append(const analysis::Trajectory& block) override {
+  Tee(run::SampleSink& arrays, run::SampleSink* files) : arrays_(arrays), files_(files) {}
+  void Append(const run::Trajectory& block) override {
     arrays_.Append(block);
     if (files_ != nullptr) files_->Append(block);
   }
 
  private:
-  analysis::SampleSink& arrays_;
-  analysis::SampleSink* files_;
+  run::SampleSink& arrays_;
+  run::SampleSink* files_;
 };
 
 }  // namespace
@@ -149,7 +149,7 @@ class Tee final : public analysis::SampleSink {
 /// The trajectory schema as the package describes it: one dict per column.
 py::list TrajectoryColumns() {
   py::list out;
-  for (const analysis::TrajectoryColumn& c : analysis::TrajectorySchema::Standard().columns()) {
+  for (const run::TrajectoryColumn& c : run::TrajectorySchema::Standard().columns()) {
     static const char* const kShapes[] = {"scalar", "vector3", "quaternion", "matrix3",
                                           "per-panel"};
     py::dict d;
@@ -167,7 +167,7 @@ py::list TrajectoryColumns() {
 py::list HingeEventColumns() {
   static const char* const kTypes[] = {"real", "integer", "text", "vector3"};
   py::list out;
-  for (const analysis::HingeEventColumn& c : analysis::HingeEventTable::Columns()) {
+  for (const run::HingeEventColumn& c : run::HingeEventTable::Columns()) {
     py::dict d;
     d["name"] = c.name;
     d["units"] = c.units;
@@ -196,12 +196,12 @@ void RegisterSimulate(py::module_& m) {
         std::optional<io::TrajectoryOutputs> files;
         if (!output.empty()) files.emplace(output, csv ? output + ".csv" : "", profile);
         Tee sink(samples, files ? &*files : nullptr);
-        analysis::MissionResult r;
+        run::MissionResult r;
         {
           py::gil_scoped_release release;
           try {
             // The streaming run of `deploysim simulate` (its HDF5 writer is a sink too).
-            r = analysis::RunMission(profile, sink, [&poll](double f) {
+            r = run::RunMission(profile, sink, [&poll](double f) {
               if (!poll.PollFraction(f, f >= 1.0)) throw PythonStop{};
             });
           } catch (const PythonStop&) {

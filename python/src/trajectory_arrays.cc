@@ -12,18 +12,18 @@ namespace deploysim::python {
 
 TrajectoryArrays::TrajectoryArrays(std::size_t panels,
                                    std::size_t expected,
-                                   const analysis::TrajectorySchema& schema)
+                                   const run::TrajectorySchema& schema)
     : schema_(schema), panels_(panels), flat_(schema.columns().size()) {
   for (std::size_t i = 0; i < flat_.size(); ++i) {
-    flat_[i].reserve(analysis::Width(schema.columns()[i], panels) * expected);
+    flat_[i].reserve(run::Width(schema.columns()[i], panels) * expected);
   }
 }
 
-void TrajectoryArrays::Append(const analysis::Trajectory& block) {
+void TrajectoryArrays::Append(const run::Trajectory& block) {
   schema_.Check("simulate", block, panels_);
   for (std::size_t i = 0; i < flat_.size(); ++i) {
-    const analysis::TrajectoryColumn& c = schema_.columns()[i];
-    const std::size_t width = analysis::Width(c, panels_);
+    const run::TrajectoryColumn& c = schema_.columns()[i];
+    const std::size_t width = run::Width(c, panels_);
     if (width == 0) continue;
     std::vector<double>& v = flat_[i];
     std::size_t at = v.size();
@@ -36,27 +36,27 @@ void TrajectoryArrays::Append(const analysis::Trajectory& block) {
 py::dict TrajectoryArrays::ToDict() && {
   py::dict d;
   for (std::size_t i = 0; i < flat_.size(); ++i) {
-    const analysis::TrajectoryColumn& c = schema_.columns()[i];
+    const run::TrajectoryColumn& c = schema_.columns()[i];
     py::list shape;
     shape.append(static_cast<py::ssize_t>(rows_));
-    for (std::size_t n : analysis::RowShape(c, panels_)) shape.append(static_cast<py::ssize_t>(n));
+    for (std::size_t n : run::RowShape(c, panels_)) shape.append(static_cast<py::ssize_t>(n));
     d[py::str(c.name)] = Doubles(std::move(flat_[i])).attr("reshape")(py::tuple(shape));
   }
   return d;
 }
 
-// The hinge event table, a column per analysis::HingeEventTable entry: numbers as numpy
+// The hinge event table, a column per run::HingeEventTable entry: numbers as numpy
 // arrays ((E,) or (E, 3)), text as lists.
-py::dict HingeEventArrays(const analysis::MissionResult& r) {
-  using Column = analysis::HingeEventColumn;
+py::dict HingeEventArrays(const run::MissionResult& r) {
+  using Column = run::HingeEventColumn;
   std::vector<std::string> names;
   for (const model::Panel& p : r.profile().model.hinged.panels) names.push_back(p.name);
   const std::size_t n = r.hinge_events.size();
   py::dict d;
-  for (const Column& c : analysis::HingeEventTable::Columns()) {
+  for (const Column& c : run::HingeEventTable::Columns()) {
     if (c.type == Column::Type::kText) {
       py::list text;
-      for (const analysis::HingeEvent& e : r.hinge_events) text.append(c.text(e, names));
+      for (const run::HingeEvent& e : r.hinge_events) text.append(c.text(e, names));
       d[c.name.c_str()] = text;
       continue;
     }

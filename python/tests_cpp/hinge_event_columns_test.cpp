@@ -1,4 +1,4 @@
-// One column added to the hinge event table, in one place (analysis::HingeEventTable::
+// One column added to the hinge event table, in one place (run::HingeEventTable::
 // Extend), is found in every output derived from it: the HDF5 file and its reader, the JSON
 // of `deploysim analyze` and the Python package's event table.
 
@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <string>
 
-#include "deploysim/analysis/hinge_events.h"
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/hinge_events.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/cli/report.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
@@ -21,9 +21,9 @@
 namespace {
 
 namespace py = pybind11;
-using deploysim::analysis::HingeEvent;
-using deploysim::analysis::HingeEventColumn;
-using deploysim::analysis::HingeEventTable;
+using deploysim::run::HingeEvent;
+using deploysim::run::HingeEventColumn;
+using deploysim::run::HingeEventTable;
 
 /// The kinetic energy's jump at the event: drive_work - energy_dissipated [J].
 double Jump(const HingeEvent& e) { return e.drive_work - e.energy_dissipated; }
@@ -42,8 +42,8 @@ class HingeEventColumnsTest : public ::testing::Test {
     // Releases and latches of the spring-driven wings (the first 100 s).
     deploysim::io::ProfileOverrides o;
     o.until = 100.0;
-    deploysim::analysis::NullSink sink;
-    r_ = deploysim::analysis::RunMission(
+    deploysim::run::NullSink sink;
+    r_ = deploysim::run::RunMission(
         *deploysim::io::LoadRun(
             std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/smallsat_spring_deploy.yaml",
             o),
@@ -55,7 +55,7 @@ class HingeEventColumnsTest : public ::testing::Test {
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  deploysim::analysis::MissionResult r_;
+  deploysim::run::MissionResult r_;
   std::filesystem::path dir_;
 };
 

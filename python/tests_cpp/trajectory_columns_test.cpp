@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/mission.h"
-#include "deploysim/analysis/trajectory_schema.h"
+#include "deploysim/run/mission.h"
+#include "deploysim/run/trajectory_schema.h"
 #include "deploysim/cli/report.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
@@ -25,10 +25,10 @@
 namespace {
 
 namespace py = pybind11;
-using deploysim::analysis::ColumnShape;
-using deploysim::analysis::Trajectory;
-using deploysim::analysis::TrajectoryColumn;
-using deploysim::analysis::TrajectorySchema;
+using deploysim::run::ColumnShape;
+using deploysim::run::Trajectory;
+using deploysim::run::TrajectoryColumn;
+using deploysim::run::TrajectorySchema;
 
 /// The standard schema plus two derived columns: the spin rate |w| (a scalar) and the
 /// angular velocity in N (a vector).
@@ -61,7 +61,7 @@ class TrajectoryColumnsTest : public ::testing::Test {
  protected:
   void SetUp() override {
     // A hinge profile in geometry mode: per-panel columns too.
-    r_ = deploysim::analysis::RunMission(deploysim::io::LoadProfile(
+    r_ = deploysim::run::RunMission(deploysim::io::LoadProfile(
         std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/smallsat_spring_deploy.yaml"));
     ASSERT_GT(r_.trajectory.size(), 10u);
     dir_ = std::filesystem::temp_directory_path() /
@@ -76,7 +76,7 @@ class TrajectoryColumnsTest : public ::testing::Test {
   }
 
   const TrajectorySchema schema_ = Extended();
-  deploysim::analysis::MissionResult r_;
+  deploysim::run::MissionResult r_;
   std::filesystem::path dir_;
 };
 
@@ -133,7 +133,7 @@ TEST_F(TrajectoryColumnsTest, AnAddedColumnIsInTheJson) {
 
 TEST_F(TrajectoryColumnsTest, AnAddedColumnIsInTheNumpyArrays) {
   const py::scoped_interpreter python;
-  const std::size_t panels = deploysim::analysis::PanelCount(r_.trajectory);
+  const std::size_t panels = deploysim::run::PanelCount(r_.trajectory);
   ASSERT_GT(panels, 0u);
   deploysim::python::TrajectoryArrays arrays(panels, 0, schema_);
   arrays.Append(r_.trajectory);

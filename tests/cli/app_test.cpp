@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "deploysim/analysis/free_body_solution.h"
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/inertia.h"
@@ -110,7 +110,7 @@ TEST(CliTest, EveryShippedProfileRunsAndChecksOut) {
         RunCli("simulate '" + entry.path().string() + "' -o '" + out.string() + "'", d);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const io::TrajectoryFile f = io::ReadTrajectoryFile(out.string());
-    const analysis::Trajectory& tr = f.trajectory;
+    const run::Trajectory& tr = f.trajectory;
     ASSERT_GT(tr.size(), 2u);
     const math::Vec3 h0 = tr.h_N.front();
     double drift = 0.0;
@@ -420,7 +420,7 @@ hinges:
   const io::TrajectoryFile f = io::ReadTrajectoryFile((d / "out.h5").string());
   const auto releases =
       std::count_if(f.hinge_events.begin(), f.hinge_events.end(), [](const io::HingeEventRow& e) {
-        return e.event.kind == analysis::HingeEvent::Kind::kRelease;
+        return e.event.kind == run::HingeEvent::Kind::kRelease;
       });
   EXPECT_EQ(releases, 18 + 1);
   ASSERT_FALSE(f.stages.empty());

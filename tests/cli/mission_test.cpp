@@ -2,7 +2,7 @@
 // section 3.4 quantitatively, and exact against quasi-rigid coupling shows the physics of
 // docs/design.md 2.5.
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,7 +13,7 @@
 #include <fstream>
 #include <string>
 
-#include "deploysim/analysis/coupling_comparison.h"
+#include "deploysim/run/coupling_comparison.h"
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/inertia.h"
@@ -55,7 +55,7 @@ schedule::Profile SeedConfiguration(const std::string& config) {
 }
 
 TEST(SeedSatelliteTest, ClosedSpinsStablyWithinThePerturbationBound) {
-  const analysis::MissionResult r = analysis::RunMission(SeedConfiguration("closed"));
+  const run::MissionResult r = run::RunMission(SeedConfiguration("closed"));
   EXPECT_TRUE(r.flip_times.empty());
   // y is the minor axis: Q = M^2/I_y - 2T = sum_{i != y} H_i^2 (1/I_y - 1/I_i) is
   // conserved, so the transverse momentum obeys |H_perp|^2 <= Q / (1/I_y - 1/I_mid):
@@ -75,11 +75,11 @@ TEST(SeedSatelliteTest, ClosedSpinsStablyWithinThePerturbationBound) {
 }
 
 TEST(SeedSatelliteTest, HalfOpenIsTheAxisymmetricSolution) {
-  const analysis::MissionResult r = analysis::RunMission(SeedConfiguration("half_open"));
+  const run::MissionResult r = run::RunMission(SeedConfiguration("half_open"));
   EXPECT_TRUE(r.flip_times.empty());
   // J_y = J_z = J_t: H_x is constant, (H_y, H_z) turns at Omega = H_x (1/J_x - 1/J_t)
   // (seed eqs. 3.20-3.23).
-  const analysis::Trajectory& tr = r.trajectory;
+  const run::Trajectory& tr = r.trajectory;
   const double Jx = tr.J_B.front()(0, 0);
   const double Jt = tr.J_B.front()(1, 1);
   ASSERT_EQ(Jt, tr.J_B.front()(2, 2));
@@ -98,8 +98,8 @@ TEST(SeedSatelliteTest, HalfOpenIsTheAxisymmetricSolution) {
 }
 
 TEST(SeedSatelliteTest, OpenFlipsAtTheAnalyticPeriod) {
-  const analysis::MissionResult r = analysis::RunMission(SeedConfiguration("open"));
-  const analysis::Trajectory& tr = r.trajectory;
+  const run::MissionResult r = run::RunMission(SeedConfiguration("open"));
+  const run::Trajectory& tr = r.trajectory;
   const analysis::FreeBodySolution sol(math::InertiaTensor::FromMatrix(tr.J_B.front()),
                                        tr.H_B.front(), tr.q_NB.front(), 0.0);
   const std::vector<double> predicted = sol.FlipTimes(0.0, 40.0);
@@ -137,8 +137,8 @@ TEST(CouplingTest, RateErrorScalesWithHingeRateButAttitudeOffsetWithSwing) {
   // docs/design.md 2.5: quasi-rigid coupling (the seed's) errs in w in proportion to the hinge
   // rate, but the attitude offset accumulated by the end of deployment, int J^-1 h_rel dt,
   // is a geometric phase set by the total swing, not its speed.
-  const analysis::CouplingComparison fast = analysis::CompareCouplings(Deployment(2.0));
-  const analysis::CouplingComparison slow = analysis::CompareCouplings(Deployment(20.0));
+  const run::CouplingComparison fast = run::CompareCouplings(Deployment(2.0));
+  const run::CouplingComparison slow = run::CompareCouplings(Deployment(20.0));
   const double rate_ratio = fast.max_w_difference_deploying / slow.max_w_difference_deploying;
   EXPECT_GT(rate_ratio, 7.0);  // ~10 for a 10x slower deployment (measured 10.0)
   EXPECT_LT(rate_ratio, 13.0);
@@ -156,16 +156,16 @@ TEST(CouplingTest, RateErrorScalesWithHingeRateButAttitudeOffsetWithSwing) {
 }
 
 TEST(CouplingTest, QuasiRigidConservesMomentumToo) {
-  const analysis::CouplingComparison c = analysis::CompareCouplings(Deployment(5.0));
+  const run::CouplingComparison c = run::CompareCouplings(Deployment(5.0));
   EXPECT_LT(c.exact.max_h_N_drift, 1e-10);
   EXPECT_LT(c.quasi_rigid.max_h_N_drift, 1e-10);
 }
 
 // The streamed run is the in-memory run: the same samples, in blocks of at most
 // kSampleBlock (memory bounded whatever the horizon), and the same analysis.
-class BlockCounter final : public analysis::SampleSink {
+class BlockCounter final : public run::SampleSink {
  public:
-  void Append(const analysis::Trajectory& b) override {
+  void Append(const run::Trajectory& b) override {
     ++blocks;
     largest = std::max(largest, b.size());
     for (std::size_t k = 0; k < b.size(); ++k) {
@@ -186,12 +186,12 @@ TEST(MissionStreamTest, StreamedSamplesEqualTheInMemoryTrajectory) {
     schedule::Profile p =
         io::LoadProfile(std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/" + name);
     p.output.dt = p.t_end() / 10000.0;  // > 2 blocks, the last one partial
-    const analysis::MissionResult whole = analysis::RunMission(p);
+    const run::MissionResult whole = run::RunMission(p);
     BlockCounter sink;
-    const analysis::MissionResult streamed = analysis::RunMission(p, sink);
+    const run::MissionResult streamed = run::RunMission(p, sink);
     EXPECT_EQ(streamed.trajectory.size(), 0u) << "streamed runs keep no trajectory";
     EXPECT_GE(sink.blocks, 3u);
-    EXPECT_EQ(sink.largest, analysis::kSampleBlock);
+    EXPECT_EQ(sink.largest, run::kSampleBlock);
     EXPECT_EQ(sink.time, whole.trajectory.time);
     EXPECT_EQ(sink.H_B, whole.trajectory.H_B);
     EXPECT_EQ(sink.hinges, whole.trajectory.hinge_angles);

@@ -15,16 +15,16 @@
 #include <string>
 #include <vector>
 
-#include "analysis/hinge_fixtures.h"
-#include "deploysim/analysis/mission.h"
+#include "run/hinge_fixtures.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/math/number_format.h"
 
 namespace deploysim::cli {
 namespace {
 namespace DEPLOYSIM_TEST_UNIT {
 
-using analysis::HingeEvent;
-using analysis::MissionResult;
+using run::HingeEvent;
+using run::MissionResult;
 
 std::vector<std::string> Lines(const std::string& text) {
   std::vector<std::string> lines;
@@ -50,7 +50,7 @@ MissionResult SequencedLatchRun() {
   minus.drive.release.delay = 2.0;
   schedule::Profile p = testing::SmallsatHingeProfile(plus, minus, 40.0);
   p.integrator.rtol = 1e-10;
-  const MissionResult r = analysis::RunMission(p);
+  const MissionResult r = run::RunMission(p);
   EXPECT_EQ(r.termination, integrators::Termination::kReachedEnd) << r.message;
   return r;
 }
@@ -111,7 +111,7 @@ TEST(ReportTest, TimelineOfAPanelThatNeverLatches) {
   plus.drive.stops.min_angle = -2 * testing::kDeg;
   plus.drive.stops.restitution = 0.5;
   const MissionResult r =
-      analysis::RunMission(testing::SmallsatHingeProfile(plus, schedule::HingePlan{}, 60.0));
+      run::RunMission(testing::SmallsatHingeProfile(plus, schedule::HingePlan{}, 60.0));
   const std::string timeline = FormatTimeline(r);
   int stops = 0;
   for (const std::string& line : Lines(timeline)) stops += Contains(line, " stop ") ? 1 : 0;
@@ -124,7 +124,7 @@ TEST(ReportTest, StageProfilesHaveNoTimeline) {
   MissionResult r = SequencedLatchRun();
   schedule::Profile stage_profile = r.profile();
   stage_profile.hinges.clear();
-  r.run = analysis::CompiledRun::Uncompiled(stage_profile);
+  r.run = run::CompiledRun::Uncompiled(stage_profile);
   r.hinge_events.clear();
   EXPECT_EQ(FormatTimeline(r), "");
 }
@@ -140,7 +140,7 @@ TEST(ReportTest, SummaryListsThePhasesAndTheirCaveats) {
                        "caveats (what each stage's verdict assumes; ! = holds only "
                        "for a perfectly rigid body):"));
   // Every caveat of the run appears, under the table.
-  for (const analysis::StageReport& s : r.stages) {
+  for (const run::StageReport& s : r.stages) {
     EXPECT_TRUE(Contains(summary, s.caveat)) << s.caveat;
   }
   EXPECT_LT(summary.find(" free: wing_plus_x "), summary.find("caveats ("));
@@ -155,13 +155,13 @@ MissionResult StageResult() {
   p.source = "demo.yaml";
   p.model.name = "sat";
   p.integrator.method = "rkf78";
-  r.run = analysis::CompiledRun::Uncompiled(p);
+  r.run = run::CompiledRun::Uncompiled(p);
   r.stats.steps = 10;
   r.stats.rejected = 1;
   r.stats.evaluations = 130;
   r.wall_seconds = 0.5;
   r.message = "reached the end time";
-  analysis::StageReport a;
+  run::StageReport a;
   a.index = 0;
   a.name = "stowed spin";
   a.law = "hold";
@@ -173,8 +173,8 @@ MissionResult StageResult() {
   a.one_minus_k2 = 0.5;
   a.separatrix_distance = -0.25;
   a.predicted_flip_half_period = std::numeric_limits<double>::infinity();
-  analysis::SetRigidBodyCaveat(a, false);
-  analysis::StageReport b = a;
+  run::SetRigidBodyCaveat(a, false);
+  run::StageReport b = a;
   b.index = 1;
   b.name = "deploy";
   b.law = "minimum-jerk";
@@ -183,7 +183,7 @@ MissionResult StageResult() {
   b.rigid = false;
   b.regime.clear();
   b.spin_axis_end = analysis::AxisRole::kMajor;
-  analysis::SetRigidBodyCaveat(b, false);
+  run::SetRigidBodyCaveat(b, false);
   r.stages = {a, b};
   r.max_h_N_drift = 1e-15;
   return r;

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "deploysim/analysis/flip_rule.h"
-#include "deploysim/analysis/hinge_events.h"
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/hinge_events.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/io/yaml_loader.h"
 
@@ -33,21 +33,21 @@ constexpr double kQuotedTime = 0.005;   // [s] times quoted to 0.01 s
 constexpr double kQuotedTenth = 0.05;   // [s or deg/s] quoted to 0.1
 constexpr double kQuotedAngle = 0.005;  // [deg] angles quoted to 0.01 deg
 
-analysis::MissionResult RunShipped(const std::string& name) {
-  return analysis::RunMission(io::LoadProfile(std::string(DEPLOYSIM_SOURCE_DIR) +
+run::MissionResult RunShipped(const std::string& name) {
+  return run::RunMission(io::LoadProfile(std::string(DEPLOYSIM_SOURCE_DIR) +
                                               "/deployment_profiles/" + name + ".yaml"));
 }
 
-std::vector<analysis::HingeEvent> Latches(const analysis::MissionResult& r) {
-  std::vector<analysis::HingeEvent> out;
-  for (const analysis::HingeEvent& e : r.hinge_events) {
-    if (e.kind == analysis::HingeEvent::Kind::kLatch) out.push_back(e);
+std::vector<run::HingeEvent> Latches(const run::MissionResult& r) {
+  std::vector<run::HingeEvent> out;
+  for (const run::HingeEvent& e : r.hinge_events) {
+    if (e.kind == run::HingeEvent::Kind::kLatch) out.push_back(e);
   }
   return out;
 }
 
 /// The largest angle [deg] between the spin axis and h_N over the samples in [t0, t1].
-double MaxSpinAxisAngle(const analysis::Trajectory& tr, double t0, double t1) {
+double MaxSpinAxisAngle(const run::Trajectory& tr, double t0, double t1) {
   double m = 0.0;
   for (std::size_t i = 0; i < tr.size(); ++i) {
     if (tr.time[i] >= t0 && tr.time[i] <= t1) m = std::max(m, tr.spin_axis_angle[i] / kDeg);
@@ -55,7 +55,7 @@ double MaxSpinAxisAngle(const analysis::Trajectory& tr, double t0, double t1) {
   return m;
 }
 
-double MinSpinAxisAngle(const analysis::Trajectory& tr, double t0, double t1) {
+double MinSpinAxisAngle(const run::Trajectory& tr, double t0, double t1) {
   double m = 180.0;
   for (std::size_t i = 0; i < tr.size(); ++i) {
     if (tr.time[i] >= t0 && tr.time[i] <= t1) m = std::min(m, tr.spin_axis_angle[i] / kDeg);
@@ -64,8 +64,8 @@ double MinSpinAxisAngle(const analysis::Trajectory& tr, double t0, double t1) {
 }
 
 /// D = |H|^2 / (2 T) at the end of the run, over the largest principal moment of J_B.
-double FinalDOverMajor(const analysis::MissionResult& r) {
-  const analysis::Trajectory& tr = r.trajectory;
+double FinalDOverMajor(const run::MissionResult& r) {
+  const run::Trajectory& tr = r.trajectory;
   const double h = tr.H_B.back().norm();
   const double d = h * h / (2.0 * tr.energy.back());
   return d / tr.principal_moments.back()(2);
@@ -75,8 +75,8 @@ double FinalDOverMajor(const analysis::MissionResult& r) {
 // angular-velocity jump of 2-3 deg/s; then the deployed spin about the intermediate axis
 // flips every ~130 s.
 TEST(ShippedExamplesTest, SpringDeploymentLatchesGently) {
-  const analysis::MissionResult r = RunShipped("smallsat_spring_deploy");
-  const std::vector<analysis::HingeEvent> latches = Latches(r);
+  const run::MissionResult r = RunShipped("smallsat_spring_deploy");
+  const std::vector<run::HingeEvent> latches = Latches(r);
   ASSERT_EQ(latches.size(), 2u);
   const double times[] = {64.17, 71.08};   // s
   const double rates[] = {19.8, 15.0};     // deg/s
@@ -112,7 +112,7 @@ TEST(ShippedExamplesTest, SpringDeploymentLatchesGently) {
 // The major-axis rule: rigid (damper caged) for 60 s, the nutation stays at 0.70-0.71 deg;
 // uncaged, the damper drives the minor-axis spin into a flat spin about the major axis.
 TEST(ShippedExamplesTest, MinorAxisSpinnerGoesFlat) {
-  const analysis::MissionResult r = RunShipped("minor_axis_flat_spin");
+  const run::MissionResult r = RunShipped("minor_axis_flat_spin");
   ASSERT_EQ(r.stages.size(), 2u);
   // The verdicts say what holds only for a rigid body.
   EXPECT_TRUE(r.stages[0].rigid_body_only);
@@ -121,7 +121,7 @@ TEST(ShippedExamplesTest, MinorAxisSpinnerGoesFlat) {
   EXPECT_TRUE(r.stages[1].rigid_body_only);
   EXPECT_NE(r.stages[1].caveat.find("with energy dissipation"), std::string::npos)
       << r.stages[1].caveat;
-  const analysis::Trajectory& tr = r.trajectory;
+  const run::Trajectory& tr = r.trajectory;
   EXPECT_NEAR(MinSpinAxisAngle(tr, 0.0, 60.0), 0.70, kQuotedAngle);
   EXPECT_NEAR(MaxSpinAxisAngle(tr, 0.0, 60.0), 0.71, kQuotedAngle);
   ASSERT_EQ(r.spin_axis_45_crossings.size(), 1u);
@@ -160,8 +160,8 @@ TEST(ShippedExamplesTest, MinorAxisSpinnerGoesFlat) {
 // Dual spin: with the rotor held at 10 rad/s and the damper on the despun platform, the
 // nutation decays; with the rotor locked, the same craft and damper go flat.
 TEST(ShippedExamplesTest, DualSpinRotorStabilizesAndLockedRotorGoesFlat) {
-  const analysis::MissionResult spinning = RunShipped("dual_spin_rotor");
-  const analysis::Trajectory& s = spinning.trajectory;
+  const run::MissionResult spinning = RunShipped("dual_spin_rotor");
+  const run::Trajectory& s = spinning.trajectory;
   EXPECT_TRUE(spinning.spin_axis_45_crossings.empty());
   // Nutation envelope (the largest angle over the 100 s from each time on): 1.85 deg at
   // the start, 0.75 at 100 s, 0.12 at 300 s, 0.008 at 600 s; 0.0005 deg at 900 s.
@@ -188,7 +188,7 @@ TEST(ShippedExamplesTest, DualSpinRotorStabilizesAndLockedRotorGoesFlat) {
             0u)
       << so.headline;
 
-  const analysis::MissionResult locked = RunShipped("dual_spin_locked");
+  const run::MissionResult locked = RunShipped("dual_spin_locked");
   // The same momentum at the start.
   EXPECT_LT((locked.trajectory.H_B.front() - s.H_B.front()).norm(), 2e-4 * s.H_B.front().norm());
   ASSERT_EQ(locked.spin_axis_45_crossings.size(), 1u);
@@ -215,7 +215,7 @@ TEST(ShippedExamplesTest, DualSpinRotorStabilizesAndLockedRotorGoesFlat) {
 // A wing that jams: the verdict names the jam first, with its time and angle, then the
 // motion (the craft, one wing out, flips about its intermediate axis).
 TEST(ShippedExamplesTest, JammedWingIsTheVerdictsFirstWord) {
-  const analysis::MissionResult r = RunShipped("smallsat_jammed_wing");
+  const run::MissionResult r = RunShipped("smallsat_jammed_wing");
   const analysis::MotionOutcome& o = r.outcome;
   ASSERT_EQ(o.faults.size(), 1u);
   EXPECT_EQ(o.faults[0].kind, analysis::DeploymentFault::Kind::kJam);
@@ -240,11 +240,11 @@ TEST(ShippedExamplesTest, OutcomeOnlyRunsGiveTheSameVerdict) {
     SCOPED_TRACE(name);
     const schedule::Profile profile = io::LoadProfile(std::string(DEPLOYSIM_SOURCE_DIR) +
                                                       "/deployment_profiles/" + name + ".yaml");
-    const analysis::MissionResult full = analysis::RunMission(profile);
-    analysis::RunOptions options;
+    const run::MissionResult full = run::RunMission(profile);
+    run::RunOptions options;
     options.sample_trajectory = false;
-    analysis::NullSink none;
-    const analysis::MissionResult only = analysis::RunMission(profile, none, {}, options);
+    run::NullSink none;
+    const run::MissionResult only = run::RunMission(profile, none, {}, options);
     const analysis::MotionOutcome& a = full.outcome;
     const analysis::MotionOutcome& b = only.outcome;
     EXPECT_EQ(b.outcome_name, a.outcome_name);

@@ -35,7 +35,7 @@ struct EnergyDifferences {
 };
 
 EnergyDifferences Compare(const CrosscheckResult& r) {
-  const analysis::Trajectory& reduced = r.reduced.trajectory;
+  const run::Trajectory& reduced = r.reduced.trajectory;
   const SimbodyTrajectory& simbody = r.simbody.trajectory;
   EXPECT_EQ(reduced.size(), simbody.size());
   EXPECT_EQ(simbody.kinetic_energy.size(), simbody.size());

@@ -27,7 +27,7 @@ namespace deploysim::crosscheck {
 namespace {
 namespace DEPLOYSIM_TEST_UNIT {
 
-using analysis::HingeEvent;
+using run::HingeEvent;
 using schedule::HingePlan;
 using namespace free_hinge_fixtures;  // NOLINT: the shared test builders
 
@@ -230,9 +230,8 @@ double CheckPlasticEvents(const SimbodyFreeHingeRun& r,
     std::printf(
         "  %s of hinge %d at %.15f s: rate %+.6f rad/s, impulse %+.9e N m s, w jump "
         "%.3e rad/s, dE %.9e J (closed form %.1e)\n",
-        analysis::ToString(e.kind).c_str(), e.panel, e.t, e.rate_before, e.impulse,
-        e.w_jump_B.norm(), e.energy_dissipated,
-        std::abs(e.energy_dissipated - closed_form) / closed_form);
+        run::ToString(e.kind).c_str(), e.panel, e.t, e.rate_before, e.impulse, e.w_jump_B.norm(),
+        e.energy_dissipated, std::abs(e.energy_dissipated - closed_form) / closed_form);
     EXPECT_NEAR(e.energy_dissipated, closed_form, kClosedFormTolerance * closed_form);
     EXPECT_NEAR(e.impulse, -e.rate_before / minv, kClosedFormTolerance * std::abs(e.impulse));
     EXPECT_EQ(e.rate_after, 0.0);

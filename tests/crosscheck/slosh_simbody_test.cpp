@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "crosscheck/free_hinge_fixtures.h"
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 
 namespace deploysim::crosscheck {
 namespace {
@@ -168,7 +168,7 @@ Samples RunReduced(double damping, const Vec3& w0, double until) {
   p.integrator.rtol = 1e-13;
   p.integrator.atol = 1e-15;
   p.output.dt = 1.0;
-  const analysis::MissionResult r = analysis::RunMission(p);
+  const run::MissionResult r = run::RunMission(p);
   EXPECT_EQ(r.termination, integrators::Termination::kReachedEnd) << r.message;
   Samples out;
   for (std::size_t i = 0; i < r.trajectory.size(); ++i) {

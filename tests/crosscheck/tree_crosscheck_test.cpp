@@ -6,7 +6,7 @@
 //    velocity), J_B w + h_rel_B (model::ComputeMassProperties) is Simbody's central
 //    momentum (calcSystemCentralMomentum) and 1/2 w.J_B w + w.h_rel_B + T_rel its kinetic
 //    energy, to rounding;
-//  - the dynamics: the reduced model (analysis::RunMission, exact coupling) and Simbody
+//  - the dynamics: the reduced model (run::RunMission, exact coupling) and Simbody
 //    agree over the deployment and the tumbling after it, to Simbody's integration error;
 //  - the spring drive: the two-segment accordion of models/smallsat_two_segment.yaml
 //    unfolds on springs in Simbody, and the reduced model's replay agrees.

@@ -2,7 +2,7 @@
 // trajectory written (what `deploysim simulate` does), and its result refers to the
 // compiled run instead of holding a copy of the profile.
 
-#include "deploysim/analysis/compiled_run.h"
+#include "deploysim/run/compiled_run.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <iterator>
 #include <string>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
 #include "temp_dir_test.h"
@@ -26,10 +26,10 @@ class CompiledRunTest : public testing::TempDirTest {
   void ExpectOnce(const std::string& profile, const ProfileOverrides& o) {
     const std::uint64_t v0 = schedule::ValidationCount();
     const std::uint64_t e0 = analysis::WorkEstimateCount();
-    const std::shared_ptr<const analysis::CompiledRun> run =
+    const std::shared_ptr<const run::CompiledRun> run =
         LoadRun(std::string(DEPLOYSIM_SOURCE_DIR) + "/" + profile, o);
     TrajectoryOutputs out(Path("run.h5"), Path("run.h5.csv"), run->profile());
-    const analysis::MissionResult r = analysis::RunMission(*run, out);
+    const run::MissionResult r = run::RunMission(*run, out);
     out.Finish(r);
     out.Commit();
     EXPECT_EQ(schedule::ValidationCount() - v0, 1u) << profile;

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/io/yaml_loader.h"
 
 namespace deploysim::io {
@@ -20,7 +20,7 @@ namespace {
 namespace DEPLOYSIM_TEST_UNIT {
 
 /// max over samples of |E(t) - E(t0) - W(t)| / E(t0), E = /energy + /energy_spring.
-double LedgerGap(const analysis::Trajectory& t) {
+double LedgerGap(const run::Trajectory& t) {
   const double e0 = t.energy[0] + t.energy_spring[0];
   double worst = 0.0;
   for (std::size_t k = 0; k < t.size(); ++k) {
@@ -50,7 +50,7 @@ TEST_P(EnergyLedgerOfShippedProfile, Closes) {
   const std::string path =
       std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/" + GetParam() + ".yaml";
   const schedule::Profile p = LoadProfile(path);
-  const analysis::MissionResult r = analysis::RunMission(p);
+  const run::MissionResult r = run::RunMission(p);
   ASSERT_EQ(r.termination, integrators::Termination::kReachedEnd) << path;
   const double gap = LedgerGap(r.trajectory);
   std::printf("%-34s ledger gap %.2e (rtol %.0e)\n", GetParam().c_str(), gap, p.integrator.rtol);
@@ -99,11 +99,11 @@ TEST(EnergyLedger, ClosesWithAPrescribedHingeMovingThroughALatch) {
   moved.moves = {mv};
   p.hinges[1] = moved;
   p.until = 120.0;
-  const analysis::MissionResult r = analysis::RunMission(p);
+  const run::MissionResult r = run::RunMission(p);
   ASSERT_EQ(r.termination, integrators::Termination::kReachedEnd) << r.message;
-  const analysis::HingeEvent* latch = nullptr;
-  for (const analysis::HingeEvent& e : r.hinge_events) {
-    if (e.kind == analysis::HingeEvent::Kind::kLatch) latch = &e;
+  const run::HingeEvent* latch = nullptr;
+  for (const run::HingeEvent& e : r.hinge_events) {
+    if (e.kind == run::HingeEvent::Kind::kLatch) latch = &e;
   }
   ASSERT_NE(latch, nullptr);
   ASSERT_GT(latch->t, mv.t_begin);

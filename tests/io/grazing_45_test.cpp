@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <string>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/io/yaml_loader.h"
 #include "temp_dir_test.h"
 
@@ -37,7 +37,7 @@ class Grazing45Test : public testing::TempDirTest {
                   "integrator: {method: %s, rtol: %.17g, atol: %.17g}\noutput: {dt: 1.0}\n",
                   std::sin(beta), std::cos(beta), method.c_str(), rtol, rtol / 100);
     const schedule::Profile p = LoadProfile(Write("p.yaml", text));
-    return analysis::RunMission(p).spin_axis_45_crossings;
+    return run::RunMission(p).spin_axis_45_crossings;
   }
   static constexpr double kExcess = 1e-4;  // [rad] beyond 45 deg at the peaks
 };

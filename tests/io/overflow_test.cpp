@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/io/yaml_loader.h"
 #include "numeric_keys.h"
 #include "temp_dir_test.h"
@@ -39,16 +39,16 @@ class OverflowTest : public testing::TempDirTest {
   /// given: the long examples). Returns "" or the refusal.
   static std::string Outcome(const std::string& profile, std::optional<double> until) {
     try {
-      std::shared_ptr<const analysis::CompiledRun> run = LoadRun(profile);
+      std::shared_ptr<const run::CompiledRun> run = LoadRun(profile);
       if (until) {
         ProfileOverrides o;
         o.until = run->profile().t_begin() + *until;
         run = LoadRun(profile, o);
       }
-      analysis::NullSink sink;
-      analysis::RunOptions o;
+      run::NullSink sink;
+      run::RunOptions o;
       o.sample_trajectory = false;
-      const analysis::MissionResult r = analysis::RunMission(*run, sink, {}, o);
+      const run::MissionResult r = run::RunMission(*run, sink, {}, o);
       EXPECT_EQ(r.termination, integrators::Termination::kReachedEnd) << r.message;
       return "";
     } catch (const std::exception& e) {

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/hinge_fixtures.h"
+#include "run/hinge_fixtures.h"
 #include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/quaternion.h"
@@ -30,7 +30,7 @@ namespace {
 namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
-using analysis::MissionResult;
+using run::MissionResult;
 using math::Mat3;
 using math::Quat;
 using math::Vec3;
@@ -79,7 +79,7 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   move.t_end = 1.5;
   p.stages = {hold, move};
 
-  analysis::Trajectory& t = r.trajectory;
+  run::Trajectory& t = r.trajectory;
   for (std::size_t k = 0; k < kSamples; ++k) {
     t.time.push_back(0.25 * static_cast<double>(k) + 1e-3 * u(rng));
     t.H_B.push_back(vec());
@@ -107,7 +107,7 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   }
   r.flip_times = {0.3, 0.7 + 1e-15, 1.1};
   // Stage reports: a rigid stage with predicted flips, a moving one without.
-  analysis::StageReport a;
+  run::StageReport a;
   a.index = 0;
   a.rigid = true;
   a.moments_end = vec();
@@ -121,7 +121,7 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   a.max_flip_time_difference = 1e-9;
   a.caveat = "intermediate-axis spin: unstable (flips), with or without dissipation";
   a.rigid_body_only = false;
-  analysis::StageReport b;
+  run::StageReport b;
   b.index = 1;
   b.rigid = false;
   b.moments_end = vec();
@@ -133,11 +133,11 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   b.rigid_body_only = true;
   r.stages = {a, b};
   // Hinge events of every kind, latch times (one never), 45-degree crossings.
-  using Kind = analysis::HingeEvent::Kind;
+  using Kind = run::HingeEvent::Kind;
   const Kind kinds[] = {Kind::kRelease, Kind::kStop,  Kind::kStop,
                         Kind::kRest,    Kind::kLatch, Kind::kJam};
   for (std::size_t i = 0; i < std::size(kinds); ++i) {
-    analysis::HingeEvent e;
+    run::HingeEvent e;
     e.kind = kinds[i];
     e.t = 0.2 * static_cast<double>(i) + 1e-3 * u(rng);
     e.panel = static_cast<int>(i % kPanels);
@@ -156,11 +156,11 @@ MissionResult SyntheticResult(schedule::Mode mode) {
   r.stats.rejected = 4;
   r.max_h_N_drift = 1.5e-14;
   r.message = "reached the end";
-  r.run = analysis::CompiledRun::Uncompiled(std::move(p));
+  r.run = run::CompiledRun::Uncompiled(std::move(p));
   return r;
 }
 
-void ExpectSameTrajectory(const analysis::Trajectory& a, const analysis::Trajectory& b) {
+void ExpectSameTrajectory(const run::Trajectory& a, const run::Trajectory& b) {
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t k = 0; k < a.size(); ++k) {
     EXPECT_EQ(a.time[k], b.time[k]);
@@ -194,8 +194,8 @@ void ExpectSameHingeOutputs(const MissionResult& r, const TrajectoryFile& f) {
   ASSERT_EQ(f.hinge_events.size(), r.hinge_events.size());
   for (std::size_t i = 0; i < r.hinge_events.size(); ++i) {
     SCOPED_TRACE("event " + std::to_string(i));
-    const analysis::HingeEvent& a = r.hinge_events[i];
-    const analysis::HingeEvent& b = f.hinge_events[i].event;
+    const run::HingeEvent& a = r.hinge_events[i];
+    const run::HingeEvent& b = f.hinge_events[i].event;
     EXPECT_EQ(b.kind, a.kind);
     EXPECT_EQ(b.t, a.t);
     EXPECT_EQ(b.panel, a.panel);
@@ -236,11 +236,11 @@ bool HaveH5dump() { return std::system("h5dump --version > /dev/null 2>&1") == 0
 class TrajectoryFileTest : public testing::TempDirTest {};
 
 /// Samples [from, to) of t, column by column as the schema lists them.
-analysis::Trajectory Slice(const analysis::Trajectory& t, std::size_t from, std::size_t to) {
-  const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard();
-  analysis::Trajectory b, one;
+run::Trajectory Slice(const run::Trajectory& t, std::size_t from, std::size_t to) {
+  const run::TrajectorySchema& schema = run::TrajectorySchema::Standard();
+  run::Trajectory b, one;
   for (std::size_t k = from; k < to; ++k) {
-    for (const analysis::TrajectoryColumn& c : schema.columns()) {
+    for (const run::TrajectoryColumn& c : schema.columns()) {
       if (c.storage) c.storage->keep(one, t, k);
     }
     schema.Append(b, one);
@@ -300,7 +300,7 @@ TEST_F(TrajectoryFileTest, AFailingStreamLeavesNeitherOutput) {
   {
     TrajectoryOutputs out(Path("out.h5"), Path("out.h5.csv"), r.profile());
     out.Append(Slice(r.trajectory, 0, 2));
-    analysis::Trajectory bad = Slice(r.trajectory, 2, 4);
+    run::Trajectory bad = Slice(r.trajectory, 2, 4);
     bad.hinge_angles[1] = Eigen::VectorXd::Zero(1);
     EXPECT_THROW(out.Append(bad), std::invalid_argument);
   }
@@ -340,7 +340,7 @@ TEST_F(TrajectoryFileTest, StageAnalysisAndDangerWindowsRoundTrip) {
   for (std::size_t i = 0; i < f.stages.size(); ++i) {
     SCOPED_TRACE("stage " + std::to_string(i));
     const StageRow& row = f.stages[i];
-    const analysis::StageReport& a = r.stages[i];
+    const run::StageReport& a = r.stages[i];
     EXPECT_EQ(row.index, static_cast<int>(i));
     EXPECT_EQ(row.rigid, a.rigid);
     EXPECT_EQ(row.moments_end, a.moments_end);
@@ -380,9 +380,9 @@ TEST_F(TrajectoryFileTest, HingeOutputsRoundTripBitExact) {
   EXPECT_EQ(f.panel_names, (std::vector<std::string>{"wing_\xce\xb8", "boom"}));
   ExpectSameHingeOutputs(r, f);
   ASSERT_EQ(f.hinge_events.size(), 6u);
-  EXPECT_EQ(f.hinge_events[0].event.kind, analysis::HingeEvent::Kind::kRelease);
-  EXPECT_EQ(f.hinge_events[3].event.kind, analysis::HingeEvent::Kind::kRest);
-  EXPECT_EQ(f.hinge_events[5].event.kind, analysis::HingeEvent::Kind::kJam);
+  EXPECT_EQ(f.hinge_events[0].event.kind, run::HingeEvent::Kind::kRelease);
+  EXPECT_EQ(f.hinge_events[3].event.kind, run::HingeEvent::Kind::kRest);
+  EXPECT_EQ(f.hinge_events[5].event.kind, run::HingeEvent::Kind::kJam);
   EXPECT_TRUE(std::isnan(f.hinge_latch_times[1])) << "never latched";
   ASSERT_EQ(f.stages.size(), 2u);
   EXPECT_EQ(f.stages[1].caveat, r.stages[1].caveat) << "UTF-8 survives";
@@ -403,7 +403,7 @@ TEST_F(TrajectoryFileTest, HingeProfileRunRoundTrips) {
   schedule::Profile profile = testing::SmallsatHingeProfile(plus, minus, 30.0);
   profile.integrator.rtol = 1e-10;
   ASSERT_TRUE(profile.is_hinge_profile());
-  const MissionResult r = analysis::RunMission(profile);
+  const MissionResult r = run::RunMission(profile);
   ASSERT_EQ(r.termination, integrators::Termination::kReachedEnd) << r.message;
   ASSERT_EQ(r.hinge_events.size(), 4u);  // release, latch, release, latch
   ASSERT_GE(r.stages.size(), 3u);        // phases, not profile stages (there are none)
@@ -412,7 +412,7 @@ TEST_F(TrajectoryFileTest, HingeProfileRunRoundTrips) {
   {
     // As `simulate` writes it: streamed while the mission runs.
     TrajectoryOutputs out(Path("streamed.h5"), Path("streamed.csv"), profile);
-    const MissionResult again = analysis::RunMission(profile, out);
+    const MissionResult again = run::RunMission(profile, out);
     out.Finish(again);
     out.Commit();
   }
@@ -536,7 +536,7 @@ TEST_F(TrajectoryFileTest, StoredProfileAndModelTextsReproduceTheRun) {
   // profile names, relative to the profile), run again: the same trajectory, bit for bit.
   const std::string source =
       std::string(DEPLOYSIM_SOURCE_DIR) + "/deployment_profiles/smallsat_three_stage.yaml";
-  const MissionResult r = analysis::RunMission(LoadProfile(source));
+  const MissionResult r = run::RunMission(LoadProfile(source));
   WriteTrajectoryFile(Path("run.h5"), r);
   const TrajectoryFile f = ReadTrajectoryFile(Path("run.h5"));
   const std::map<std::string, std::string>& a = f.attributes;
@@ -567,7 +567,7 @@ TEST_F(TrajectoryFileTest, StoredProfileAndModelTextsReproduceTheRun) {
   std::ofstream(rerun_profile, std::ios::binary) << a.at("profile_text");
   std::ofstream(rerun_profile.parent_path() / model_relative, std::ios::binary)
       << a.at("model_text");
-  const MissionResult again = analysis::RunMission(LoadProfile(rerun_profile.string()));
+  const MissionResult again = run::RunMission(LoadProfile(rerun_profile.string()));
   ExpectSameTrajectory(r.trajectory, again.trajectory);
   EXPECT_EQ(again.flip_times, r.flip_times);
   EXPECT_FALSE(r.flip_times.empty()) << "the main job tumbles once deployed";
@@ -660,7 +660,7 @@ TEST_F(TrajectoryFileTest, TensorModeHasNoHingeAngles) {
 TEST_F(TrajectoryFileTest, NoFlipsAndNoSamples) {
   MissionResult r = SyntheticResult(schedule::Mode::kTensor);
   r.flip_times.clear();
-  r.trajectory = analysis::Trajectory();
+  r.trajectory = run::Trajectory();
   const std::string path = Path("empty.h5");
   WriteTrajectoryFile(path, r);
   const TrajectoryFile f = ReadTrajectoryFile(path);
@@ -782,7 +782,7 @@ std::vector<std::string> Split(const std::string& line) {
 
 TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
   const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);
-  const analysis::Trajectory& t = r.trajectory;
+  const run::Trajectory& t = r.trajectory;
   const std::string path = Path("out.csv");
   WriteTrajectoryCsv(path, t);
   std::ifstream in(path);
@@ -838,7 +838,7 @@ TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
 }
 
 TEST_F(TrajectoryFileTest, CsvNeedsHingeRatesBesideHingeAngles) {
-  analysis::Trajectory t = SyntheticResult(schedule::Mode::kGeometry).trajectory;
+  run::Trajectory t = SyntheticResult(schedule::Mode::kGeometry).trajectory;
   t.hinge_rates.clear();
   EXPECT_THROW(WriteTrajectoryCsv(Path("out.csv"), t), std::invalid_argument);
   t = SyntheticResult(schedule::Mode::kGeometry).trajectory;
@@ -876,12 +876,12 @@ TEST(TrajectorySchemaDocs, FileFormatsListsEveryColumnWithShapeAndUnits) {
   ASSERT_TRUE(in);
   std::stringstream text;
   text << in.rdbuf();
-  for (const analysis::TrajectoryColumn& c : analysis::TrajectorySchema::Standard().columns()) {
+  for (const run::TrajectoryColumn& c : run::TrajectorySchema::Standard().columns()) {
     std::string shape = "N";
-    if (c.shape == analysis::ColumnShape::kPerPanel) {
+    if (c.shape == run::ColumnShape::kPerPanel) {
       shape += "×P";
     } else {
-      for (std::size_t d : analysis::RowShape(c, 0)) shape += "×" + std::to_string(d);
+      for (std::size_t d : run::RowShape(c, 0)) shape += "×" + std::to_string(d);
     }
     const std::string row = "| `/" + c.name + "` | " + shape + " | " + c.units + " |";
     EXPECT_NE(text.str().find(row), std::string::npos) << row;

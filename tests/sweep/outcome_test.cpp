@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "deploysim/analysis/free_body_solution.h"
-#include "deploysim/analysis/mission.h"
-#include "deploysim/analysis/run_recorder.h"
+#include "deploysim/run/mission.h"
+#include "deploysim/run/run_recorder.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/double_double.h"
 #include "deploysim/math/inertia.h"
@@ -57,7 +57,7 @@ grid:
     const CaseOutcome o = SimulateOutcome(c, spec.outcome);
     schedule::Profile p = c.profile();
     p.output.dt = kMissionSampling;
-    const analysis::MissionResult m = analysis::RunMission(p);
+    const run::MissionResult m = run::RunMission(p);
     SCOPED_TRACE("case " + std::to_string(i) + " " + DescribeParameters(spec, c.parameters));
     ASSERT_EQ(o.termination, integrators::Termination::kReachedEnd);
     ASSERT_EQ(static_cast<std::size_t>(o.flip_count), m.flip_times.size());
@@ -65,7 +65,7 @@ grid:
       EXPECT_NEAR(o.first_flip_time, m.flip_times[0], kFlipTimeTolerance);
     }
     EXPECT_EQ(c.spin_axis_B, m.spin_axis_B);
-    const analysis::Trajectory& tr = m.trajectory;
+    const run::Trajectory& tr = m.trajectory;
     const double sampled_max =
         *std::max_element(tr.spin_axis_angle.begin(), tr.spin_axis_angle.end());
     EXPECT_GE(o.max_spin_axis_angle, sampled_max - 1e-9);
@@ -198,7 +198,7 @@ TEST_F(SweepDirTest, SeparatrixDistanceAndFlipPeriodOfRigidBodies) {
     schedule::Profile p = c.profile();
     p.stages.back().t_end = 4.0 * half;
     p.output.dt = 0.05;
-    const analysis::MissionResult m = analysis::RunMission(p);
+    const run::MissionResult m = run::RunMission(p);
     ASSERT_GE(m.flip_times.size(), 3u);
     for (std::size_t k = 1; k < m.flip_times.size(); ++k) {
       EXPECT_NEAR(m.flip_times[k] - m.flip_times[k - 1], half, 1e-12);  // measured 1.4e-13 s
@@ -260,23 +260,23 @@ TEST_F(SweepDirTest, AnalyzeAndSweepAgreeBitForBitNearTheSeparatrix) {
     const math::Mat3 J = b.I.asDiagonal();
     const math::Vec3 s = analysis::InitialSpinAxis(J, b.H);
     // The analyze side: one rigid phase from (J, H) to (J, H).
-    struct Discard final : analysis::SampleSink {
-      void Append(const analysis::Trajectory&) override {}
+    struct Discard final : run::SampleSink {
+      void Append(const run::Trajectory&) override {}
     } discard;
-    analysis::RunRecorder rec(s, b.H, &discard, {}, 0.0, 1.0);
-    analysis::RunSample at;
+    run::RunRecorder rec(s, b.H, &discard, {}, 0.0, 1.0);
+    run::RunSample at;
     at.H_B = b.H;
     at.J_B = J;
     at.w = J.inverse() * b.H;
     rec.OpenPhase({"hold", "hold", /*rigid=*/true, false}, at);
     at.t = 1.0;
     rec.ClosePhase(at);
-    analysis::MissionResult m;
-    m.run = analysis::CompiledRun::Uncompiled({});  // a result assembled by hand
+    run::MissionResult m;
+    m.run = run::CompiledRun::Uncompiled({});  // a result assembled by hand
     m.final_state.H_B = b.H;
     rec.Finish(m);
     ASSERT_EQ(m.stages.size(), 1u);
-    const analysis::StageReport& stage = m.stages[0];
+    const run::StageReport& stage = m.stages[0];
     // The sweep side.
     const FinalPrediction f = PredictFinal(J, b.H, s);
     EXPECT_EQ(stage.regime, analysis::ToString(f.regime));
@@ -310,9 +310,9 @@ TEST_F(SweepDirTest, AnalyzeAndSweepRunsAgreeOnTheFinalSeparatrixDistance) {
                   "stages:\n  - {hold: body, until: 10}\nintegrator: {method: exact}\n",
                   H[0], H[2]);
     const schedule::Profile p = io::LoadProfile(Write("near.yaml", text));
-    const analysis::MissionResult m = analysis::RunMission(p);
+    const run::MissionResult m = run::RunMission(p);
     Case c;
-    c.run = analysis::CompiledRun::Compile(p);
+    c.run = run::CompiledRun::Compile(p);
     c.spin_axis_B = m.spin_axis_B;
     const CaseOutcome o = SimulateOutcome(c, OutcomeSettings{});
     ASSERT_EQ(m.stages.size(), 1u);
@@ -346,7 +346,7 @@ grid:
   EXPECT_NEAR(l.predicted_flip_half_period, half, 1e-13 * half);
   schedule::Profile p = BuildCase(longer, 0).profile();
   p.output.dt = 1.0;
-  const analysis::MissionResult m = analysis::RunMission(p);
+  const run::MissionResult m = run::RunMission(p);
   ASSERT_GE(m.flip_times.size(), 2u);
   for (std::size_t k = 1; k < m.flip_times.size(); ++k) {
     // Measured: 0 (the closed form after the deployment gives the flips exactly).
@@ -361,7 +361,7 @@ grid:
 // the mission's last phase report (its separatrix distance from the end sample's energy,
 // formed directly) and the spacing of the flips after the last latch.
 TEST_F(SweepDirTest, HingeOutcomeAgreesWithTheMission) {
-  using analysis::HingeEvent;
+  using run::HingeEvent;
   const SweepSpec spec = LoadSweep(Write("s.yaml", "name: t\nbase: " + SpringProfile() + R"(
 grid:
   - {parameter: spring_stiffness, values: [0.4, 3]}
@@ -371,7 +371,7 @@ grid:
     const Case c = BuildCase(spec, i);
     SCOPED_TRACE(DescribeParameters(spec, c.parameters));
     const CaseOutcome o = SimulateOutcome(c, spec.outcome);
-    const analysis::MissionResult m = analysis::RunMission(c.profile());
+    const run::MissionResult m = run::RunMission(c.profile());
     ASSERT_EQ(o.termination, integrators::Termination::kReachedEnd);
     ASSERT_EQ(m.termination, integrators::Termination::kReachedEnd);
     // Hinge events.
@@ -405,7 +405,7 @@ grid:
       EXPECT_NEAR(o.first_flip_time, m.flip_times[0], 1e-9);
     }
     // The deployed craft spins about its intermediate axis y: it will flip.
-    const analysis::StageReport& last = m.stages.back();
+    const run::StageReport& last = m.stages.back();
     EXPECT_EQ(last.spin_axis_end, analysis::AxisRole::kIntermediate);
     EXPECT_NEAR(o.final_separatrix_distance, last.separatrix_distance,
                 1e-15);  // measured 1.7e-16
@@ -479,7 +479,7 @@ grid:
     const Case c = BuildCase(spec, i);
     outcomes.push_back(SimulateOutcome(c, spec.outcome));
     const CaseOutcome& o = outcomes.back();
-    const analysis::MotionOutcome full = analysis::RunMission(c.profile()).outcome;
+    const analysis::MotionOutcome full = run::RunMission(c.profile()).outcome;
     EXPECT_EQ(o.outcome_class, static_cast<std::int32_t>(full.outcome));
     EXPECT_EQ(o.time_to_tumble_measured, full.time_to_tumble_measured ? 1 : 0);
     EXPECT_NEAR(o.time_to_tumble, full.time_to_tumble, 1e-9 * full.time_to_tumble);
@@ -528,7 +528,7 @@ grid:
   - {parameter: spin_rate_rpm, values: [0.2]}
 )"));
   const Case c = BuildCase(spec, 0);
-  const analysis::MotionOutcome o = analysis::RunMission(c.profile()).outcome;
+  const analysis::MotionOutcome o = run::RunMission(c.profile()).outcome;
   ASSERT_TRUE(o.trend.significant());
   EXPECT_LT(o.trend.rate, 0.0);
   EXPECT_EQ(o.linear.verdict, "unstable");

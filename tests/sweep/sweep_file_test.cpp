@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/schedule/initial_spin.h"
 #include "deploysim/sweep/rng.h"

@@ -290,47 +290,6 @@ std::string BodyAxisName(const math::Vec3& a) {
   return std::string(a[i] >= 0.0 ? "+" : "-") + "xyz"[i];
 }
 
-std::vector<DeploymentFault> DeploymentFaults(const schedule::Profile& profile,
-                                              const std::vector<HingeEvent>& events,
-                                              double t_end) {
-  std::vector<DeploymentFault> faults;
-  for (std::size_t k = 0; k < profile.hinges.size(); ++k) {
-    const schedule::HingePlan& plan = profile.hinges[k];
-    if (plan.kind != schedule::HingePlan::Kind::kFree) continue;
-    DeploymentFault f;
-    f.panel = static_cast<int>(k);
-    f.panel_name = profile.model.hinged.panels[k].name;
-    f.latch_angle = plan.drive.latch.enabled ? plan.drive.latch.angle : f.latch_angle;
-    bool released = false, latched = false;
-    const HingeEvent* jam = nullptr;
-    const HingeEvent* rest = nullptr;
-    for (const HingeEvent& e : events) {
-      if (e.panel != f.panel) continue;
-      released |= e.kind == HingeEvent::Kind::kRelease;
-      latched |= e.kind == HingeEvent::Kind::kLatch;
-      if (e.kind == HingeEvent::Kind::kJam) jam = &e;
-      if (e.kind == HingeEvent::Kind::kRest) rest = &e;
-    }
-    const schedule::Release& r = plan.drive.release;
-    const bool due = r.kind != schedule::Release::Kind::kAtTime || r.time < t_end;
-    if (!released && due && r.kind != schedule::Release::Kind::kAtStart) {
-      f.kind = DeploymentFault::Kind::kNeverReleased;
-    } else if (jam != nullptr) {
-      f.kind = DeploymentFault::Kind::kJam;
-      f.t = jam->t;
-      f.angle = jam->angle;
-    } else if (plan.drive.latch.enabled && released && !latched) {
-      f.kind = rest != nullptr ? DeploymentFault::Kind::kRestsShort
-                               : DeploymentFault::Kind::kNeverLatched;
-      if (rest != nullptr) f.t = rest->t, f.angle = rest->angle;
-    } else {
-      continue;
-    }
-    faults.push_back(f);
-  }
-  return faults;
-}
-
 std::string Headline(const MotionOutcome& o) {
   std::string h;
   for (const DeploymentFault& f : o.faults) {

@@ -36,7 +36,6 @@
 #include <vector>
 
 #include "deploysim/analysis/flip_rule.h"
-#include "deploysim/analysis/hinge_events.h"
 #include "deploysim/analysis/linear_stability.h"
 #include "deploysim/math/types.h"
 
@@ -213,11 +212,6 @@ struct MotionOutcome {
   std::string disagreement;  ///< why the rigid-body rule and the linearization differ
   std::string headline;      ///< one sentence: faults first, then the motion
 };
-
-/// The faults of a hinge profile's run (none for a stage profile).
-std::vector<DeploymentFault> DeploymentFaults(const schedule::Profile& profile,
-                                              const std::vector<HingeEvent>& events,
-                                              double t_end);
 
 /// "+x", "+y", "+z", "-x", "-y", "-z": the body axis nearest the unit vector a.
 std::string BodyAxisName(const math::Vec3& a);

@@ -21,9 +21,9 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/coupling_comparison.h"
+#include "deploysim/run/coupling_comparison.h"
 #include "deploysim/analysis/exact_flow.h"
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/analysis/work_estimate.h"
 #include "deploysim/cli/python_tool.h"
 #include "deploysim/cli/report.h"
@@ -48,7 +48,7 @@
 
 namespace {
 
-using deploysim::analysis::MissionResult;
+using deploysim::run::MissionResult;
 
 constexpr int kExitBadInput = 1;
 constexpr int kExitIncomplete = 3;     // simulate: the integration did not reach the end
@@ -129,7 +129,7 @@ void PrintWarnings(const deploysim::schedule::Profile& p) {
   }
 }
 
-std::shared_ptr<const deploysim::analysis::CompiledRun> Load(const std::string& path,
+std::shared_ptr<const deploysim::run::CompiledRun> Load(const std::string& path,
                                                              const Overrides& o) {
   deploysim::io::ProfileOverrides po;
   po.method = o.method;
@@ -140,7 +140,7 @@ std::shared_ptr<const deploysim::analysis::CompiledRun> Load(const std::string& 
   po.step = o.step;
   po.output_dt = o.dt;
   po.until = o.until;
-  std::shared_ptr<const deploysim::analysis::CompiledRun> run = deploysim::io::LoadRun(path, po);
+  std::shared_ptr<const deploysim::run::CompiledRun> run = deploysim::io::LoadRun(path, po);
   PrintWarnings(run->profile());
   return run;
 }
@@ -148,7 +148,7 @@ std::shared_ptr<const deploysim::analysis::CompiledRun> Load(const std::string& 
 // A progress bar on a terminal. A run estimated to be long (analysis::kLongRunSeconds)
 // says so first, and off a terminal prints a line at every tenth of the run instead;
 // other runs are short and print nothing (sweeps have their own progress).
-std::function<void(double)> Progress(bool quiet, const deploysim::analysis::CompiledRun& run) {
+std::function<void(double)> Progress(bool quiet, const deploysim::run::CompiledRun& run) {
   if (quiet) return {};
   const deploysim::analysis::WorkEstimate& e = run.work();
   const bool long_run = e.seconds > deploysim::analysis::kLongRunSeconds;
@@ -484,7 +484,7 @@ int RunSweepCommand(const CommandLine& cl, const deploysim::sweep::MpiSession& m
 
 // `deploysim simulate`: runs the profile into its trajectory file(s), then prints the
 // summary, the deployment timeline and, on request, the coupling comparison.
-int RunSimulate(CommandLine& cl, const deploysim::analysis::CompiledRun& run, bool comparable) {
+int RunSimulate(CommandLine& cl, const deploysim::run::CompiledRun& run, bool comparable) {
   const deploysim::schedule::Profile& profile = run.profile();
   if (cl.out_path.empty()) {
     cl.out_path = std::filesystem::path(cl.profile_path).stem().string() + ".h5";
@@ -499,7 +499,7 @@ int RunSimulate(CommandLine& cl, const deploysim::analysis::CompiledRun& run, bo
                                            profile);
   const MissionResult r = NamingFile(
       cl.profile_path,
-      [&] { return deploysim::analysis::RunMission(run, outputs, Progress(cl.quiet, run)); },
+      [&] { return deploysim::run::RunMission(run, outputs, Progress(cl.quiet, run)); },
       {cl.out_path, cl.out_path + ".csv"});
   if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
     std::cerr << "deploysim: error: " << cl.profile_path << ": integration " << r.message << "\n";
@@ -518,7 +518,7 @@ int RunSimulate(CommandLine& cl, const deploysim::analysis::CompiledRun& run, bo
   if (cl.compare && comparable) {
     std::cout << "\n"
               << deploysim::cli::FormatCouplingComparison(NamingFile(cl.profile_path, [&] {
-                   return deploysim::analysis::CompareCouplings(profile);
+                   return deploysim::run::CompareCouplings(profile);
                  }));
   }
   std::cout << "\nwrote " << cl.out_path << (cl.csv ? " and " + cl.out_path + ".csv" : "") << "\n";
@@ -584,17 +584,17 @@ int RunCrosscheck(CommandLine& cl, const deploysim::schedule::Profile& profile, 
 // `deploysim analyze`: the summary and timeline tables (or JSON), with the coupling
 // comparison where it applies.
 int RunAnalyze(const CommandLine& cl,
-               const deploysim::analysis::CompiledRun& run,
+               const deploysim::run::CompiledRun& run,
                bool comparable) {
   const deploysim::schedule::Profile& profile = run.profile();
   // The table needs no trajectory: its samples are dropped as they come (bounded memory).
-  deploysim::analysis::NullSink discard;
+  deploysim::run::NullSink discard;
   const MissionResult r = NamingFile(cl.profile_path, [&] {
-    return deploysim::analysis::RunMission(run, discard, Progress(false, run));
+    return deploysim::run::RunMission(run, discard, Progress(false, run));
   });
-  std::optional<deploysim::analysis::CouplingComparison> c;
+  std::optional<deploysim::run::CouplingComparison> c;
   if (comparable) {
-    c = NamingFile(cl.profile_path, [&] { return deploysim::analysis::CompareCouplings(profile); });
+    c = NamingFile(cl.profile_path, [&] { return deploysim::run::CompareCouplings(profile); });
   }
   if (cl.json) {
     std::cout << deploysim::cli::FormatJson(r, c ? &*c : nullptr);
@@ -682,7 +682,7 @@ int Main(int argc, char** argv) {
 #ifdef DEPLOYSIM_HAVE_SWEEP
     if (cmds.swp->parsed()) return RunSweepCommand(cl, mpi);
 #endif
-    const std::shared_ptr<const deploysim::analysis::CompiledRun> run =
+    const std::shared_ptr<const deploysim::run::CompiledRun> run =
         Load(cl.profile_path, cl.ov);
     const deploysim::schedule::Profile& profile = run->profile();
     const bool geometry = profile.mode == deploysim::schedule::Mode::kGeometry;

@@ -31,19 +31,19 @@ constexpr double kDegPerRad = math::kDegreesPerRadian;
 /// One sample as a JSON object, a member per column of the schema: a number (scalars),
 /// a list (vectors, quaternions w x y z, per-panel values) or a list of rows (matrices).
 /// "null" when there is no sample.
-std::string SampleJson(const analysis::Trajectory& t,
+std::string SampleJson(const run::Trajectory& t,
                        std::size_t k,
-                       const analysis::TrajectorySchema& schema) {
+                       const run::TrajectorySchema& schema) {
   if (k >= t.size()) return "null";
-  const std::size_t panels = analysis::PanelCount(t);
+  const std::size_t panels = run::PanelCount(t);
   std::string o = "{";
-  for (const analysis::TrajectoryColumn& c : schema.columns()) {
-    std::vector<double> v(analysis::Width(c, panels));
+  for (const run::TrajectoryColumn& c : schema.columns()) {
+    std::vector<double> v(run::Width(c, panels));
     if (!v.empty()) c.values(t, k, v.data());
     std::string value;
-    if (c.shape == analysis::ColumnShape::kScalar) {
+    if (c.shape == run::ColumnShape::kScalar) {
       value = math::JsonNumber(v[0]);
-    } else if (c.shape == analysis::ColumnShape::kMatrix3) {
+    } else if (c.shape == run::ColumnShape::kMatrix3) {
       value = fmt::format("[{}, {}, {}]", JsonList({v[0], v[1], v[2]}),
                           JsonList({v[3], v[4], v[5]}), JsonList({v[6], v[7], v[8]}));
     } else {
@@ -54,7 +54,7 @@ std::string SampleJson(const analysis::Trajectory& t,
   return o + "}";
 }
 
-std::string PanelName(const analysis::MissionResult& r, int panel) {
+std::string PanelName(const run::MissionResult& r, int panel) {
   const auto& panels = r.profile().model.hinged.panels;
   if (panel < 0 || static_cast<std::size_t>(panel) >= panels.size()) {
     return "#" + std::to_string(panel);
@@ -112,7 +112,7 @@ std::string GroupedList(const model::Model& m,
 }
 
 /// A hinge profile's phase name as the text shows it: each list of panels ("free: a, b;
-/// moved: c", analysis/hinge_body.cc) with an appendage's bending hinges named once,
+/// moved: c", run/hinge_body.cc) with an appendage's bending hinges named once,
 /// by the appendage and their count ("free: boom_px (12), boom_mx (6)"). The name itself
 /// (the HDF5 file's /stages/name, --json) keeps every hinge.
 std::string PhaseLabel(const model::Model& m, const std::string& name) {
@@ -158,7 +158,7 @@ std::string AppendagesLine(const model::Model& m) {
 
 /// The stage column's width: 18 for stage profiles, wider for the longer names of a
 /// hinge profile's phases ("free: wing_plus_x, wing_minus_x"), at most 48.
-std::size_t StageNameWidth(const analysis::MissionResult& r) {
+std::size_t StageNameWidth(const run::MissionResult& r) {
   std::size_t w = 18;
   for (const auto& s : r.stages) {
     w = std::max(w, std::min<std::size_t>(PhaseLabel(r.profile().model, s.name).size(), 48));
@@ -168,7 +168,7 @@ std::size_t StageNameWidth(const analysis::MissionResult& r) {
 
 /// One line per run of consecutive stages with the same caveat, "!" marking the ones
 /// whose verdict holds only for a perfectly rigid body (docs/design.md 2.7, major-axis rule).
-std::string FormatCaveats(const analysis::MissionResult& r) {
+std::string FormatCaveats(const run::MissionResult& r) {
   if (r.stages.empty()) return "";
   std::string o =
       "caveats (what each stage's verdict assumes; ! = holds only for a perfectly rigid "
@@ -191,10 +191,10 @@ std::string FormatCaveats(const analysis::MissionResult& r) {
 
 }  // namespace
 
-/// The energy ledger at the end (analysis::WorkLedger): E0 -> E1 and where it went, the
+/// The energy ledger at the end (run::WorkLedger): E0 -> E1 and where it went, the
 /// sources that did no work left out.
-std::string FormatLedger(const analysis::MissionResult& r) {
-  const analysis::WorkLedger& w = r.work;
+std::string FormatLedger(const run::MissionResult& r) {
+  const run::WorkLedger& w = r.work;
   std::string terms;
   for (const auto& [name, value] : {std::pair<const char*, double>{"dampers", w.damper},
                                     {"friction", w.friction},
@@ -212,7 +212,7 @@ std::string FormatLedger(const analysis::MissionResult& r) {
 }
 
 /// The outcome block: the headline, then what was measured and what was predicted.
-std::string FormatOutcome(const analysis::MissionResult& r) {
+std::string FormatOutcome(const run::MissionResult& r) {
   const analysis::MotionOutcome& o = r.outcome;
   if (o.headline.empty()) return "";  // a result not made by a run
   constexpr double kDeg = math::kDegreesPerRadian;
@@ -269,7 +269,7 @@ std::string FormatOutcome(const analysis::MissionResult& r) {
   return t + "\n";
 }
 
-std::string FormatSummary(const analysis::MissionResult& r) {
+std::string FormatSummary(const run::MissionResult& r) {
   std::string o;
   const auto& p = r.profile();
   o += fmt::format("deploysim analysis of '{}' ({}; model '{}', mode {}, coupling {})\n", p.name,
@@ -292,8 +292,8 @@ std::string FormatSummary(const analysis::MissionResult& r) {
   // its stop would otherwise fill 100 rows), with the values at the run's end.
   struct Row {
     std::string index;
-    const analysis::StageReport* first;
-    const analysis::StageReport* last;
+    const run::StageReport* first;
+    const run::StageReport* last;
     std::size_t observed = 0, predicted = 0;
   };
   std::vector<Row> rows;
@@ -319,7 +319,7 @@ std::string FormatSummary(const analysis::MissionResult& r) {
                    "#", index_width, "stage", name_width, "law", "t0 [s]", "t1 [s]", "spin axis",
                    "polhode about", "1-k^2 [-]", "sep. dist. [-]", "flip every [s]", "flips");
   for (const Row& row : rows) {
-    const analysis::StageReport& s = *row.last;
+    const run::StageReport& s = *row.last;
     const std::string flips = s.rigid ? fmt::format("{}/{}", row.observed, row.predicted)
                                       : fmt::format("{}", row.observed);
     const std::string regime = s.rigid           ? s.regime
@@ -369,7 +369,7 @@ std::string FormatSummary(const analysis::MissionResult& r) {
 /// "panels locked (latch, jam or rest on a stop): wing 61.2 s (latch), boom never": per
 /// panel when it locked and how (the locking event at that time); the appendages' bending
 /// hinges left out (free springs, they never lock). Empty for stage profiles.
-std::string LockedLine(const analysis::MissionResult& r) {
+std::string LockedLine(const run::MissionResult& r) {
   const std::vector<int> owner = BendingHingeOwners(r.profile().model);
   std::string locked;
   for (std::size_t k = 0; k < r.latch_times.size(); ++k) {
@@ -382,11 +382,10 @@ std::string LockedLine(const analysis::MissionResult& r) {
       continue;
     }
     std::string how;
-    for (const analysis::HingeEvent& e : r.hinge_events) {
-      if (e.panel == static_cast<int>(k) && e.t == t &&
-          e.kind != analysis::HingeEvent::Kind::kRelease &&
-          e.kind != analysis::HingeEvent::Kind::kStop) {
-        how = analysis::ToString(e.kind);
+    for (const run::HingeEvent& e : r.hinge_events) {
+      if (e.panel == static_cast<int>(k) && e.t == t && e.kind != run::HingeEvent::Kind::kRelease &&
+          e.kind != run::HingeEvent::Kind::kStop) {
+        how = run::ToString(e.kind);
       }
     }
     locked += fmt::format("{} s{}", Num(t), how.empty() ? "" : " (" + how + ")");
@@ -398,16 +397,15 @@ std::string LockedLine(const analysis::MissionResult& r) {
 /// The hinge events the timeline lists: all but the releases of the appendages' bending
 /// hinges at the run's start (free from the start by construction; AppendagesLine names
 /// them once). The file and --json keep them. `hidden`: how many were left out.
-std::vector<analysis::HingeEvent> ListedEvents(const analysis::MissionResult& r,
-                                               std::size_t& hidden) {
+std::vector<run::HingeEvent> ListedEvents(const run::MissionResult& r, std::size_t& hidden) {
   const std::vector<int> owner = BendingHingeOwners(r.profile().model);
   const double t0 = r.profile().t_begin();
-  std::vector<analysis::HingeEvent> out;
+  std::vector<run::HingeEvent> out;
   hidden = 0;
-  for (const analysis::HingeEvent& e : r.hinge_events) {
+  for (const run::HingeEvent& e : r.hinge_events) {
     const bool bending = e.panel >= 0 && static_cast<std::size_t>(e.panel) < owner.size() &&
                          owner[static_cast<std::size_t>(e.panel)] >= 0;
-    if (bending && e.kind == analysis::HingeEvent::Kind::kRelease && e.t <= t0) {
+    if (bending && e.kind == run::HingeEvent::Kind::kRelease && e.t <= t0) {
       ++hidden;
       continue;
     }
@@ -416,7 +414,7 @@ std::vector<analysis::HingeEvent> ListedEvents(const analysis::MissionResult& r,
   return out;
 }
 
-std::string FormatTimeline(const analysis::MissionResult& r) {
+std::string FormatTimeline(const run::MissionResult& r) {
   if (!r.profile().is_hinge_profile() && r.hinge_events.empty()) return "";
   std::size_t name_width = 5;  // "panel"
   for (const auto& p : r.profile().model.hinged.panels) {
@@ -428,17 +426,17 @@ std::string FormatTimeline(const analysis::MissionResult& r) {
                    "|hub w jump|", "dissipated");
   o += fmt::format("{:>10}  {:<{}}  {:<7} {:>9} {:>11} {:>11} {:>12} {:>13} {:>12}\n", "", "",
                    name_width, "", "[deg]", "[deg/s]", "[deg/s]", "[N m s]", "[deg/s]", "[J]");
-  auto line = [&](const analysis::HingeEvent& e) {
-    const bool release = e.kind == analysis::HingeEvent::Kind::kRelease;
+  auto line = [&](const run::HingeEvent& e) {
+    const bool release = e.kind == run::HingeEvent::Kind::kRelease;
     o += fmt::format("{:>10}  {:<{}}  {:<7} {:>9} {:>11} {:>11} {:>12} {:>13} {:>12}\n", Num(e.t),
-                     PanelName(r, e.panel), name_width, analysis::ToString(e.kind),
+                     PanelName(r, e.panel), name_width, run::ToString(e.kind),
                      Num(e.angle * kDegPerRad), release ? "-" : Num(e.rate_before * kDegPerRad),
                      release ? "-" : Num(e.rate_after * kDegPerRad), release ? "-" : Num(e.impulse),
                      release ? "-" : Num(e.w_jump_B.norm() * kDegPerRad),
                      release ? "-" : Num(e.energy_dissipated));
   };
   std::size_t hidden = 0;
-  const std::vector<analysis::HingeEvent> events = ListedEvents(r, hidden);
+  const std::vector<run::HingeEvent> events = ListedEvents(r, hidden);
   if (hidden > 0) {
     o += fmt::format(
         "  ({} hinges the appendages generated, free from t = {} s, not listed: their "
@@ -449,7 +447,7 @@ std::string FormatTimeline(const analysis::MissionResult& r) {
     // A run of stop impacts of one panel (bounces, which with restitution e < 1 can number
     // a hundred before the panel rests): the first kStopsShown, one summary line, the last.
     std::size_t j = i;
-    while (j < events.size() && events[j].kind == analysis::HingeEvent::Kind::kStop &&
+    while (j < events.size() && events[j].kind == run::HingeEvent::Kind::kStop &&
            events[j].panel == events[i].panel) {
       ++j;
     }
@@ -474,7 +472,7 @@ std::string FormatTimeline(const analysis::MissionResult& r) {
   if (r.hinge_events.empty()) o += "  (no hinge events)\n";
   if (!r.hinge_events.empty() && events.empty()) o += "  (no other hinge events)\n";
   double dissipated = 0.0;
-  for (const analysis::HingeEvent& e : r.hinge_events) dissipated += e.energy_dissipated;
+  for (const run::HingeEvent& e : r.hinge_events) dissipated += e.energy_dissipated;
   o += fmt::format("energy dissipated in the events: {} J\n", Num(dissipated));
   o += LockedLine(r);
   if (r.spin_axis_45_crossings.empty()) {
@@ -487,7 +485,7 @@ std::string FormatTimeline(const analysis::MissionResult& r) {
   return o;
 }
 
-std::string FormatCouplingComparison(const analysis::CouplingComparison& c) {
+std::string FormatCouplingComparison(const run::CouplingComparison& c) {
   std::string o = "exact vs quasi-rigid coupling (h_rel from the hinge rates vs h_rel = 0):\n";
   o += fmt::format("  max |w_exact - w_quasi| while deploying: {} rad/s ({} of max |w|)\n",
                    Num(c.max_w_difference_deploying),
@@ -504,13 +502,13 @@ std::string FormatCouplingComparison(const analysis::CouplingComparison& c) {
 
 namespace {
 
-/// One hinge event as a JSON object, a key per column of analysis::HingeEventTable.
-std::string HingeEventJson(const analysis::MissionResult& r, const analysis::HingeEvent& e) {
-  using Column = analysis::HingeEventColumn;
+/// One hinge event as a JSON object, a key per column of run::HingeEventTable.
+std::string HingeEventJson(const run::MissionResult& r, const run::HingeEvent& e) {
+  using Column = run::HingeEventColumn;
   std::vector<std::string> names;
   for (const model::Panel& p : r.profile().model.hinged.panels) names.push_back(p.name);
   std::string o = "{";
-  for (const Column& c : analysis::HingeEventTable::Columns()) {
+  for (const Column& c : run::HingeEventTable::Columns()) {
     o += (o.size() > 1 ? ", " : "") + math::JsonString(c.name) + ": ";
     if (c.type == Column::Type::kText) {
       o += math::JsonString(c.text(e, names));
@@ -532,9 +530,9 @@ std::string HingeEventJson(const analysis::MissionResult& r, const analysis::Hin
 
 }  // namespace
 
-std::string FormatJson(const analysis::MissionResult& r,
-                       const analysis::CouplingComparison* c,
-                       const analysis::TrajectorySchema& schema) {
+std::string FormatJson(const run::MissionResult& r,
+                       const run::CouplingComparison* c,
+                       const run::TrajectorySchema& schema) {
   const auto& p = r.profile();
   std::string o = "{\n";
   o += fmt::format("  \"profile\": {},\n  \"source\": {},\n  \"model\": {},\n",

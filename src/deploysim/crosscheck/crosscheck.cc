@@ -29,7 +29,7 @@ constexpr auto& Exact = math::FormatNumber;
 
 }  // namespace
 
-TrajectoryDifference CompareTrajectories(const analysis::Trajectory& reduced,
+TrajectoryDifference CompareTrajectories(const run::Trajectory& reduced,
                                          const SimbodyTrajectory& simbody) {
   if (reduced.size() != simbody.size() || reduced.size() == 0) {
     throw std::invalid_argument("crosscheck: the trajectories have " +
@@ -108,7 +108,7 @@ CrosscheckResult RunCrosscheck(const schedule::Profile& profile, const Crosschec
 
   CrosscheckResult r;
   r.accuracy = options.accuracy;
-  r.reduced = analysis::RunMission(p);
+  r.reduced = run::RunMission(p);
   if (r.reduced.termination != integrators::Termination::kReachedEnd) {
     throw std::runtime_error(p.source + ": reduced model: integration " + r.reduced.message);
   }
@@ -122,7 +122,7 @@ CrosscheckResult RunCrosscheck(const schedule::Profile& profile, const Crosschec
   // Constant inertia: both against the closed-form solution.
   const schedule::DeploymentSchedule sched(p);
   if (sched.IsRigidOn(p.t_begin(), p.t_end())) {
-    const analysis::Trajectory& tr = r.reduced.trajectory;
+    const run::Trajectory& tr = r.reduced.trajectory;
     const math::Mat3 J = sched.Evaluate(p.t_begin()).J_B;
     const analysis::FreeBodySolution sol(math::InertiaTensor::FromMatrix(J), tr.H_B.front(),
                                          tr.q_NB.front(), tr.time.front());

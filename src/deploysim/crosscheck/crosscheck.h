@@ -1,7 +1,7 @@
 #pragma once
 
 /// The Simbody cross-check of a deployment profile (docs/design.md 3): the reduced
-/// model (analysis::RunMission, exact coupling) and the Simbody multibody model
+/// model (run::RunMission, exact coupling) and the Simbody multibody model
 /// (simbody_satellite.h) run from the same initial attitude and momentum on the same
 /// output grid, and are compared sample by sample:
 ///   H_B:      |H_B,reduced - H_B,simbody| / |H_B(t0)|          (relative, max over the grid)
@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/crosscheck/simbody_satellite.h"
 #include "deploysim/schedule/profile.h"
 
@@ -46,7 +46,7 @@ struct TrajectoryDifference {
 
 /// Differences between the reduced trajectory and Simbody's (same grid; throws
 /// std::invalid_argument if the sizes or times differ).
-TrajectoryDifference CompareTrajectories(const analysis::Trajectory& reduced,
+TrajectoryDifference CompareTrajectories(const run::Trajectory& reduced,
                                          const SimbodyTrajectory& simbody);
 
 /// Max |a_k - b_k| over flips paired in time order; +inf if the counts differ, 0 if none.
@@ -55,7 +55,7 @@ double MaxFlipDifference(const std::vector<double>& a, const std::vector<double>
 struct CrosscheckResult {
   schedule::Profile profile;  ///< As run: exact coupling (geometry mode), horizon, output dt.
   double accuracy = 0.0;      ///< Simbody accuracy.
-  analysis::MissionResult reduced;
+  run::MissionResult reduced;
   SimbodyRun simbody;
   TrajectoryDifference difference;
   double max_flip_difference = 0.0;  ///< [s] reduced vs Simbody; +inf if the counts differ.

@@ -62,7 +62,7 @@ void Scalars(io::Hdf5Writer& w,
 void WriteCrosscheckFile(const std::string& path, const CrosscheckResult& r) {
   io::Hdf5Writer w(path);  // atomic: nothing is left at `path` unless Commit() succeeds
   const schedule::Profile& p = r.profile;
-  const analysis::Trajectory& tr = r.reduced.trajectory;
+  const run::Trajectory& tr = r.reduced.trajectory;
   const SimbodyTrajectory& sb = r.simbody.trajectory;
   Scalars(w, "/time", tr.time, "s", "output grid");
 

@@ -23,18 +23,18 @@ constexpr double kQuarterPi = 0.78539816339744831;
 std::string Num(double x) { return math::FormatSignificant(x); }
 
 /// The events after the start (releases at t_begin are the initial condition).
-std::vector<analysis::HingeEvent> AfterStart(const std::vector<analysis::HingeEvent>& e,
+std::vector<run::HingeEvent> AfterStart(const std::vector<run::HingeEvent>& e,
                                              double t_begin) {
-  std::vector<analysis::HingeEvent> out;
-  for (const analysis::HingeEvent& ev : e) {
-    if (ev.kind == analysis::HingeEvent::Kind::kRelease && ev.t == t_begin) continue;
+  std::vector<run::HingeEvent> out;
+  for (const run::HingeEvent& ev : e) {
+    if (ev.kind == run::HingeEvent::Kind::kRelease && ev.t == t_begin) continue;
     out.push_back(ev);
   }
   return out;
 }
 
 TrajectoryDifference CompareSimbody(const SimbodyTrajectory& a, const SimbodyTrajectory& b) {
-  analysis::Trajectory ta;
+  run::Trajectory ta;
   ta.time = a.time;
   ta.H_B = a.H_B;
   ta.q_NB = a.q_NB;
@@ -52,17 +52,17 @@ std::vector<double> Crossings45(const SimbodyFreeHingeRun& run) {
 
 }  // namespace
 
-EventComparison CompareEvents(const std::vector<analysis::HingeEvent>& a_all,
+EventComparison CompareEvents(const std::vector<run::HingeEvent>& a_all,
                               const std::vector<double>& a_latch_times,
-                              const std::vector<analysis::HingeEvent>& b_all,
+                              const std::vector<run::HingeEvent>& b_all,
                               const std::vector<double>& b_latch_times,
                               double t_begin) {
-  const std::vector<analysis::HingeEvent> a = AfterStart(a_all, t_begin);
-  const std::vector<analysis::HingeEvent> b = AfterStart(b_all, t_begin);
+  const std::vector<run::HingeEvent> a = AfterStart(a_all, t_begin);
+  const std::vector<run::HingeEvent> b = AfterStart(b_all, t_begin);
   EventComparison c;
   c.same_sequence = a.size() == b.size();
   double impulse_scale = 0.0, w_scale = 0.0, energy_scale = 0.0;
-  for (const analysis::HingeEvent& e : b) {
+  for (const run::HingeEvent& e : b) {
     impulse_scale = std::max(impulse_scale, std::abs(e.impulse));
     w_scale = std::max(w_scale, e.w_jump_B.norm());
     energy_scale = std::max(energy_scale, std::abs(e.energy_dissipated));
@@ -141,7 +141,7 @@ FreeHingeCrosscheckResult RunFreeHingeCrosscheck(const schedule::Profile& profil
 
   FreeHingeCrosscheckResult r;
   r.accuracy = options.accuracy;
-  r.reduced = analysis::RunMission(p);
+  r.reduced = run::RunMission(p);
   if (r.reduced.termination != integrators::Termination::kReachedEnd) {
     throw std::runtime_error(p.source + ": reduced model: integration " + r.reduced.message);
   }
@@ -157,7 +157,7 @@ FreeHingeCrosscheckResult RunFreeHingeCrosscheck(const schedule::Profile& profil
   r.simbody_45_crossings = Crossings45(r.simbody);
   r.max_45_crossing_difference =
       MaxCrossingDifference(r.reduced.spin_axis_45_crossings, r.simbody_45_crossings);
-  const analysis::Trajectory& tr = r.reduced.trajectory;
+  const run::Trajectory& tr = r.reduced.trajectory;
   const double E0 = r.simbody.total_energy.front();
   for (std::size_t i = 0; i < tr.size(); ++i) {
     r.max_energy_difference =

@@ -1,7 +1,7 @@
 #pragma once
 
 /// The Simbody cross-check of a hinge profile: the reduced free-hinge model
-/// (analysis::RunMission with an analysis::HingeBody) against the independent Simbody model of
+/// (run::RunMission with an run::HingeBody) against the independent Simbody model of
 /// simbody_free_hinges.h, from the same initial state on the same output grid. Compared:
 ///   trajectories: H_B / |H_B(t0)|, attitude [rad], w_NB_B [rad/s] (CompareTrajectories);
 ///   events, paired in time order (kind and panel must match): time [s], impulse lambda
@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/simbody_free_hinges.h"
 #include "deploysim/schedule/profile.h"
@@ -43,9 +43,9 @@ struct EventComparison {
 
 /// Compares a's events with b's (b the reference). Releases at the start are skipped on
 /// both sides.
-EventComparison CompareEvents(const std::vector<analysis::HingeEvent>& a,
+EventComparison CompareEvents(const std::vector<run::HingeEvent>& a,
                               const std::vector<double>& a_latch_times,
-                              const std::vector<analysis::HingeEvent>& b,
+                              const std::vector<run::HingeEvent>& b,
                               const std::vector<double>& b_latch_times,
                               double t_begin);
 
@@ -56,7 +56,7 @@ double MaxCrossingDifference(const std::vector<double>& a, const std::vector<dou
 struct FreeHingeCrosscheckResult {
   schedule::Profile profile;  ///< As run.
   double accuracy = 0.0;
-  analysis::MissionResult reduced;
+  run::MissionResult reduced;
   SimbodyFreeHingeRun simbody;
   TrajectoryDifference difference;           ///< reduced vs Simbody
   double max_flip_difference = 0.0;          ///< [s]; +inf if the counts differ

@@ -40,7 +40,7 @@ using simtk::ToRotation;
 using simtk::ToSimTK;
 using simtk::Vec6;
 
-using analysis::HingeEvent;
+using run::HingeEvent;
 using schedule::HingePlan;
 using SimTK::Real;
 

@@ -65,7 +65,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "deploysim/analysis/hinge_events.h"
+#include "deploysim/run/hinge_events.h"
 #include "deploysim/crosscheck/simbody_satellite.h"
 #include "deploysim/math/types.h"
 #include "deploysim/model/model.h"
@@ -124,7 +124,7 @@ struct SimbodyFreeHingeRun {
   std::vector<double> total_energy;   ///< [J] kinetic (about the CoM) + stored.
   std::vector<math::Mat3> J_B;        ///< [kg m^2] system inertia about its CoM, B axes.
   /// Events in time order (releases at the start included, at t_begin).
-  std::vector<analysis::HingeEvent> events;
+  std::vector<run::HingeEvent> events;
   std::vector<Eigen::VectorXd> event_hinge_angles;  ///< [rad] every hinge angle at each event.
   /// Per event: which hinges were free (released, unlocked, not prescribed) just before it.
   std::vector<std::vector<bool>> event_free_hinges;

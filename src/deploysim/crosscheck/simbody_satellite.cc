@@ -16,7 +16,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/crosscheck/simbody_body.h"
 #include "deploysim/crosscheck/simtk_support.h"
 #include "deploysim/math/number_format.h"

@@ -87,7 +87,7 @@ struct HingeHistory {
 struct SimbodyRun {
   SimbodyTrajectory trajectory;
   /// [s] Dzhanibekov flips: sign changes of H_B along the spin axis while it is the
-  /// intermediate principal axis of J_B(t) (as analysis::RunMission counts them), each
+  /// intermediate principal axis of J_B(t) (as run::RunMission counts them), each
   /// located to ~1e-12 s by root finding on restarted integrations (toms748).
   std::vector<double> flip_times;
   /// Simbody's own momentum conservation: max |h_N(t) - h_N(t0)| / |h_N(t0)| over the grid.
@@ -117,7 +117,7 @@ struct SpringDrive {
   double stop_dissipation = 0.0;  ///< [s/rad] Hunt-Crossley-like stop dissipation, >= 0.
 };
 
-/// H_B(t0) as the reduced model starts (analysis::RunMission with exact coupling): the
+/// H_B(t0) as the reduced model starts (run::RunMission with exact coupling): the
 /// profile's initial momentum, or J_B(t0) w + h_rel_B(t0) from its angular velocity.
 math::Vec3 InitialMomentum(const schedule::Profile& profile);
 

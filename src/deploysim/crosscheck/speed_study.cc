@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/simbody_satellite.h"
 #include "deploysim/integrators/integrate.h"
@@ -72,9 +72,9 @@ SpeedStudyResult SpeedStudy(const schedule::Profile& base, const SpeedStudyOptio
     const schedule::Profile exact = DeploymentProfile(base, D, options, schedule::Coupling::kExact);
     const schedule::Profile quasi =
         DeploymentProfile(base, D, options, schedule::Coupling::kQuasiRigid);
-    const analysis::MissionResult r_exact = analysis::RunMission(exact);
-    const analysis::MissionResult r_quasi = analysis::RunMission(quasi);
-    for (const analysis::MissionResult* r : {&r_exact, &r_quasi}) {
+    const run::MissionResult r_exact = run::RunMission(exact);
+    const run::MissionResult r_quasi = run::RunMission(quasi);
+    for (const run::MissionResult* r : {&r_exact, &r_quasi}) {
       if (r->termination != integrators::Termination::kReachedEnd) {
         throw std::runtime_error(base.source + ": speed study, D = " + Num(D) + " s: integration " +
                                  r->message);
@@ -108,7 +108,7 @@ SpeedStudyResult SpeedStudy(const schedule::Profile& base, const SpeedStudyOptio
       }
     }
     row.attitude_error_at_end = d_quasi.attitude[end_index];
-    for (const analysis::DangerWindow& w : r_exact.danger_windows) {
+    for (const run::DangerWindow& w : r_exact.danger_windows) {
       row.danger_time_deploying +=
           std::max(0.0, std::min(w.t_end, move_end) - std::max(w.t_begin, move_begin));
     }

@@ -8,9 +8,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "deploysim/analysis/compiled_run.h"
-#include "deploysim/analysis/run_loop.h"
-#include "deploysim/analysis/trajectory_schema.h"
+#include "deploysim/run/compiled_run.h"
+#include "deploysim/run/run_loop.h"
+#include "deploysim/run/trajectory_schema.h"
 #include "deploysim/crosscheck/hinge_history.h"
 #include "deploysim/dynamics/rigid_body.h"
 #include "deploysim/math/inertia.h"
@@ -41,20 +41,20 @@ double LatchTime(const HingeHistory& h, Eigen::Index k, double closed, double op
 
 /// The reduced model driven by Simbody's hinge history, for the run loop: one phase, the
 /// hinge angles and rates interpolated from the history.
-class ReplayBody final : public analysis::RunBody {
+class ReplayBody final : public run::RunBody {
  public:
   ReplayBody(const HingeHistorySource& source, const integrators::State& y0)
       : source_(source), y0_(y0) {}
   const dynamics::InertiaSource& source() const override { return source_; }
-  void Start(analysis::RunState& st) override { st.y = y0_; }
-  analysis::RunSample SampleOf(double t,
+  void Start(run::RunState& st) override { st.y = y0_; }
+  run::RunSample SampleOf(double t,
                                const math::Vec3& H_B,
                                const math::Quat& q_NB,
                                const Eigen::VectorXd& /*x*/,
                                dynamics::Side side) const override {
     const dynamics::InertiaSample js = source_.Evaluate(t, side);
     const HingeState hinges = source_.Interpolate(t, side);
-    analysis::RunSample o;
+    run::RunSample o;
     o.t = t;
     o.H_B = H_B;
     o.q_NB = q_NB;
@@ -67,14 +67,14 @@ class ReplayBody final : public analysis::RunBody {
     return o;
   }
   std::vector<double> PhaseBoundaries(double /*t0*/, double /*t1*/) const override { return {}; }
-  analysis::PhaseInfo Describe(double /*t*/) const override {
-    analysis::PhaseInfo info;
+  run::PhaseInfo Describe(double /*t*/) const override {
+    run::PhaseInfo info;
     info.name = "replay of Simbody's hinge history";
     info.law = "replayed";
     return info;
   }
-  analysis::SteadySpin Steady(const analysis::RunSample& /*start*/,
-                              const analysis::PhaseInfo& /*info*/) const override {
+  analysis::SteadySpin Steady(const run::RunSample& /*start*/,
+                              const run::PhaseInfo& /*info*/) const override {
     analysis::SteadySpin none;
     none.reason = "the inertia follows the replayed hinge history";
     return none;
@@ -85,12 +85,12 @@ class ReplayBody final : public analysis::RunBody {
   integrators::State y0_;
 };
 
-class CollectSink final : public analysis::SampleSink {
+class CollectSink final : public run::SampleSink {
  public:
-  void Append(const analysis::Trajectory& b) override {
-    analysis::TrajectorySchema::Standard().Append(all, b);
+  void Append(const run::Trajectory& b) override {
+    run::TrajectorySchema::Standard().Append(all, b);
   }
-  analysis::Trajectory all;
+  run::Trajectory all;
 };
 
 }  // namespace
@@ -109,8 +109,8 @@ SpringDeploymentResult RunSpringDeployment(const schedule::Profile& profile,
   replay.integrator.method = options.replay_method;
   replay.integrator.rtol = options.replay_rtol;
   replay.integrator.atol = options.replay_atol;
-  const std::shared_ptr<const analysis::CompiledRun> compiled =
-      analysis::CompiledRun::Compile(replay);
+  const std::shared_ptr<const run::CompiledRun> compiled =
+      run::CompiledRun::Compile(replay);
   (void)p.model.configuration(options.drive.open);  // throws listing the valid names
 
   SpringDeploymentResult r;
@@ -135,10 +135,10 @@ SpringDeploymentResult RunSpringDeployment(const schedule::Profile& profile,
   y0.H_B = H_B0;
   ReplayBody replay_body(source, y0);
   CollectSink sink;
-  analysis::RunOptions run_options;
+  run::RunOptions run_options;
   run_options.spin_axis_B = spin_axis_B;
-  const analysis::MissionResult run =
-      analysis::RunLoop(*compiled, replay_body, &sink, {}, run_options);
+  const run::MissionResult run =
+      run::RunLoop(*compiled, replay_body, &sink, {}, run_options);
   if (run.termination != integrators::Termination::kReachedEnd) {
     throw std::runtime_error(p.source + ": spring replay: integration " + run.message);
   }

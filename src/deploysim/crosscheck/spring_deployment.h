@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/simbody_satellite.h"
 #include "deploysim/integrators/integrate.h"
@@ -36,7 +36,7 @@ struct SpringDeploymentOptions {
 struct SpringDeploymentResult {
   schedule::Profile profile;    ///< as run (horizon, output dt)
   SimbodyRun simbody;           ///< with the hinge history
-  analysis::Trajectory replay;  ///< time, H_B, w_NB_B, q_NB, h_N, J_B, h_rel_B, hinge_angles
+  run::Trajectory replay;  ///< time, H_B, w_NB_B, q_NB, h_N, J_B, h_rel_B, hinge_angles
   std::vector<double> replay_flip_times;  ///< [s] flips of the replay (as RunMission counts them)
   TrajectoryDifference difference;        ///< replay vs Simbody
   double max_flip_difference = 0.0;       ///< [s] replay vs Simbody; +inf if the counts differ

@@ -23,13 +23,13 @@ using math::FormatNumber;
 
 /// "name [units]" for a scalar, "<prefix>_<component> [units]" for each component of
 /// the others (per panel: the panel index).
-std::vector<std::string> Header(const analysis::TrajectorySchema& schema, std::size_t panels) {
+std::vector<std::string> Header(const run::TrajectorySchema& schema, std::size_t panels) {
   std::vector<std::string> h;
-  for (const analysis::TrajectoryColumn& c : schema.columns()) {
+  for (const run::TrajectoryColumn& c : schema.columns()) {
     const std::string units = " [" + c.units + "]";
-    if (c.shape == analysis::ColumnShape::kScalar) {
+    if (c.shape == run::ColumnShape::kScalar) {
       h.push_back(c.name + units);
-    } else if (c.shape == analysis::ColumnShape::kPerPanel) {
+    } else if (c.shape == run::ColumnShape::kPerPanel) {
       for (std::size_t k = 0; k < panels; ++k) {
         h.push_back(c.csv_prefix + "_" + std::to_string(k) + units);
       }
@@ -43,8 +43,8 @@ std::vector<std::string> Header(const analysis::TrajectorySchema& schema, std::s
 }
 
 /// Sample k of t as one CSV line (with its newline).
-std::string Line(const analysis::TrajectorySchema& schema,
-                 const analysis::Trajectory& t,
+std::string Line(const run::TrajectorySchema& schema,
+                 const run::Trajectory& t,
                  std::size_t k,
                  std::size_t panels) {
   std::string line;
@@ -54,8 +54,8 @@ std::string Line(const analysis::TrajectorySchema& schema,
   };
   double row[16];
   std::vector<double> wide;
-  for (const analysis::TrajectoryColumn& c : schema.columns()) {
-    const std::size_t width = analysis::Width(c, panels);
+  for (const run::TrajectoryColumn& c : schema.columns()) {
+    const std::size_t width = run::Width(c, panels);
     if (width == 0) continue;
     double* values = row;
     if (width > std::size(row)) {
@@ -76,7 +76,7 @@ std::string Line(const analysis::TrajectorySchema& schema,
 }  // namespace
 
 struct TrajectoryCsvWriter::Impl {
-  Impl(const std::string& p, std::size_t hinge, const analysis::TrajectorySchema& s)
+  Impl(const std::string& p, std::size_t hinge, const run::TrajectorySchema& s)
       : path(p), hinge_columns(hinge), schema(s), file(p) {
     out.open(file.temporary_path(), std::ios::trunc);
     if (!out) Fail();
@@ -102,7 +102,7 @@ struct TrajectoryCsvWriter::Impl {
   }
   std::string path;
   std::size_t hinge_columns;
-  const analysis::TrajectorySchema& schema;
+  const run::TrajectorySchema& schema;
   AtomicFile file;
   std::ofstream out;
   std::uint64_t written = 0;
@@ -111,14 +111,14 @@ struct TrajectoryCsvWriter::Impl {
 
 TrajectoryCsvWriter::TrajectoryCsvWriter(const std::string& path,
                                          std::size_t hinge_columns,
-                                         const analysis::TrajectorySchema& schema)
+                                         const run::TrajectorySchema& schema)
     : impl_(std::make_unique<Impl>(path, hinge_columns, schema)) {}
 
 TrajectoryCsvWriter::~TrajectoryCsvWriter() = default;
 
-void TrajectoryCsvWriter::Append(const analysis::Trajectory& t) {
+void TrajectoryCsvWriter::Append(const run::Trajectory& t) {
   if (impl_->finished) throw std::logic_error(impl_->path + ": Append after Finish");
-  const std::size_t hinge_columns = analysis::PanelCount(t);
+  const std::size_t hinge_columns = run::PanelCount(t);
   impl_->schema.Check(impl_->path, t, hinge_columns);
   if (t.size() > 0 && hinge_columns != impl_->hinge_columns) {
     throw std::invalid_argument(impl_->path + ": trajectory.hinge_angles rows have " +
@@ -144,9 +144,9 @@ void TrajectoryCsvWriter::Commit() {
 }
 
 void WriteTrajectoryCsv(const std::string& path,
-                        const analysis::Trajectory& t,
-                        const analysis::TrajectorySchema& schema) {
-  const std::size_t hinge_columns = analysis::PanelCount(t);
+                        const run::Trajectory& t,
+                        const run::TrajectorySchema& schema) {
+  const std::size_t hinge_columns = run::PanelCount(t);
   schema.Check(path, t, hinge_columns);
   TrajectoryCsvWriter w(path, hinge_columns, schema);  // atomic: nothing at `path` unless Commit()
   w.Append(t);

@@ -27,14 +27,14 @@ namespace deploysim::io {
 
 namespace {
 
-using analysis::Trajectory;
+using run::Trajectory;
 using math::FormatNumber;
 
 using hdf5::QuietErrors;
 using hdf5::TextType;
 
 /// Number of hinge angles per sample written for r (0: no /hinge_angles dataset).
-std::size_t HingeColumns(const analysis::MissionResult& r) {
+std::size_t HingeColumns(const run::MissionResult& r) {
   if (r.profile().mode != schedule::Mode::kGeometry) return 0;
   return r.profile().model.hinged.panels.size();
 }
@@ -42,7 +42,7 @@ std::size_t HingeColumns(const analysis::MissionResult& r) {
 /// The analysis of r fits its profile: one report per stage (a hinge profile: one per
 /// phase, any number), ordered danger windows, latch times empty or one per panel, hinge
 /// events naming panels of the model.
-void CheckAnalysis(const std::string& path, const analysis::MissionResult& r) {
+void CheckAnalysis(const std::string& path, const run::MissionResult& r) {
   if (!r.profile().is_hinge_profile() && r.stages.size() != r.profile().stages.size()) {
     throw std::invalid_argument(path + ": " + std::to_string(r.stages.size()) +
                                 " stage reports for " + std::to_string(r.profile().stages.size()) +
@@ -54,14 +54,14 @@ void CheckAnalysis(const std::string& path, const analysis::MissionResult& r) {
                                 " latch times for " + std::to_string(panels) +
                                 " panels (rule: none, or one per panel)");
   }
-  for (const analysis::HingeEvent& e : r.hinge_events) {
+  for (const run::HingeEvent& e : r.hinge_events) {
     if (e.panel < 0 || static_cast<std::size_t>(e.panel) >= panels) {
       throw std::invalid_argument(path + ": hinge event at t = " + FormatNumber(e.t) +
                                   ": panel = " + std::to_string(e.panel) + " (rule: in [0, " +
                                   std::to_string(panels) + "))");
     }
   }
-  for (const analysis::DangerWindow& d : r.danger_windows) {
+  for (const run::DangerWindow& d : r.danger_windows) {
     if (!(d.t_begin <= d.t_end)) {
       throw std::invalid_argument(path + ": danger window [" + FormatNumber(d.t_begin) + ", " +
                                   FormatNumber(d.t_end) + "] (rule: t_begin <= t_end)");
@@ -83,17 +83,17 @@ std::string StatisticsText(const integrators::Statistics& s) {
 }
 
 /// The /stages table: one row per profile stage, its definition and its analysis
-/// (analysis::StageReport; CheckAnalysis ensured one report per stage). A hinge profile
+/// (run::StageReport; CheckAnalysis ensured one report per stage). A hinge profile
 /// has no stages: one row per phase between hinge events, as its reports describe them
 /// (no configurations: from and to empty).
-void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
+void WriteStageTable(Hdf5Writer& w, const run::MissionResult& r) {
   const schedule::Profile& p = r.profile();
   const bool phases = p.is_hinge_profile();
   std::vector<double> t_begin, t_end, moments, one_minus_k2, separatrix, half_period, max_diff;
   std::vector<long long> index, rigid, predicted, observed, rigid_only;
   std::vector<std::string> names, laws, from, to, roles, regimes, caveats;
   for (std::size_t i = 0; i < r.stages.size(); ++i) {
-    const analysis::StageReport& a = r.stages[i];
+    const run::StageReport& a = r.stages[i];
     index.push_back(static_cast<long long>(i));
     if (phases) {
       t_begin.push_back(a.t_begin);
@@ -171,23 +171,23 @@ void WriteStageTable(Hdf5Writer& w, const analysis::MissionResult& r) {
 
 /// The hinge event table /events/hinge/* (one row per event, in time order), the latch
 /// time of every panel and the model's panel names (geometry mode).
-void WriteHingeOutputs(Hdf5Writer& w, const analysis::MissionResult& r, bool geometry) {
+void WriteHingeOutputs(Hdf5Writer& w, const run::MissionResult& r, bool geometry) {
   const std::vector<model::Panel>& panels = r.profile().model.hinged.panels;
   std::vector<std::string> names;
   for (const model::Panel& p : panels) names.push_back(p.name);
   const std::size_t count = r.hinge_events.size();
-  // One dataset per column of the table (analysis::HingeEventTable).
-  for (const analysis::HingeEventColumn& c : analysis::HingeEventTable::Columns()) {
+  // One dataset per column of the table (run::HingeEventTable).
+  for (const run::HingeEventColumn& c : run::HingeEventTable::Columns()) {
     const std::string path = "/events/hinge/" + c.name;
-    if (c.type == analysis::HingeEventColumn::Type::kText) {
+    if (c.type == run::HingeEventColumn::Type::kText) {
       std::vector<std::string> text;
-      for (const analysis::HingeEvent& e : r.hinge_events) text.push_back(c.text(e, names));
+      for (const run::HingeEvent& e : r.hinge_events) text.push_back(c.text(e, names));
       w.Strings(path, text, c.description);
       continue;
     }
     std::vector<double> v(count * static_cast<std::size_t>(c.width()));
     for (std::size_t i = 0; i < count; ++i) c.number(r.hinge_events[i], &v[i * c.width()]);
-    if (c.type == analysis::HingeEventColumn::Type::kInteger) {
+    if (c.type == run::HingeEventColumn::Type::kInteger) {
       w.Integers(path, std::vector<long long>(v.begin(), v.end()), c.units, c.description);
     } else if (c.width() == 1) {
       w.Doubles(path, {count}, v, c.units, c.description);
@@ -207,9 +207,9 @@ void WriteHingeOutputs(Hdf5Writer& w, const analysis::MissionResult& r, bool geo
 
 /// /danger_windows: the intervals of the output grid in which the spin axis is the
 /// intermediate principal axis of J_B(t) (flips possible).
-void WriteDangerWindows(Hdf5Writer& w, const analysis::MissionResult& r) {
+void WriteDangerWindows(Hdf5Writer& w, const run::MissionResult& r) {
   std::vector<double> t_begin, t_end;
-  for (const analysis::DangerWindow& d : r.danger_windows) {
+  for (const run::DangerWindow& d : r.danger_windows) {
     t_begin.push_back(d.t_begin);
     t_end.push_back(d.t_end);
   }
@@ -221,10 +221,10 @@ void WriteDangerWindows(Hdf5Writer& w, const analysis::MissionResult& r) {
 }
 
 /// Column c of the samples of t, flattened row-major (Width values per sample).
-std::vector<double> Flat(const analysis::TrajectoryColumn& c,
+std::vector<double> Flat(const run::TrajectoryColumn& c,
                          const Trajectory& t,
                          std::size_t panels) {
-  const std::size_t width = analysis::Width(c, panels);
+  const std::size_t width = run::Width(c, panels);
   std::vector<double> flat(width * t.size());
   if (width == 0) return flat;
   for (std::size_t k = 0; k < t.size(); ++k) c.values(t, k, &flat[k * width]);
@@ -232,12 +232,12 @@ std::vector<double> Flat(const analysis::TrajectoryColumn& c,
 }
 
 /// Everything but the per-sample datasets: events, stages, danger windows, attributes.
-void WriteAnalysis(Hdf5Writer& w, const analysis::MissionResult& r, bool geometry) {
+void WriteAnalysis(Hdf5Writer& w, const run::MissionResult& r, bool geometry) {
   w.Doubles("/events/flip_time", {r.flip_times.size()}, r.flip_times, "s",
             "located flips: sign changes of H_B along the tracked spin axis while it is the "
             "intermediate principal axis (docs/file_formats.md, Flips)");
   std::vector<double> predicted;
-  for (const analysis::StageReport& a : r.stages) {
+  for (const run::StageReport& a : r.stages) {
     predicted.insert(predicted.end(), a.predicted_flips.begin(), a.predicted_flips.end());
   }
   w.Doubles("/events/predicted_flip_time", {predicted.size()}, predicted, "s",
@@ -371,9 +371,9 @@ H5::Group OpenGroup(const std::string& path, const H5::Group& parent, const std:
 
 /// The kind named `name` ("latch", ...: analysis::ToString); throws naming the file.
 /// The table /events/hinge/* (all columns of one length), column by column of the table
-/// (analysis::HingeEventTable); a column a file predates reads its `missing` value.
+/// (run::HingeEventTable); a column a file predates reads its `missing` value.
 void ReadHingeEvents(const std::string& path, const H5::Group& g, TrajectoryFile& out) {
-  using Column = analysis::HingeEventColumn;
+  using Column = run::HingeEventColumn;
   const std::string gp = "/events/hinge";
   hsize_t count = 0;
   ReadDoubles(path, g, gp, "time", {}, count, out);
@@ -384,7 +384,7 @@ void ReadHingeEvents(const std::string& path, const H5::Group& g, TrajectoryFile
                                " rows, " + gp + "/time has " + std::to_string(count));
     }
   };
-  for (const Column& c : analysis::HingeEventTable::Columns()) {
+  for (const Column& c : run::HingeEventTable::Columns()) {
     if (!g.nameExists(c.name) && !std::isnan(c.missing)) {
       for (HingeEventRow& row : rows) {
         const double v[3] = {c.missing, c.missing, c.missing};
@@ -470,8 +470,8 @@ std::vector<double> ReadSampleRows(const std::string& path,
 
 /// The first column of `schema` that `pick` selects (null if none).
 template <class Pick>
-const analysis::TrajectoryColumn* First(const analysis::TrajectorySchema& schema, Pick pick) {
-  for (const analysis::TrajectoryColumn& c : schema.columns()) {
+const run::TrajectoryColumn* First(const run::TrajectorySchema& schema, Pick pick) {
+  for (const run::TrajectoryColumn& c : schema.columns()) {
     if (pick(c)) return &c;
   }
   return nullptr;
@@ -482,20 +482,20 @@ const analysis::TrajectoryColumn* First(const analysis::TrajectorySchema& schema
 struct SampleLayout {
   bool hinge_outputs = false;
   bool ledger = false;  ///< the energy ledger's columns (none in files written before them)
-  const analysis::TrajectoryColumn* first_per_panel = nullptr;  ///< null: not geometry mode
+  const run::TrajectoryColumn* first_per_panel = nullptr;  ///< null: not geometry mode
   std::size_t panels = 0;
 };
 
-SampleLayout LayoutOf(const H5::H5File& file, const analysis::TrajectorySchema& schema) {
+SampleLayout LayoutOf(const H5::H5File& file, const run::TrajectorySchema& schema) {
   SampleLayout layout;
-  const analysis::TrajectoryColumn* marker =
-      First(schema, [](const analysis::TrajectoryColumn& c) { return c.free_hinge_output; });
+  const run::TrajectoryColumn* marker =
+      First(schema, [](const run::TrajectoryColumn& c) { return c.free_hinge_output; });
   layout.hinge_outputs = marker != nullptr && file.nameExists(marker->name);
-  const analysis::TrajectoryColumn* ledger =
-      First(schema, [](const analysis::TrajectoryColumn& c) { return c.ledger_output; });
+  const run::TrajectoryColumn* ledger =
+      First(schema, [](const run::TrajectoryColumn& c) { return c.ledger_output; });
   layout.ledger = ledger != nullptr && file.nameExists(ledger->name);
-  const analysis::TrajectoryColumn* per_panel = First(schema, [](const auto& c) {
-    return c.shape == analysis::ColumnShape::kPerPanel && !c.free_hinge_output;
+  const run::TrajectoryColumn* per_panel = First(schema, [](const auto& c) {
+    return c.shape == run::ColumnShape::kPerPanel && !c.free_hinge_output;
   });
   if (per_panel != nullptr && file.nameExists(per_panel->name)) layout.first_per_panel = per_panel;
   return layout;
@@ -504,13 +504,13 @@ SampleLayout LayoutOf(const H5::H5File& file, const analysis::TrajectorySchema& 
 /// Column c's dataset, n rows, into the trajectory (a stored column) or out.derived.
 void ReadColumn(const std::string& path,
                 const H5::H5File& file,
-                const analysis::TrajectoryColumn& c,
+                const run::TrajectoryColumn& c,
                 hsize_t n,
                 SampleLayout& layout,
                 TrajectoryFile& out) {
-  const bool per_panel = c.shape == analysis::ColumnShape::kPerPanel;
+  const bool per_panel = c.shape == run::ColumnShape::kPerPanel;
   std::vector<hsize_t> trailing;
-  for (std::size_t d : analysis::RowShape(c, 0)) trailing.push_back(per_panel ? 0 : d);
+  for (std::size_t d : run::RowShape(c, 0)) trailing.push_back(per_panel ? 0 : d);
   const std::vector<double> flat = ReadSampleRows(path, file, c.name, trailing, n, out);
   const std::size_t width = n == 0 ? 0 : flat.size() / n;
   if (per_panel && &c == layout.first_per_panel) {
@@ -531,17 +531,17 @@ void ReadColumn(const std::string& path,
 /// (SampleLayout), with as many rows; the panel names in geometry mode.
 void ReadSamples(const std::string& path,
                  const H5::H5File& file,
-                 const analysis::TrajectorySchema& schema,
+                 const run::TrajectorySchema& schema,
                  TrajectoryFile& out) {
   hsize_t n = 0;
   out.trajectory.time = ReadDoubles(path, file, "", "time", {}, n, out);
   SampleLayout layout = LayoutOf(file, schema);
   out.has_hinge_outputs = layout.hinge_outputs;
   const bool geometry = layout.first_per_panel != nullptr;
-  for (const analysis::TrajectoryColumn& c : schema.columns()) {
+  for (const run::TrajectoryColumn& c : schema.columns()) {
     if (c.name == "time" || (c.free_hinge_output && !layout.hinge_outputs)) continue;
     if (c.ledger_output && !layout.ledger) continue;
-    if (c.shape == analysis::ColumnShape::kPerPanel && !geometry) continue;
+    if (c.shape == run::ColumnShape::kPerPanel && !geometry) continue;
     ReadColumn(path, file, c, n, layout, out);
   }
   if (!geometry || !layout.hinge_outputs) return;
@@ -680,7 +680,7 @@ void ReadDangerWindows(const std::string& path, const H5::H5File& file, Trajecto
   }
 }
 
-TrajectoryFile ReadContents(const std::string& path, const analysis::TrajectorySchema& schema) {
+TrajectoryFile ReadContents(const std::string& path, const run::TrajectorySchema& schema) {
   TrajectoryFile out;
   CheckReadableHdf5(path);
   const H5::H5File file(path, H5F_ACC_RDONLY);
@@ -697,31 +697,31 @@ TrajectoryFile ReadContents(const std::string& path, const analysis::TrajectoryS
 struct TrajectoryFileWriter::Impl {
   Impl(const std::string& p,
        const schedule::Profile& profile,
-       const analysis::TrajectorySchema& schema_in)
+       const run::TrajectorySchema& schema_in)
       : path(p),
         geometry(profile.mode == schedule::Mode::kGeometry),
         panels(geometry ? profile.model.hinged.panels.size() : 0),
         schema(schema_in),
         writer(p) {
-    for (const analysis::TrajectoryColumn* c : schema.Written(geometry)) {
+    for (const run::TrajectoryColumn* c : schema.Written(geometry)) {
       columns.push_back(c);
-      handles.push_back(writer.GrowingDoubles("/" + c->name, analysis::RowShape(*c, panels),
+      handles.push_back(writer.GrowingDoubles("/" + c->name, run::RowShape(*c, panels),
                                               c->units, c->description));
     }
   }
   std::string path;
   bool geometry;
   std::size_t panels;
-  const analysis::TrajectorySchema& schema;
+  const run::TrajectorySchema& schema;
   Hdf5Writer writer;
-  std::vector<const analysis::TrajectoryColumn*> columns;  // column of each handle
+  std::vector<const run::TrajectoryColumn*> columns;  // column of each handle
   std::vector<std::size_t> handles;                        // GrowingDoubles handles
   bool finished = false;
 };
 
 TrajectoryFileWriter::TrajectoryFileWriter(const std::string& path,
                                            const schedule::Profile& profile,
-                                           const analysis::TrajectorySchema& schema)
+                                           const run::TrajectorySchema& schema)
     : impl_(std::make_unique<Impl>(path, profile, schema)) {}
 
 TrajectoryFileWriter::~TrajectoryFileWriter() = default;
@@ -735,7 +735,7 @@ void TrajectoryFileWriter::Append(const Trajectory& block) {
   }
 }
 
-void TrajectoryFileWriter::Finish(const analysis::MissionResult& r) {
+void TrajectoryFileWriter::Finish(const run::MissionResult& r) {
   CheckAnalysis(impl_->path, r);
   WriteAnalysis(impl_->writer, r, impl_->geometry);
   impl_->writer.Close();
@@ -748,8 +748,8 @@ void TrajectoryFileWriter::Commit() {
 }
 
 void WriteTrajectoryFile(const std::string& path,
-                         const analysis::MissionResult& r,
-                         const analysis::TrajectorySchema& schema) {
+                         const run::MissionResult& r,
+                         const run::TrajectorySchema& schema) {
   schema.Check(path, r.trajectory, HingeColumns(r));
   CheckAnalysis(path, r);
   TrajectoryFileWriter w(path, r.profile(), schema);  // atomic: nothing at `path` unless Commit()
@@ -774,7 +774,7 @@ void TrajectoryOutputs::Append(const Trajectory& block) {
   if (csv_) csv_->Append(block);
 }
 
-void TrajectoryOutputs::Finish(const analysis::MissionResult& r) {
+void TrajectoryOutputs::Finish(const run::MissionResult& r) {
   h5_.Finish(r);
   if (csv_) csv_->Finish();
 }
@@ -786,7 +786,7 @@ void TrajectoryOutputs::Commit() {
 }
 
 TrajectoryFile ReadTrajectoryFile(const std::string& path,
-                                  const analysis::TrajectorySchema& schema) {
+                                  const run::TrajectorySchema& schema) {
   const QuietErrors quiet;
   // As in WriteTrajectoryFile: translate HDF5's exceptions to std::runtime_error.
   try {

@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/mission.h"
-#include "deploysim/analysis/trajectory_schema.h"
+#include "deploysim/run/mission.h"
+#include "deploysim/run/trajectory_schema.h"
 #include "deploysim/io/trajectory_csv.h"
 
 namespace deploysim::io {
@@ -49,7 +49,7 @@ namespace deploysim::io {
 inline constexpr int kTrajectorySchemaVersion = 2;
 
 /// One row of the /stages table: the profile's stage and its analysis
-/// (analysis::StageReport).
+/// (run::StageReport).
 struct StageRow {
   int index = 0;  ///< Position in the profile, from 0.
   std::string name;
@@ -69,16 +69,16 @@ struct StageRow {
   long long observed_flip_count = 0;        ///< Located flips within the stage.
   double max_flip_time_difference = 0.0;    ///< [s] |observed - predicted|.
   /// Which conclusions of the stage's verdict hold only for a perfectly rigid body
-  /// (analysis::StageReport::caveat; empty in files written before the free-hinge outputs).
+  /// (run::StageReport::caveat; empty in files written before the free-hinge outputs).
   std::string caveat;
   /// The spin-axis verdict holds only without energy dissipation
-  /// (analysis::StageReport::rigid_body_only).
+  /// (run::StageReport::rigid_body_only).
   bool rigid_body_only = false;
 };
 
-/// One row of the hinge event table /events/hinge/* (analysis::HingeEvent).
+/// One row of the hinge event table /events/hinge/* (run::HingeEvent).
 struct HingeEventRow {
-  analysis::HingeEvent event;  ///< Kind read back from its name ("latch", ...).
+  run::HingeEvent event;  ///< Kind read back from its name ("latch", ...).
   std::string panel_name;      ///< Name of panel event.panel in the model.
 };
 
@@ -86,12 +86,12 @@ struct HingeEventRow {
 struct TrajectoryFile {
   /// hinge_angles and hinge_rates empty unless the file has them (geometry mode);
   /// energy_spring empty only in files written before the free-hinge outputs.
-  analysis::Trajectory trajectory;
+  run::Trajectory trajectory;
   std::vector<double> flip_times;                      ///< [s] /events/flip_time
   std::vector<double> predicted_flip_times;            ///< [s] /events/predicted_flip_time
   std::vector<StageRow> stages;                        ///< /stages/*
-  std::vector<analysis::DangerWindow> danger_windows;  ///< /danger_windows/*
-  /// The derived columns of the schema read (analysis::TrajectorySchema), flat row-major
+  std::vector<run::DangerWindow> danger_windows;  ///< /danger_windows/*
+  /// The derived columns of the schema read (run::TrajectorySchema), flat row-major
   /// by name: "energy_total" (trajectory.energy + trajectory.energy_spring, as written)
   /// where the file has the free-hinge outputs.
   std::map<std::string, std::vector<double>> derived;
@@ -126,8 +126,8 @@ struct TrajectoryFile {
 /// The per-sample datasets are the columns of `schema` (which must outlive the call).
 void WriteTrajectoryFile(
     const std::string& path,
-    const analysis::MissionResult& r,
-    const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
+    const run::MissionResult& r,
+    const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
 
 /// A trajectory file written while the mission runs (memory bounded by the block size
 /// whatever the horizon): the per-sample datasets grow block by block, the rest is
@@ -136,7 +136,7 @@ void WriteTrajectoryFile(
 /// The file is the same as WriteTrajectoryFile's for readers (the per-sample datasets
 /// are stored in chunks, extendable along time; names, shapes, types and attributes are
 /// unchanged).
-class TrajectoryFileWriter final : public analysis::SampleSink {
+class TrajectoryFileWriter final : public run::SampleSink {
  public:
   /// Starts the temporary and the per-sample datasets for `profile` (hinge angles in
   /// geometry mode), one per column of `schema` (which must outlive the writer). Throws
@@ -144,16 +144,16 @@ class TrajectoryFileWriter final : public analysis::SampleSink {
   TrajectoryFileWriter(
       const std::string& path,
       const schedule::Profile& profile,
-      const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
+      const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
   ~TrajectoryFileWriter() override;
   TrajectoryFileWriter(const TrajectoryFileWriter&) = delete;
   TrajectoryFileWriter& operator=(const TrajectoryFileWriter&) = delete;
 
   /// Appends the samples of `block` (checked as WriteTrajectoryFile checks a trajectory).
-  void Append(const analysis::Trajectory& block) override;
+  void Append(const run::Trajectory& block) override;
   /// Writes events, stages, danger windows and attributes from r (r.trajectory is not
   /// used: the samples are those appended) and completes the temporary.
-  void Finish(const analysis::MissionResult& r);
+  void Finish(const run::MissionResult& r);
   /// After Finish: renames the complete file onto `path`.
   void Commit();
 
@@ -169,13 +169,13 @@ class TrajectoryFileWriter final : public analysis::SampleSink {
 /// they were and no temporary. Commit() renames the HDF5 file, then the CSV: only a
 /// failure of that last rename (the CSV's target turned into a folder after the
 /// checks, a read-only remount in between) can leave the new HDF5 beside an old CSV.
-class TrajectoryOutputs final : public analysis::SampleSink {
+class TrajectoryOutputs final : public run::SampleSink {
  public:
   TrajectoryOutputs(const std::string& h5_path,
                     const std::string& csv_path,
                     const schedule::Profile& profile);
-  void Append(const analysis::Trajectory& block) override;
-  void Finish(const analysis::MissionResult& r);
+  void Append(const run::Trajectory& block) override;
+  void Finish(const run::MissionResult& r);
   void Commit();
 
  private:
@@ -189,6 +189,6 @@ class TrajectoryOutputs final : public analysis::SampleSink {
 /// another schema_version. Reads the columns of `schema`.
 TrajectoryFile ReadTrajectoryFile(
     const std::string& path,
-    const analysis::TrajectorySchema& schema = analysis::TrajectorySchema::Standard());
+    const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
 
 }  // namespace deploysim::io

@@ -22,7 +22,7 @@ std::string Where(const schedule::Profile& p) {
 }
 
 void CheckRunSettings(const schedule::Profile& p) {
-  analysis::CheckRunSettings(p);
+  run::CheckRunSettings(p);
   analysis::CheckWork(p, analysis::EstimateWork(p));
 }
 
@@ -126,11 +126,11 @@ void ApplyOverrides(schedule::Profile& profile, const ProfileOverrides& o) {
   profile = std::move(p);
 }
 
-std::shared_ptr<const analysis::CompiledRun> LoadRun(const std::string& path,
+std::shared_ptr<const run::CompiledRun> LoadRun(const std::string& path,
                                                      const ProfileOverrides& o) {
   schedule::Profile p = ParseProfile(path);
   Override(p, o);
-  return analysis::CompiledRun::Compile(std::move(p));
+  return run::CompiledRun::Compile(std::move(p));
 }
 
 }  // namespace deploysim::io

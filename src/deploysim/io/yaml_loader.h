@@ -10,12 +10,12 @@
 #include <optional>
 #include <string>
 
-#include "deploysim/analysis/compiled_run.h"
+#include "deploysim/run/compiled_run.h"
 #include "deploysim/io/yaml_reader.h"
 
 namespace deploysim::io {
 
-/// ReadProfile (yaml_reader.h), then the run-setting rules (analysis::CheckRunSettings):
+/// ReadProfile (yaml_reader.h), then the run-setting rules (run::CheckRunSettings):
 /// a profile that can be run. A run compiles it (LoadRun validates once instead).
 schedule::Profile LoadProfile(const std::string& path);
 
@@ -42,15 +42,15 @@ struct ProfileOverrides {
 };
 
 /// Applies the overrides and re-validates the whole profile (ValidateProfile and
-/// analysis::CheckRunSettings); throws std::invalid_argument "<profile source>: <key> =
+/// run::CheckRunSettings); throws std::invalid_argument "<profile source>: <key> =
 /// <value>: <rule>" for an unknown method, mode or coupling or a combination that is not
 /// valid. `profile` is modified only if the result is valid.
 void ApplyOverrides(schedule::Profile& profile, const ProfileOverrides& overrides);
 
 /// The run of a profile file with the overrides, compiled (what `deploysim simulate` and
 /// `analyze` run): parsed (ParseProfile), overridden, then validated once and compiled
-/// (analysis::CompiledRun::Compile). Throws as LoadProfile and ApplyOverrides.
-std::shared_ptr<const analysis::CompiledRun> LoadRun(const std::string& path,
+/// (run::CompiledRun::Compile). Throws as LoadProfile and ApplyOverrides.
+std::shared_ptr<const run::CompiledRun> LoadRun(const std::string& path,
                                                      const ProfileOverrides& overrides = {});
 
 }  // namespace deploysim::io

@@ -24,7 +24,7 @@ schedule::Profile ReadProfile(const std::string& path);
 
 /// ReadProfile without the cross-field rules: the keys, types and per-key ranges are
 /// checked, schedule::ValidateProfile is not run and `initial.spin` is not resolved. For a
-/// profile that is compiled next (analysis::CompiledRun::Compile validates it once).
+/// profile that is compiled next (run::CompiledRun::Compile validates it once).
 schedule::Profile ParseProfile(const std::string& path);
 
 /// ReadProfile of a text that is no file: messages name `source`; the `model:` file is

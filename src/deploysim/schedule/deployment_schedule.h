@@ -34,7 +34,7 @@
 
 namespace deploysim::schedule {
 
-/// Marks a profile that has passed ValidateProfile (analysis::CompiledRun builds the
+/// Marks a profile that has passed ValidateProfile (run::CompiledRun builds the
 /// schedule of the profile it has just validated).
 struct Validated {};
 inline constexpr Validated kValidated{};

@@ -3,7 +3,7 @@
 /// The hub + panel tree of a hinge profile as a dynamical system (docs/design.md 2.7): each
 /// hinge is, at any moment, locked (held before its release, latched, jammed, resting on
 /// a stop, or a `locked` plan), prescribed (its moves) or free (state). The hybrid driver
-/// (analysis/hinge_body.cc) changes the set at events; between events this class is the
+/// (run/hinge_body.cc) changes the set at events; between events this class is the
 /// dynamics::ShapeSystem of the free hinges, or (no hinge free) a dynamics::InertiaSource.
 ///
 /// Evaluation at (t, H_B, x = (theta_f, p_f)): theta of every hinge (locked: its angle;

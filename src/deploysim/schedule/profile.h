@@ -109,7 +109,7 @@ struct OutputSpec {
 ///  - a hinge profile (`hinges:`): each panel has its own HingePlan (locked,
 ///    prescribed on its own windows, or free), the run goes from `start` to `until`,
 ///    mode is geometry and coupling exact; `stages` is empty (the stage table of a run is
-///    made of the phases between the run's events, analysis/mission.h).
+///    made of the phases between the run's events, run/mission.h).
 struct Profile {
   std::string name;
   std::string description;

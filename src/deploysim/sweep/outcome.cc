@@ -8,7 +8,7 @@
 
 #include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/free_body_solution.h"
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/math/inertia.h"
 
 namespace deploysim::sweep {
@@ -184,7 +184,7 @@ void SetMotionOutcome(const analysis::MotionOutcome& mo, CaseOutcome& out) {
 
 /// The columns every case has, from its outcome-only mission run.
 CaseOutcome CommonOutcome(const Case& c,
-                          const analysis::MissionResult& m,
+                          const run::MissionResult& m,
                           const OutcomeSettings& settings) {
   const math::Vec3& s = m.spin_axis_B;
   CaseOutcome out;
@@ -207,8 +207,8 @@ CaseOutcome CommonOutcome(const Case& c,
 /// The hinge events' columns: latches, shocks, and the deployment from the first release
 /// to the last lock of a released panel (NaN if a released panel is still free at the
 /// end); t0 and 0 when nothing was released.
-void SetHingeColumns(const Case& c, const analysis::MissionResult& m, CaseOutcome& out) {
-  using analysis::HingeEvent;
+void SetHingeColumns(const Case& c, const run::MissionResult& m, CaseOutcome& out) {
+  using run::HingeEvent;
   double first_release = std::numeric_limits<double>::infinity();
   std::vector<char> released(c.profile().hinges.size(), 0);
   for (const HingeEvent& e : m.hinge_events) {
@@ -268,11 +268,11 @@ FinalPrediction PredictFinal(const math::Mat3& J_B, const math::Vec3& H_B, const
 
 CaseOutcome SimulateOutcome(const Case& c, const OutcomeSettings& settings) {
   const auto wall0 = std::chrono::steady_clock::now();
-  analysis::NullSink sink;
-  analysis::RunOptions options;
+  run::NullSink sink;
+  run::RunOptions options;
   options.sample_trajectory = false;
   if (!c.profile().is_hinge_profile()) options.spin_axis_B = c.spin_axis_B;
-  const analysis::MissionResult m = analysis::RunMission(*c.run, sink, {}, options);
+  const run::MissionResult m = run::RunMission(*c.run, sink, {}, options);
   CaseOutcome out = CommonOutcome(c, m, settings);
   if (c.profile().is_hinge_profile()) {
     SetHingeColumns(c, m, out);

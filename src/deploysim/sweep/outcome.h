@@ -1,6 +1,6 @@
 #pragma once
 
-/// The outcome of one sweep case: the case's mission run (analysis::RunMission) without
+/// The outcome of one sweep case: the case's mission run (run::RunMission) without
 /// output samples (RunOptions::sample_trajectory = false: the dense trajectory on the
 /// output grid costs most of a full run, one partial step per sample). The run's flips,
 /// 45-degree crossings, largest spin-axis angle (located exactly, run_recorder.h), hinge

@@ -682,7 +682,7 @@ void ReadIntegrator(const Fields& top, schedule::Profile& base) {
   }
 }
 
-/// Free hinges are integrated by a Lie-group method (analysis::HingeBody): a hinge
+/// Free hinges are integrated by a Lie-group method (run::HingeBody): a hinge
 /// base with a free hinge and another method would fail in every case.
 void RequireShapeMethod(const Fields& top, const schedule::Profile& base) {
   const std::string& method = base.integrator.method;

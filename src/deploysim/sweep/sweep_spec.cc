@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "deploysim/analysis/mission.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/number_format.h"
 #include "deploysim/model/appendages.h"
@@ -512,7 +512,7 @@ math::Vec3 InitialMomentum(const std::vector<Target>& targets,
 }
 
 /// A hinge-profile case: its run measures angles from the same spin axis as the case
-/// (analysis::RunMission: the principal axis nearest H_B(t0)); counts the latches expected.
+/// (run::RunMission: the principal axis nearest H_B(t0)); counts the latches expected.
 void FinishHingeCase(const SweepSpec& spec,
                      const dynamics::InertiaSample& s0,
                      const math::Vec3& H_B,
@@ -556,7 +556,7 @@ Case BuildCase(const SweepSpec& spec, std::size_t index) {
     const math::Vec3 base_axis =
         spec.base_spin_axis_B ? *spec.base_spin_axis_B : BaseSpinAxis(spec.base);
     // 4. Initial state, once the case's J_B(t0) is known; validated and compiled once.
-    c.run = analysis::CompiledRun::Compile(
+    c.run = run::CompiledRun::Compile(
         std::move(p), [&](const dynamics::InertiaSample& s0, const math::Vec3& H_B) {
           c.spin_axis_B = analysis::InitialSpinAxis(s0.J_B, base_axis);
           const math::Vec3 H = InitialMomentum(targets, v, H_B, s0, c.spin_axis_B);

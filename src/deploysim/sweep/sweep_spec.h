@@ -52,7 +52,7 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/compiled_run.h"
+#include "deploysim/run/compiled_run.h"
 #include "deploysim/math/types.h"
 #include "deploysim/model/model.h"
 #include "deploysim/schedule/deployment_schedule.h"
@@ -209,7 +209,7 @@ struct Case {
   CaseParameters parameters;
   /// The case's run, compiled once (its profile has initial.H_B set, initial.w_NB_B
   /// cleared; a stage profile's schedule is built).
-  std::shared_ptr<const analysis::CompiledRun> run;
+  std::shared_ptr<const run::CompiledRun> run;
   const schedule::Profile& profile() const { return run->profile(); }
   math::Vec3 spin_axis_B = math::Vec3::UnitZ();  ///< Unit, B components.
   /// Hinge profiles: the free panels that have a latch in the BASE profile (a latch that
@@ -220,7 +220,7 @@ struct Case {
 
 /// Builds case `index` (application order in the file comment). Throws
 /// std::invalid_argument "<sweep source>: case <i> {<column>=<value>, ...}: <rule>" when
-/// the case's profile is not valid (analysis::CompiledRun::Compile).
+/// the case's profile is not valid (run::CompiledRun::Compile).
 Case BuildCase(const SweepSpec& spec, std::size_t index);
 
 /// The spin axis of the base profile: analysis::InitialSpinAxis of J_B(t0), H_B(t0).
