@@ -88,7 +88,6 @@ model::HingedBody HingeBody::BodyOf(const schedule::Profile& profile, const std:
 
 HingeBody::HingeBody(const CompiledRun& run, const RunOptions& options)
     : profile_(run.profile()),
-      run_(run),
       where_(profile_.source.empty() ? profile_.name : profile_.source),
       body_(BodyOf(profile_, where_)),
       n_(static_cast<int>(body_.panels.size())),

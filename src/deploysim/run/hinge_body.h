@@ -123,7 +123,6 @@ class HingeBody final : public RunBody {
   math::Mat3 JdotOf(const integrators::ShapeState& y) const;
 
   const schedule::Profile& profile_;
-  const CompiledRun& run_;
   const std::string where_;
   const model::HingedBody body_;
   const int n_;

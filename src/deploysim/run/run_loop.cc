@@ -296,7 +296,6 @@ class Loop {
   void WindowBoundary();
   void Finish();
 
-  const CompiledRun& run_;
   RunBody& body_;
   const double t0_, t1_;
   RunState st_;
@@ -310,8 +309,7 @@ Loop::Loop(const CompiledRun& run,
            SampleSink* sink,
            const std::function<void(double)>& progress,
            const RunOptions& options)
-    : run_(run),
-      body_(body),
+    : body_(body),
       t0_(run.profile().t_begin()),
       t1_(run.profile().t_end()),
       rigid_stepper_(analysis::MakeStepper(run.profile().integrator.method)),
