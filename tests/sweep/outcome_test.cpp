@@ -17,11 +17,12 @@
 #include <vector>
 
 #include "deploysim/analysis/free_body_solution.h"
-#include "deploysim/run/mission.h"
-#include "deploysim/run/run_recorder.h"
+#include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/double_double.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/run/mission.h"
+#include "deploysim/run/run_recorder.h"
 #include "deploysim/schedule/deployment_schedule.h"
 #include "deploysim/sweep/sweep_file.h"
 #include "sweep_test_support.h"
@@ -113,6 +114,36 @@ BruteForce Sample(const math::Vec3& H0, int axis, const math::Vec3& s, double t_
   b.cone = std::acos(min_axis);
   b.max_angle = std::acos(min_s);
   return b;
+}
+
+// One definition of tumbling: a sweep with the default tumble angle calls a case's final
+// motion tumbling exactly when the outcome's spin axis passes 45 deg from h_N (its time to
+// tumble is measured; the spins start inside 45 deg). A minor-axis spin tilted towards the
+// intermediate axis circulates on a cone as wide as its tilt, and the spin axis's largest
+// angle from h_N is that cone. (With the former default of 20 deg, the tilts of 30 and 44
+// deg were tumbling by the sweep and not by the outcome.)
+TEST_F(SweepDirTest, TheSweepsTumblingIsTheOutcomes) {
+  Write("rigid_model.yaml",
+        "name: rigid\nkind: tensors\nconfigurations:\n  body: {principal_moments: [1.0, 2.0, "
+        "3.0]}\n");
+  Write("rigid.yaml",
+        "name: rigid\nmodel: rigid_model.yaml\ninitial: {angular_velocity: [1, 0, 0]}\n"
+        "stages:\n  - {hold: body, until: 20}\nintegrator: {method: exact}\n");
+  const SweepSpec spec =
+      LoadSweep(Write("s.yaml",
+                      "name: r\nbase: rigid.yaml\ngrid:\n"
+                      "  - {parameter: nutation_deg, values: [10, 30, 44, 46, 50]}\n"));
+  EXPECT_EQ(spec.outcome.tumble_angle, analysis::kTumbleAngle);
+  int tumbling = 0;
+  for (std::size_t i = 0; i < spec.case_count(); ++i) {
+    const CaseOutcome o = SimulateOutcome(BuildCase(spec, i), spec.outcome);
+    SCOPED_TRACE(DescribeParameters(spec, BuildCase(spec, i).parameters));
+    const bool tumbles = o.final_class == MotionClass::kTumbling;
+    EXPECT_EQ(tumbles, o.time_to_tumble_measured != 0);
+    EXPECT_EQ(tumbles, o.max_spin_axis_angle > analysis::kTumbleAngle);
+    tumbling += tumbles ? 1 : 0;
+  }
+  EXPECT_EQ(tumbling, 2);  // 46 and 50 deg
 }
 
 TEST_F(SweepDirTest, FinalMotionOfRigidBodies) {

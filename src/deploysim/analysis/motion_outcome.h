@@ -38,6 +38,7 @@
 #include "deploysim/analysis/flip_rule.h"
 #include "deploysim/analysis/linear_stability.h"
 #include "deploysim/math/types.h"
+#include "deploysim/math/units.h"
 
 namespace deploysim::schedule {
 struct Profile;
@@ -49,6 +50,14 @@ namespace deploysim::analysis {
 /// ~nu^2 (1e-3 at 1.8 deg), above the rounding floor.
 inline constexpr double kFitFloor = 1e-7;
 inline constexpr double kFitCeiling = 0.0314159265358979;  // 1.8 deg
+
+/// [rad] Tumbling, the project's one definition: the body axis the motion turns about
+/// (the spin axis; a final motion's circulation axis) more than 45 deg from h_N. The
+/// outcome's time to tumble and 45-degree crossings, its tumbling class and the sweep's
+/// motion class (by default) all use it.
+inline constexpr double kTumbleAngle = math::kPi / 4.0;
+/// cos kTumbleAngle (the 45-degree rule's comparisons are of cosines).
+inline constexpr double kCosTumbleAngle = 0.70710678118654752440;
 
 /// A point of the nutation's envelope.
 struct EnvelopePeak {

@@ -15,7 +15,7 @@ namespace deploysim::run {
 
 namespace {
 
-constexpr double kCos45 = 0.70710678118654752440;
+using analysis::kCosTumbleAngle;
 
 /// The principal axis of J_B nearest H_B, signed along it, and its role.
 analysis::SpinAxisRole NearestAxis(const math::Mat3& J_B, const math::Vec3& H_B) {
@@ -43,7 +43,7 @@ std::size_t CountTimes(const integrators::OutputTimes& grid, double x, bool incl
 }
 
 double SpinAxis45Gap(const math::Vec3& spin_axis_B, const math::Vec3& H_B) {
-  return kCos45 - spin_axis_B.dot(H_B) / H_B.norm();
+  return kCosTumbleAngle - spin_axis_B.dot(H_B) / H_B.norm();
 }
 
 double SpinAxis45GapRate(const math::Vec3& spin_axis_B,
@@ -207,7 +207,7 @@ void RunRecorder::NutationStep(const AxisPoint& a, const AxisPoint& b) {
     return;
   }
   const double nu_b = AngleBetween(phase_axis_, b.H_B);
-  const double nu45 = std::acos(kCos45);
+  const double nu45 = std::acos(kCosTumbleAngle);
   const bool small = nu_b < nu45 && AngleBetween(phase_axis_, a.H_B) < nu45;
   const math::Vec3& e = phase_axis_;
   auto g = [&e, small](const math::Vec3& H, const math::Vec3& Hdot, double& rate) {
@@ -348,7 +348,8 @@ analysis::MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
   // A phase that starts with a large nutation (a deployment's own kick) has no peaks in
   // the small band: its trend up to 45 deg still tells growing from bounded.
   if (!o.trend.valid)
-    o.trend = analysis::FitEnvelope(envelope_.peaks(), analysis::kFitFloor, std::acos(kCos45));
+    o.trend =
+        analysis::FitEnvelope(envelope_.peaks(), analysis::kFitFloor, std::acos(kCosTumbleAngle));
   std::vector<double> flips;
   for (double t : out.flip_times) {
     if (t >= o.phase_begin) flips.push_back(t);
@@ -359,13 +360,13 @@ analysis::MotionOutcome RunRecorder::Outcome(const MissionResult& out) const {
   o.max_excursion = out.max_spin_axis_angle;
   o.faults = DeploymentFaults(out.profile(), out.hinge_events, end.t);
   o.linear = steady_;
-  const double nu45 = std::acos(kCos45);
+  const double nu45 = std::acos(kCosTumbleAngle);
   if (o.linear.found && o.linear.growth_rate > 0.0 && o.nutation_begin > 0.0 &&
       o.nutation_begin < nu45) {
     o.predicted_45_time = o.phase_begin + std::log(nu45 / o.nutation_begin) / o.linear.growth_rate;
   }
-  const bool moved = AngleBetween(s_, end.H_B) > std::acos(kCos45) &&
-                     AngleBetween(s_, final_axis.axis_B) > std::acos(kCos45);
+  const bool moved = AngleBetween(s_, end.H_B) > std::acos(kCosTumbleAngle) &&
+                     AngleBetween(s_, final_axis.axis_B) > std::acos(kCosTumbleAngle);
   for (double t : out.spin_axis_45_crossings) {
     if (t < o.phase_begin) continue;
     if (!std::isfinite(o.first_45_time)) o.first_45_time = t;

@@ -52,9 +52,10 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/run/compiled_run.h"
+#include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/math/types.h"
 #include "deploysim/model/model.h"
+#include "deploysim/run/compiled_run.h"
 #include "deploysim/schedule/deployment_schedule.h"
 #include "deploysim/schedule/profile.h"
 
@@ -162,8 +163,9 @@ struct MonteCarlo {
 /// Settings of the per-case outcome analysis.
 struct OutcomeSettings {
   /// [rad] A final motion whose momentum cone about its circulation axis is wider than
-  /// this is "tumbling", else a spin about that axis.
-  double tumble_angle = 0.3490658503988659;  // 20 deg
+  /// this is "tumbling", else a spin about that axis. Default: the project's definition
+  /// of tumbling (analysis::kTumbleAngle, 45 deg), the outcome's.
+  double tumble_angle = analysis::kTumbleAngle;
   /// [rad/s] The largest acceptable latch shock (max_latch_w_jump) of the question a
   /// sweep asks, if it states one (outcome.latch_shock_limit_deg_s): recorded in the
   /// results file for the maps; it changes no outcome.
