@@ -234,8 +234,12 @@ SegmentEnd RigidSegment::Run(double t_next, const std::vector<double>& boundarie
   // The grid times of the segment plus the phase boundaries in it not on the grid.
   const std::size_t out_end = CountTimes(*st_.grid, t_next, true);
   const WindowTimes grid(*st_.grid, st_.next_out, out_end);
-  for (double b : boundaries) {
-    if (!(b > st_.t && b <= t_next)) continue;
+  // The boundaries in (t, t_next], found by bisection (a rotor may have 10^4 windows and
+  // a run many segments).
+  const auto first = std::upper_bound(boundaries.begin(), boundaries.end(), st_.t);
+  const auto last = std::upper_bound(first, boundaries.end(), t_next);
+  for (auto it = first; it != last; ++it) {
+    const double b = *it;
     boundaries_.push_back(b);
     const std::size_t i = CountTimes(grid, b, false);
     if (!(i < grid.size() && grid.at(i) == b)) extra_.push_back(b);
