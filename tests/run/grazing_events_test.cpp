@@ -12,7 +12,6 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/flip_rule.h"
 #include "deploysim/integrators/shape_integrate.h"
 #include "deploysim/model/mass_properties.h"
 #include "deploysim/run/mission.h"
@@ -178,31 +177,6 @@ TEST(GrazingEventTest, LatchJamAndStopBelowThePeakAreAlwaysFound) {
     }
   }
   std::printf("largest event time error over its bound: %.3g\n", worst);
-}
-
-// The flip function's rate against a central difference along a body whose inertia
-// turns and stretches while its momentum turns.
-TEST(GrazingEventTest, FlipFunctionRateIsTheDerivative) {
-  auto J = [](double t) {
-    const math::Mat3 R = Eigen::AngleAxisd(0.3 * t, math::Vec3(1, 2, 3).normalized()).matrix();
-    const math::Vec3 m(2.0 + 0.1 * t, 3.0 - 0.2 * t * t, 4.0 + 0.05 * t);
-    return math::Mat3(R * m.asDiagonal() * R.transpose());
-  };
-  auto H = [](double t) { return math::Vec3(std::cos(0.7 * t), 0.2 * std::sin(t), 1.0 + 0.1 * t); };
-  const math::Vec3 s = analysis::InitialSpinAxis(J(0.0), H(0.0));
-  double worst = 0.0;
-  for (double t = 0.1; t < 2.0; t += 0.3) {
-    const double h = 1e-5;
-    const math::Mat3 Jdot = (J(t + h) - J(t - h)) / (2 * h);
-    const math::Vec3 Hdot = (H(t + h) - H(t - h)) / (2 * h);
-    const double fd = (analysis::FlipFunction(J(t + h), s, H(t + h)) -
-                       analysis::FlipFunction(J(t - h), s, H(t - h))) /
-                      (2 * h);
-    const double rate = analysis::FlipFunctionRate(J(t), Jdot, s, H(t), Hdot);
-    worst = std::max(worst, std::abs(rate - fd));
-    EXPECT_NEAR(rate, fd, 5e-10) << "t = " << t;  // measured 7.6e-11
-  }
-  std::printf("flip function rate vs central difference: %.3g\n", worst);
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT
