@@ -224,7 +224,7 @@ TEST(StepperContractTest, ExactNearTheSeparatrixWithARotatedAttitude) {
   // The output samples are a Chebyshev interpolant of the closed form
   // (exact_flow.h), which agrees with it to the closed form's own rounding, growing with
   // t (eps |lambda t| |H|, eps |gamma| rad): measured 1.9e-14 |H| and 6.1e-14 rad at
-  // t <= 400 s (tests/analysis/exact_dense_test.cpp checks it against a reference).
+  // t <= 400 s (tests/analysis/exact_flow_test.cpp checks it against a reference).
   EXPECT_LE(worst, 1e-13);
   EXPECT_LE(worst_identity, 1e-15);
   EXPECT_LE(worst_q, 2e-13);

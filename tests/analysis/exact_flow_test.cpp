@@ -4,6 +4,8 @@
 // flips (located on the closed form itself) must be bit for bit those of a run whose
 // samples are the closed form, for the wing nut and for bodies at 1 - k^2 ~ 1e-12.
 
+#include "deploysim/analysis/exact_flow.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,8 +16,6 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/analysis/chebyshev.h"
-#include "deploysim/analysis/exact_flow.h"
 #include "deploysim/analysis/free_body_solution.h"
 #include "deploysim/dynamics/inertia_source.h"
 #include "deploysim/integrators/integrate.h"
@@ -220,45 +220,6 @@ TEST(ExactDenseTest, NearSeparatrixSamplesAgreeWithTheClosedFormToRounding) {
       ExpectAccurate(c);
     }
   }
-}
-
-TEST(ChebyshevFitTest, SteepPulseIsSplitAndAccurate) {
-  // A sech pulse of width 1e-3 in [0, 10]: one polynomial of degree 64 cannot hold it.
-  auto f = [](double t, double* out) {
-    out[0] = 1.0 / std::cosh(t * 1e3);
-    out[1] = std::tanh(t * 1e3);
-  };
-  ChebyshevFit fit;
-  ASSERT_TRUE(fit.Build(f, -3.0, 7.0, {1.0, 1.0}, {0.0, 0.0}, 100000));
-  EXPECT_GT(fit.pieces(), 4u);
-  EXPECT_LE(fit.max_degree(), ChebyshevFit::kMaxDegree);
-  double err = 0.0;
-  for (int i = 0; i <= 100000; ++i) {
-    const double t = -3.0 + 1e-4 * i;
-    double v[2], ref[2];
-    fit.Evaluate(t, v);
-    f(t, ref);
-    err = std::max({err, std::abs(v[0] - ref[0]), std::abs(v[1] - ref[1])});
-  }
-  EXPECT_LT(err, 2e-15);  // measured 4.4e-16
-  // A budget too small for the pulse: no fit.
-  EXPECT_FALSE(fit.Build(f, -3.0, 7.0, {1.0, 1.0}, {0.0, 0.0}, 100));
-  EXPECT_FALSE(fit.valid());
-}
-
-TEST(ChebyshevFitTest, SmoothFunctionNeedsOnePieceOfLowDegree) {
-  auto f = [](double t, double* out) { out[0] = std::sin(t); };
-  ChebyshevFit fit;
-  ASSERT_TRUE(fit.Build(f, 0.0, 1.0, {1.0}, {0.0}, 1000));
-  EXPECT_EQ(fit.pieces(), 1u);
-  EXPECT_LE(fit.max_degree(), 16);
-  EXPECT_EQ(fit.evaluations(), 17u);
-  double v;
-  fit.Evaluate(1.0, &v);
-  EXPECT_NEAR(v, std::sin(1.0), 1e-15);
-  EXPECT_THROW(fit.Build(f, 1.0, 1.0, {1.0}, {0.0}, 1000), std::invalid_argument);
-  EXPECT_THROW(fit.Build(f, 0.0, 1.0, {0.0}, {0.0}, 1000), std::invalid_argument);
-  EXPECT_THROW(fit.Build(f, 0.0, 1.0, {1.0}, {}, 1000), std::invalid_argument);
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT
