@@ -19,7 +19,6 @@
 #include "deploysim/run/mission.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/schedule/initial_spin.h"
-#include "deploysim/sweep/rng.h"
 #include "deploysim/sweep/sweep_spec.h"
 #include "sweep_test_support.h"
 
@@ -55,30 +54,6 @@ monte_carlo:
     - {parameter: nutation_deg, uniform: [0.5, 3]}
     - {parameter: law, choice: [smoothstep, minimum-jerk]}
 )";
-
-TEST(RngTest, StreamsArePureFunctionsOfTheirKey) {
-  Rng a(7, 3, 1), b(7, 3, 1), c(7, 4, 1), d(7, 3, 2);
-  for (int k = 0; k < 100; ++k) {
-    const std::uint64_t x = a.NextU64();
-    EXPECT_EQ(x, b.NextU64());
-    EXPECT_NE(x, c.NextU64());
-    EXPECT_NE(x, d.NextU64());
-  }
-  // Moments of the transforms (loose: 20000 draws).
-  Rng r(1, 0, 0);
-  double sum = 0, sum2 = 0;
-  const int n = 20000;
-  for (int k = 0; k < n; ++k) {
-    const double z = r.Normal();
-    sum += z;
-    sum2 += z * z;
-  }
-  EXPECT_NEAR(sum / n, 0.0, 0.03);
-  EXPECT_NEAR(sum2 / n, 1.0, 0.04);
-  std::vector<int> counts(3, 0);
-  for (int k = 0; k < 3000; ++k) ++counts[r.Below(3)];
-  for (int c3 : counts) EXPECT_NEAR(c3, 1000, 120);
-}
 
 TEST_F(SweepDirTest, ReadsGridAndMonteCarlo) {
   const SweepSpec spec = LoadSweep(Write("s.yaml", Header() + kGridAndMonteCarlo));
