@@ -74,23 +74,6 @@ TEST(So3Test, DexpInvInvertsRightJacobianNumerically) {
   }
 }
 
-TEST(QuaternionTest, WxyzIsScalarFirst) {
-  const Quat q(0.5, -0.5, 0.5, 0.5);  // Eigen's constructor is (w, x, y, z)
-  const Vec4 v = ToWxyz(q);
-  EXPECT_EQ(v[0], 0.5);
-  EXPECT_EQ(v[1], -0.5);
-  EXPECT_TRUE(FromWxyz(v).coeffs().isApprox(q.coeffs()));
-}
-
-TEST(QuaternionTest, AngleBetweenIgnoresSign) {
-  const Quat a = ExpQuat(Vec3(0.1, 0.2, 0.3));
-  Quat b = ExpQuat(Vec3(0.1, 0.2, 0.3) + Vec3(0.0, 0.0, 0.25));
-  const double d = AngleBetween(a, b);
-  b.coeffs() = -b.coeffs();
-  EXPECT_NEAR(AngleBetween(a, b), d, 1e-15);
-  EXPECT_GT(d, 0.2);
-}
-
 }  // namespace DEPLOYSIM_TEST_UNIT
 }  // namespace
 }  // namespace deploysim::math
