@@ -40,78 +40,104 @@ struct ParameterInfo {
   double lower;        ///< Valid range [lower, upper) or (lower, upper) in file units.
   bool lower_open;     ///< true: value > lower; false: value >= lower.
   double upper;        ///< value < upper (+inf: unbounded).
-  const char* rule;    ///< The range, for messages.
+  /// Units of the value in files, for messages ("": none); nullptr: not a number (a
+  /// choice of names), no range.
+  const char* unit;
   const char* description;
   bool upper_closed = false;  ///< true: value <= upper (fill_fraction).
+  const char* note = "";      ///< said after the range in messages ("0: no jam")
 };
+
+/// The bounds of a message: the shortest text that reads back ("1e9", not "1e+09").
+std::string Bound(double x) {
+  std::string s = FormatNumber(x);
+  const std::size_t e = s.find('e');
+  if (e == std::string::npos) return s;
+  std::string exponent = s.substr(e + 1);
+  const bool negative = exponent[0] == '-';
+  if (exponent[0] == '+' || negative) exponent.erase(0, 1);
+  exponent.erase(0, std::min(exponent.find_first_not_of('0'), exponent.size() - 1));
+  return s.substr(0, e + 1) + (negative ? "-" : "") + exponent;
+}
+
+/// The accepted range of a parameter as messages state it, from its bounds ("must be > 0
+/// [s]", "must be in [0, 1e9] [N m/rad]", "must be finite [deg]").
+std::string RangeRule(const ParameterInfo& p) {
+  std::string rule;
+  if (std::isinf(p.lower) && std::isinf(p.upper)) {
+    rule = "must be finite";
+  } else if (std::isinf(p.upper)) {
+    rule = std::string(p.lower_open ? "must be > " : "must be >= ") + Bound(p.lower);
+  } else {
+    rule = std::string("must be in ") + (p.lower_open ? "(" : "[") + Bound(p.lower) + ", " +
+           Bound(p.upper) + (p.upper_closed ? "]" : ")");
+  }
+  if (*p.unit != '\0') rule += std::string(" [") + p.unit + "]";
+  if (*p.note != '\0') rule += std::string(" (") + p.note + ")";
+  return rule;
+}
 
 const double kInf = std::numeric_limits<double>::infinity();
 
 const ParameterInfo kParameters[] = {
     {"deploy_duration_scale", Parameter::kDeployDurationScale, "deploy_duration_scale", 1.0, 0.0,
-     true, kInf, "must be > 0", "factor on the duration of every move stage"},
-    {"stage_duration", Parameter::kStageDuration, "stage_duration", 1.0, 0.0, true, kInf,
-     "must be > 0 [s]", "duration of one stage [s]"},
-    {"spin_rate", Parameter::kSpinRate, "spin_rate", 1.0, 0.0, true, kInf, "must be > 0 [rad/s]",
+     true, kInf, "", "factor on the duration of every move stage"},
+    {"stage_duration", Parameter::kStageDuration, "stage_duration", 1.0, 0.0, true, kInf, "s",
+     "duration of one stage [s]"},
+    {"spin_rate", Parameter::kSpinRate, "spin_rate", 1.0, 0.0, true, kInf, "rad/s",
      "initial spin rate w_NB_B(t0) . s about the body spin axis s"},
-    {"spin_rate_rpm", Parameter::kSpinRate, "spin_rate", kRpm, 0.0, true, kInf, "must be > 0 [rpm]",
+    {"spin_rate_rpm", Parameter::kSpinRate, "spin_rate", kRpm, 0.0, true, kInf, "rpm",
      "initial spin rate w_NB_B(t0) . s about the body spin axis s"},
-    {"nutation_deg", Parameter::kNutation, "nutation", kDegree, 0.0, false, 90.0,
-     "must be in [0, 90) [deg]", "initial angle between H_B and the body spin axis s"},
+    {"nutation_deg", Parameter::kNutation, "nutation", kDegree, 0.0, false, 90.0, "deg",
+     "initial angle between H_B and the body spin axis s"},
     {"nutation_azimuth_deg", Parameter::kNutationAzimuth, "nutation_azimuth", kDegree, -kInf, false,
-     kInf, "must be finite [deg]",
-     "direction of the initial tilt of H_B about s, from the base profile's tilt"},
-    {"panel_mass_scale", Parameter::kPanelMassScale, "panel_mass_scale", 1.0, 0.0, true, kInf,
-     "must be > 0", "factor on panel mass and inertia"},
-    {"inertia_scale", Parameter::kInertiaScale, "inertia_scale", 1.0, 0.0, true, kInf,
-     "must be > 0", "factor on configuration inertia tensors"},
-    {"law", Parameter::kLaw, "law", 1.0, 0.0, false, kInf, "", "interpolation law of move stages"},
-    {"coupling", Parameter::kCoupling, "coupling", 1.0, 0.0, false, kInf, "",
+     kInf, "deg", "direction of the initial tilt of H_B about s, from the base profile's tilt"},
+    {"panel_mass_scale", Parameter::kPanelMassScale, "panel_mass_scale", 1.0, 0.0, true, kInf, "",
+     "factor on panel mass and inertia"},
+    {"inertia_scale", Parameter::kInertiaScale, "inertia_scale", 1.0, 0.0, true, kInf, "",
+     "factor on configuration inertia tensors"},
+    {"law", Parameter::kLaw, "law", 1.0, 0.0, false, kInf, nullptr,
+     "interpolation law of move stages"},
+    {"coupling", Parameter::kCoupling, "coupling", 1.0, 0.0, false, kInf, nullptr,
      "coupling of the panels' relative momentum"},
     // Free hinges (hinge profiles).
     {"spring_stiffness", Parameter::kSpringStiffness, "spring_stiffness", 1.0, 0.0, false,
-     schedule::kMaxDriveStiffness, "must be in [0, 1e9] [N m/rad]",
+     schedule::kMaxDriveStiffness, "N m/rad",
      "torsion spring stiffness of the free hinge [N m/rad]", true},
     {"spring_stiffness_scale", Parameter::kSpringStiffnessScale, "spring_stiffness_scale", 1.0, 0.0,
-     false, kInf, "must be >= 0",
-     "factor on the spring stiffness of the free hinge (< 1: a weak spring)"},
+     false, kInf, "", "factor on the spring stiffness of the free hinge (< 1: a weak spring)"},
     {"damping", Parameter::kDamping, "damping", 1.0, 0.0, false, schedule::kMaxDriveDamping,
-     "must be in [0, 1e9] [N m s/rad]", "viscous damper coefficient of the free hinge [N m s/rad]",
-     true},
+     "N m s/rad", "viscous damper coefficient of the free hinge [N m s/rad]", true},
     {"latch_angle_deg", Parameter::kLatchAngle, "latch_angle", kDegree,
-     -schedule::kMaxDriveAngleDeg, false, schedule::kMaxDriveAngleDeg,
-     "must be in [-3600, 3600] [deg]", "latch angle of the free hinge [rad]", true},
+     -schedule::kMaxDriveAngleDeg, false, schedule::kMaxDriveAngleDeg, "deg",
+     "latch angle of the free hinge [rad]", true},
     {"motor_torque", Parameter::kMotorTorque, "motor_torque", 1.0, -schedule::kMaxDriveTorque,
-     false, schedule::kMaxDriveTorque, "must be in [-1e6, 1e6] [N m]",
+     false, schedule::kMaxDriveTorque, "N m",
      "torque of a constant motor on the free hinge [N m] (> 0 turns towards increasing angle)",
      true},
     {"motor_torque_scale", Parameter::kMotorTorqueScale, "motor_torque_scale", 1.0, 0.0, true, kInf,
-     "must be > 0",
-     "factor on the motor torque (constant motor) or stall torque (torque-speed motor)"},
-    {"release_time", Parameter::kReleaseTime, "release_time", 1.0, -kInf, false, kInf,
-     "must be finite [s]", "release time of the free hinge [s]"},
-    {"release_delay", Parameter::kReleaseDelay, "release_delay", 1.0, 0.0, false, kInf,
-     "must be >= 0 [s]", "delay of the free hinge's release after the latch it waits for [s]"},
+     "", "factor on the motor torque (constant motor) or stall torque (torque-speed motor)"},
+    {"release_time", Parameter::kReleaseTime, "release_time", 1.0, -kInf, false, kInf, "s",
+     "release time of the free hinge [s]"},
+    {"release_delay", Parameter::kReleaseDelay, "release_delay", 1.0, 0.0, false, kInf, "s",
+     "delay of the free hinge's release after the latch it waits for [s]"},
     {"friction_torque", Parameter::kFrictionTorque, "friction_torque", 1.0, 0.0, false,
-     schedule::kMaxDriveTorque, "must be in [0, 1e6] [N m]",
-     "Coulomb friction torque of the free hinge [N m]", true},
-    {"stick_fraction", Parameter::kStickFraction, "stick_fraction", 1.0, 0.0, false, 1.0,
-     "must be in [0, 1) (0: no jam)",
-     "fraction of the swing from release to latch at which the hinge jams (0: no jam)"},
-    {"latch_fails", Parameter::kLatchFails, "latch_fails", 1.0, 0.0, false, kInf, "",
+     schedule::kMaxDriveTorque, "N m", "Coulomb friction torque of the free hinge [N m]", true},
+    {"stick_fraction", Parameter::kStickFraction, "stick_fraction", 1.0, 0.0, false, 1.0, "",
+     "fraction of the swing from release to latch at which the hinge jams (0: no jam)", false,
+     "0: no jam"},
+    {"latch_fails", Parameter::kLatchFails, "latch_fails", 1.0, 0.0, false, kInf, nullptr,
      "yes: the latch does not catch the panel (panels released after it never are)"},
     // The model's appendages.
     {"bending_stiffness", Parameter::kBendingStiffness, "bending_stiffness", 1.0, 0.0, true, kInf,
-     "must be > 0 [N m^2]", "bending stiffness EI of every bending plane of the beam [N m^2]"},
+     "N m^2", "bending stiffness EI of every bending plane of the beam [N m^2]"},
     {"bending_stiffness_scale", Parameter::kBendingStiffnessScale, "bending_stiffness_scale", 1.0,
-     0.0, true, kInf, "must be > 0",
-     "factor on the bending stiffness EI of every bending plane of the beam"},
-    {"damping_ratio", Parameter::kDampingRatio, "damping_ratio", 1.0, 0.0, false, 1.0,
-     "must be in [0, 1)",
+     0.0, true, kInf, "", "factor on the bending stiffness EI of every bending plane of the beam"},
+    {"damping_ratio", Parameter::kDampingRatio, "damping_ratio", 1.0, 0.0, false, 1.0, "",
      "damping ratio of the appendage (a beam's first bending mode, a slosh pendulum's swing "
      "along the spin axis)"},
-    {"fill_fraction", Parameter::kFillFraction, "fill_fraction", 1.0, 0.0, true, 1.0,
-     "must be in (0, 1]", "fill fraction of the slosh tank (share of its volume)", true},
+    {"fill_fraction", Parameter::kFillFraction, "fill_fraction", 1.0, 0.0, true, 1.0, "",
+     "fill fraction of the slosh tank (share of its volume)", true},
 };
 
 std::string ParameterNames() {
@@ -389,7 +415,7 @@ Entry ReadTarget(const Fields& f, const schedule::Profile& base) {
   e.lower_open = e.info->lower_open;
   e.upper = e.info->upper;
   e.upper_closed = e.info->upper_closed;
-  e.rule = e.info->rule;
+  e.rule = e.info->unit != nullptr ? RangeRule(*e.info) : std::string();
   const Parameter par = e.info->parameter;
   const std::string base_name = base.source.empty() ? base.name : base.source;
   if (IsStageParameter(par) && base.is_hinge_profile()) {
