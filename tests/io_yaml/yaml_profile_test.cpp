@@ -1,15 +1,15 @@
-// io_yaml on its own (this executable links deploysim::io_yaml and nothing above it, so
-// it would not link if reading models and profiles needed the integrators or HDF5):
-// the repository's models and profiles read, and the strict reader's opaque nodes.
+// Profile files (io/yaml_profile.h), read by io_yaml on its own (no integrators, no HDF5):
+// a repository profile and the model it names, the text entry points, the mode and
+// coupling names.
 
-#include "deploysim/io/yaml_reader.h"
+#include "deploysim/io/yaml_profile.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
 
-#include "deploysim/io/yaml_fields.h"
+#include "deploysim/io/yaml_model.h"
 
 namespace deploysim::io {
 namespace {
@@ -19,18 +19,7 @@ std::string Repo(const std::string& relative) {
   return std::string(DEPLOYSIM_SOURCE_DIR) + "/" + relative;
 }
 
-TEST(IoYamlReader, ReadsEveryRepositoryModel) {
-  int models = 0;
-  for (const auto& e : std::filesystem::directory_iterator(Repo("models"))) {
-    const model::Model m = LoadModel(e.path().string());
-    EXPECT_FALSE(m.name.empty()) << e.path();
-    EXPECT_FALSE(m.configurations.empty()) << e.path();
-    ++models;
-  }
-  EXPECT_GE(models, 5);
-}
-
-TEST(IoYamlReader, ReadsAProfileAndTheModelItNames) {
+TEST(YamlProfileTest, ReadsAProfileAndTheModelItNames) {
   const schedule::Profile p = ReadProfile(Repo("deployment_profiles/smallsat_three_stage.yaml"));
   EXPECT_EQ(p.model.kind, model::ModelKind::kHinged);
   EXPECT_EQ(p.model.source,
@@ -39,7 +28,7 @@ TEST(IoYamlReader, ReadsAProfileAndTheModelItNames) {
   EXPECT_FALSE(p.integrator.method.empty());
 }
 
-TEST(IoYamlReader, TextEntryPointsReadAsTheFilesDoAndNameTheSource) {
+TEST(YamlProfileTest, TextEntryPointsReadAsTheFilesDoAndNameTheSource) {
   const std::string path = Repo("deployment_profiles/smallsat_three_stage.yaml");
   const schedule::Profile file = ReadProfile(path);
   const schedule::Profile text = ReadProfileText(file.text, "<dict>", Repo("deployment_profiles"));
@@ -67,44 +56,12 @@ TEST(IoYamlReader, TextEntryPointsReadAsTheFilesDoAndNameTheSource) {
   }
 }
 
-TEST(IoYamlReader, ModeAndCouplingNames) {
+TEST(YamlProfileTest, ModeAndCouplingNames) {
   EXPECT_EQ(FindMode("geometry"), schedule::Mode::kGeometry);
   EXPECT_EQ(FindCoupling("exact"), schedule::Coupling::kExact);
   EXPECT_FALSE(FindMode("Geometry").has_value());
   EXPECT_EQ(ModeNames(), "tensor, geometry");
   EXPECT_THROW(ParseCoupling("rigid"), std::invalid_argument);
-}
-
-TEST(IoYamlFields, OpaqueNodesKeepPlainAndQuotedScalarsApart) {
-  const yaml::YamlDocument doc("mem.yaml", "a: 12\nb: \"12\"\nc: [1, 2]\n");
-  const yaml::Fields f(doc, doc.root(), "", {"a", "b", "c"});
-  EXPECT_TRUE(f.Get("a").IsPlainScalar());
-  EXPECT_FALSE(f.Get("b").IsPlainScalar());
-  EXPECT_EQ(f.Get("b").Scalar(), "12");
-  EXPECT_EQ(f.Get("c").Scalar(), "");
-  EXPECT_EQ(yaml::Render(f.Get("c")), "[1, 2]");
-  try {
-    (void)f.Number("b");
-    FAIL() << "a quoted number was read as a number";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(), "mem.yaml: b = \"12\": expected a number, not a quoted string");
-  }
-}
-
-TEST(IoYamlFields, FilePathIsRelativeToTheDocumentAndMustBeReadable) {
-  const std::string dir = Repo("deployment_profiles");
-  const yaml::YamlDocument doc(dir + "/x.yaml", "model: ../models/wing_nut.yaml\nbad: nope.yaml\n");
-  const yaml::Fields f(doc, doc.root(), "", {"model", "bad"});
-  EXPECT_EQ(f.FilePath("model"),
-            std::filesystem::path(Repo("models/wing_nut.yaml")).lexically_normal().string());
-  try {
-    (void)f.FilePath("bad");
-    FAIL() << "a missing file was accepted";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("x.yaml: bad = nope.yaml: cannot read "),
-              std::string::npos)
-        << e.what();
-  }
 }
 
 }  // namespace DEPLOYSIM_TEST_UNIT
