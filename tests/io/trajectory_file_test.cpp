@@ -1,5 +1,6 @@
-// HDF5 and CSV trajectories: bit-exact round trips of a synthetic mission, units on
-// every dataset, readable by h5dump, and all-or-nothing writes.
+// HDF5 trajectories (and their CSV twin, streamed beside them): bit-exact round trips
+// of a synthetic mission, units on every dataset, readable by h5dump, and all-or-nothing
+// writes. The CSV alone: trajectory_csv_test.cpp.
 
 #include "deploysim/io/trajectory_file.h"
 
@@ -19,10 +20,11 @@
 #include <string>
 #include <vector>
 
-#include "run/hinge_fixtures.h"
 #include "deploysim/analysis/motion_outcome.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/quaternion.h"
+#include "io/synthetic_mission.h"
+#include "run/hinge_fixtures.h"
 #include "temp_dir_test.h"
 
 namespace deploysim::io {
@@ -30,135 +32,12 @@ namespace {
 namespace DEPLOYSIM_TEST_UNIT {
 
 namespace fs = std::filesystem;
-using run::MissionResult;
 using math::Mat3;
 using math::Quat;
 using math::Vec3;
-
-constexpr std::uint64_t kSeed = 20240611;
-constexpr std::size_t kSamples = 7;
-constexpr int kPanels = 2;
-
-/// A mission result with random (but reproducible) values that use every bit of the
-/// doubles, so that a round trip that loses anything shows.
-MissionResult SyntheticResult(schedule::Mode mode) {
-  std::mt19937_64 rng(kSeed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  auto vec = [&] { return Vec3(u(rng), u(rng), u(rng)); };
-
-  MissionResult r;
-  schedule::Profile p;
-  p.name = "synthetic";
-  p.source = "profiles/synthetic.yaml";
-  p.text = "name: synthetic\n# a profile text with unicode: \xce\xb8 = 90\xc2\xb0\n";
-  p.model.name = "synthetic_model";
-  p.model.source = "models/synthetic_model.yaml";
-  p.model.text = "name: synthetic_model\nkind: hinged\n# \xce\xb8 in degrees\n";
-  p.mode = mode;
-  p.coupling = mode == schedule::Mode::kGeometry ? schedule::Coupling::kExact
-                                                 : schedule::Coupling::kQuasiRigid;
-  p.model.kind = model::ModelKind::kHinged;
-  p.model.hinged.panels.resize(kPanels);
-  p.model.hinged.panels[0].name = "wing_\xce\xb8";  // UTF-8 survives
-  p.model.hinged.panels[1].name = "boom";
-  p.integrator.method = "rkmk-rkf78";
-  p.integrator.rtol = 1e-11;
-  p.integrator.atol = 1e-13;
-  p.output.dt = 0.25;
-  schedule::Stage hold;
-  hold.name = "closed spin";
-  hold.from = hold.to = "closed";
-  hold.t_begin = 0.0;
-  hold.t_end = 1.0;
-  schedule::Stage move;
-  move.name = "deploy";
-  move.from = "closed";
-  move.to = "open";
-  move.law = schedule::Law::kMinimumJerk;
-  move.t_begin = 1.0;
-  move.t_end = 1.5;
-  p.stages = {hold, move};
-
-  run::Trajectory& t = r.trajectory;
-  for (std::size_t k = 0; k < kSamples; ++k) {
-    t.time.push_back(0.25 * static_cast<double>(k) + 1e-3 * u(rng));
-    t.H_B.push_back(vec());
-    t.w_NB_B.push_back(vec());
-    t.q_NB.push_back(Quat(u(rng), u(rng), u(rng), u(rng)));
-    Mat3 J;
-    for (int i = 0; i < 9; ++i) J(i / 3, i % 3) = u(rng);  // not symmetric: order shows
-    t.J_B.push_back(J);
-    t.principal_moments.push_back(vec());
-    t.h_rel_B.push_back(vec());
-    t.h_N.push_back(vec());
-    t.energy.push_back(u(rng));
-    t.energy_rigid.push_back(u(rng));
-    t.energy_spring.push_back(u(rng));
-    t.euler_313.push_back(vec());
-    t.spin_axis_angle.push_back(u(rng));
-    for (auto* w :
-         {&t.work_damper, &t.work_friction, &t.work_motor, &t.work_drive, &t.work_impacts}) {
-      w->push_back(u(rng));
-    }
-    if (mode == schedule::Mode::kGeometry) {
-      t.hinge_angles.push_back(Eigen::Vector2d(u(rng), u(rng)));
-      t.hinge_rates.push_back(Eigen::Vector2d(u(rng), u(rng)));
-    }
-  }
-  r.flip_times = {0.3, 0.7 + 1e-15, 1.1};
-  // Stage reports: a rigid stage with predicted flips, a moving one without.
-  run::StageReport a;
-  a.index = 0;
-  a.rigid = true;
-  a.moments_end = vec();
-  a.spin_axis_end = analysis::AxisRole::kIntermediate;
-  a.regime = "minor-axis";
-  a.one_minus_k2 = 6.6492854004460934e-6;
-  a.separatrix_distance = -1.25e-7 * (1.0 + u(rng));
-  a.predicted_flip_half_period = 0.4 + u(rng);
-  a.predicted_flips = {0.3 + 1e-9, 0.7};
-  a.observed_flips = {0.3, 0.7 + 1e-15};
-  a.max_flip_time_difference = 1e-9;
-  a.caveat = "intermediate-axis spin: unstable (flips), with or without dissipation";
-  a.rigid_body_only = false;
-  run::StageReport b;
-  b.index = 1;
-  b.rigid = false;
-  b.moments_end = vec();
-  b.spin_axis_end = analysis::AxisRole::kDegenerate;
-  b.separatrix_distance = u(rng);
-  b.predicted_flip_half_period = std::numeric_limits<double>::infinity();
-  b.observed_flips = {1.1};
-  b.caveat = "two principal moments are equal: \xce\xb8 neutral";
-  b.rigid_body_only = true;
-  r.stages = {a, b};
-  // Hinge events of every kind, latch times (one never), 45-degree crossings.
-  using Kind = run::HingeEvent::Kind;
-  const Kind kinds[] = {Kind::kRelease, Kind::kStop,  Kind::kStop,
-                        Kind::kRest,    Kind::kLatch, Kind::kJam};
-  for (std::size_t i = 0; i < std::size(kinds); ++i) {
-    run::HingeEvent e;
-    e.kind = kinds[i];
-    e.t = 0.2 * static_cast<double>(i) + 1e-3 * u(rng);
-    e.panel = static_cast<int>(i % kPanels);
-    e.angle = u(rng);
-    e.rate_before = u(rng);
-    e.rate_after = u(rng);
-    e.impulse = u(rng);
-    e.w_jump_B = vec();
-    e.energy_dissipated = std::abs(u(rng));
-    r.hinge_events.push_back(e);
-  }
-  r.latch_times = {0.8 + 1e-3 * u(rng), std::numeric_limits<double>::quiet_NaN()};
-  r.spin_axis_45_crossings = {0.55 + 1e-3 * u(rng), 1.3};
-  r.danger_windows = {{0.0, 0.75}, {1.25, 1.5}};
-  r.stats.steps = 123;
-  r.stats.rejected = 4;
-  r.max_h_N_drift = 1.5e-14;
-  r.message = "reached the end";
-  r.run = run::CompiledRun::Uncompiled(std::move(p));
-  return r;
-}
+using run::MissionResult;
+using testing::kPanels;
+using testing::SyntheticResult;
 
 void ExpectSameTrajectory(const run::Trajectory& a, const run::Trajectory& b) {
   ASSERT_EQ(a.size(), b.size());
@@ -772,105 +651,6 @@ TEST_F(TrajectoryFileTest, ReadingBadFilesThrowsRuntimeError) {
 
 // ---- CSV ----
 
-std::vector<std::string> Split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream s(line);
-  std::string cell;
-  while (std::getline(s, cell, ',')) cells.push_back(cell);
-  return cells;
-}
-
-TEST_F(TrajectoryFileTest, CsvHasUnitsInTheHeaderAndExactValues) {
-  const MissionResult r = SyntheticResult(schedule::Mode::kGeometry);
-  const run::Trajectory& t = r.trajectory;
-  const std::string path = Path("out.csv");
-  WriteTrajectoryCsv(path, t);
-  std::ifstream in(path);
-  std::string line;
-  ASSERT_TRUE(std::getline(in, line));
-  const std::vector<std::string> header = Split(line);
-  // The columns before the free-hinge outputs keep their positions; energy_spring, energy_total and
-  // the hinge rates follow, then the five energy-ledger columns.
-  const std::size_t old_columns = 1 + 3 + 3 + 4 + 6 + 3 + 3 + 3 + 1 + 1 + 3 + 1 + kPanels;
-  const std::size_t columns = old_columns + 2 + kPanels + 5;
-  ASSERT_EQ(header.size(), columns) << line;
-  EXPECT_EQ(header[0], "time [s]");
-  EXPECT_EQ(header[1], "H_B_x [kg m^2/s]");
-  EXPECT_EQ(header[7], "q_NB_w [1]");
-  EXPECT_EQ(header[11], "J_B_xx [kg m^2]");
-  EXPECT_EQ(header[26], "energy [J]");
-  EXPECT_EQ(header[27], "energy_rigid [J]");
-  EXPECT_EQ(header[old_columns - 2], "hinge_angle_0 [rad]");
-  EXPECT_EQ(header[old_columns - 1], "hinge_angle_1 [rad]");
-  EXPECT_EQ(header[old_columns], "energy_spring [J]");
-  EXPECT_EQ(header[old_columns + 1], "energy_total [J]");
-  EXPECT_EQ(header[old_columns + 2], "hinge_rate_0 [rad/s]");
-  EXPECT_EQ(header[columns - 6], "hinge_rate_1 [rad/s]");
-  EXPECT_EQ(header[columns - 5], "work_damper [J]");
-  EXPECT_EQ(header[columns - 1], "work_impacts [J]");
-  for (const std::string& h : header) {
-    EXPECT_NE(h.find(" ["), std::string::npos) << "no unit: " << h;
-  }
-  std::size_t k = 0;
-  while (std::getline(in, line)) {
-    ASSERT_LT(k, t.size());
-    const std::vector<std::string> cells = Split(line);
-    ASSERT_EQ(cells.size(), columns);
-    auto value = [&](std::size_t i) { return std::strtod(cells[i].c_str(), nullptr); };
-    EXPECT_EQ(value(0), t.time[k]);
-    EXPECT_EQ(value(2), t.H_B[k].y());
-    EXPECT_EQ(value(7), t.q_NB[k].w());
-    EXPECT_EQ(value(8), t.q_NB[k].x());
-    EXPECT_EQ(value(14), t.J_B[k](0, 1));  // J_B_xy
-    EXPECT_EQ(value(26), t.energy[k]);
-    EXPECT_EQ(value(27), t.energy_rigid[k]);
-    EXPECT_EQ(value(old_columns - 1), t.hinge_angles[k][1]);
-    EXPECT_EQ(value(old_columns), t.energy_spring[k]);
-    EXPECT_EQ(value(old_columns + 1), t.energy[k] + t.energy_spring[k]);
-    EXPECT_EQ(value(old_columns + 2), t.hinge_rates[k][0]);
-    EXPECT_EQ(value(columns - 6), t.hinge_rates[k][1]);
-    EXPECT_EQ(value(columns - 5), t.work_damper[k]);
-    EXPECT_EQ(value(columns - 1), t.work_impacts[k]);
-    ++k;
-  }
-  EXPECT_EQ(k, t.size());
-  EXPECT_EQ(Entries(), std::vector<std::string>{"out.csv"});
-}
-
-TEST_F(TrajectoryFileTest, CsvNeedsHingeRatesBesideHingeAngles) {
-  run::Trajectory t = SyntheticResult(schedule::Mode::kGeometry).trajectory;
-  t.hinge_rates.clear();
-  EXPECT_THROW(WriteTrajectoryCsv(Path("out.csv"), t), std::invalid_argument);
-  t = SyntheticResult(schedule::Mode::kGeometry).trajectory;
-  t.hinge_rates[1] = Eigen::VectorXd::Zero(3);
-  EXPECT_THROW(WriteTrajectoryCsv(Path("out.csv"), t), std::invalid_argument);
-  t = SyntheticResult(schedule::Mode::kGeometry).trajectory;
-  t.energy_spring.pop_back();
-  EXPECT_THROW(WriteTrajectoryCsv(Path("out.csv"), t), std::invalid_argument);
-  EXPECT_TRUE(Entries().empty());
-}
-
-TEST_F(TrajectoryFileTest, CsvFailureLeavesNothing) {
-  EXPECT_THROW(WriteTrajectoryCsv(Path("missing/out.csv"),
-                                  SyntheticResult(schedule::Mode::kTensor).trajectory),
-               std::runtime_error);
-  fs::create_directory(Path("taken.csv"));
-  EXPECT_THROW(
-      WriteTrajectoryCsv(Path("taken.csv"), SyntheticResult(schedule::Mode::kTensor).trajectory),
-      std::runtime_error);
-  EXPECT_EQ(Entries(), std::vector<std::string>{"taken.csv"});
-}
-
-}  // namespace DEPLOYSIM_TEST_UNIT
-}  // namespace
-}  // namespace deploysim::io
-
-namespace deploysim::io {
-namespace {
-namespace DEPLOYSIM_TEST_UNIT {
-
-// docs/file_formats.md lists every column of the trajectory schema with its shape and
-// units, as the file has them.
 TEST(TrajectorySchemaDocs, FileFormatsListsEveryColumnWithShapeAndUnits) {
   std::ifstream in(std::string(DEPLOYSIM_SOURCE_DIR) + "/docs/file_formats.md");
   ASSERT_TRUE(in);
