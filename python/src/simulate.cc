@@ -12,10 +12,10 @@
 
 #include "bindings.h"
 #include "convert.h"
-#include "deploysim/run/mission.h"
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/io/body_json.h"
 #include "deploysim/io/trajectory_file.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/schedule/profile_warnings.h"
 #include "trajectory_arrays.h"
 
@@ -25,60 +25,16 @@ namespace deploysim::python {
 
 namespace {
 
-// Values that do not apply to a stage are None (text) and NaN (numbers), as `deploysim
-// analyze --json` writes null: a hinge profile's phases have no from/to configuration, and
-// only rigid stages have a closed-form regime, 1 - k^2 and flip half period (0 there would
-// read as "on the separatrix" and "flips every 0 s").
-py::dict StageDict(const run::StageReport& a, const schedule::Profile& p, std::size_t i) {
-  constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
-  py::dict d;
-  const bool phases = p.is_hinge_profile();
-  d["index"] = static_cast<long long>(i);
-  if (phases) {
-    d["name"] = a.name;
-    d["law"] = a.law;
-    d["from"] = py::none();
-    d["to"] = py::none();
-    d["t_begin"] = a.t_begin;
-    d["t_end"] = a.t_end;
-  } else {
-    const schedule::Stage& s = p.stages[i];
-    d["name"] = s.name;
-    d["law"] = s.is_hold() ? std::string("hold") : schedule::ToString(s.law);
-    d["from"] = s.from;
-    d["to"] = s.to;
-    d["t_begin"] = s.t_begin;
-    d["t_end"] = s.t_end;
-  }
-  d["rigid"] = a.rigid;
-  d["moments_end"] = Vec(a.moments_end);
-  d["spin_axis_role"] = analysis::ToString(a.spin_axis_end);
-  d["regime"] = a.rigid ? py::object(py::str(a.regime)) : py::object(py::none());
-  d["one_minus_k2"] = a.rigid ? a.one_minus_k2 : kMissing;
-  d["separatrix_distance"] = a.separatrix_distance;
-  d["predicted_flip_half_period"] = a.rigid ? a.predicted_flip_half_period : kMissing;
-  d["predicted_flips"] = DoublesCopy(a.predicted_flips);
-  d["observed_flips"] = DoublesCopy(a.observed_flips);
-  d["predicted_flip_count"] = static_cast<long long>(a.predicted_flips.size());
-  d["observed_flip_count"] = static_cast<long long>(a.observed_flips.size());
-  d["max_flip_time_difference"] = a.max_flip_time_difference;
-  d["caveat"] = a.caveat;
-  d["rigid_body_only"] = a.rigid_body_only;
-  return d;
-}
-
 py::dict MissionDict(run::MissionResult&& r, TrajectoryArrays&& samples) {
   const schedule::Profile& p = r.profile();
   const bool geometry = p.mode == schedule::Mode::kGeometry;
   py::dict d;
   d["trajectory"] = std::move(samples).ToDict();
   std::vector<double> predicted;
-  py::list stages;
-  for (std::size_t i = 0; i < r.stages.size(); ++i) {
-    const run::StageReport& a = r.stages[i];
+  for (const run::StageReport& a : r.stages) {
     predicted.insert(predicted.end(), a.predicted_flips.begin(), a.predicted_flips.end());
-    stages.append(StageDict(a, p, i));
   }
+  const py::list stages = StageRowDicts(r);
   d["flip_times"] = DoublesCopy(r.flip_times);
   d["predicted_flip_times"] = Doubles(std::move(predicted));
   d["spin_axis_45_times"] = DoublesCopy(r.spin_axis_45_crossings);

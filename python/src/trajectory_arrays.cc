@@ -2,6 +2,7 @@
 
 #include <pybind11/numpy.h>
 
+#include <limits>
 #include <utility>
 
 #include "convert.h"
@@ -73,6 +74,38 @@ py::dict HingeEventArrays(const run::MissionResult& r) {
     }
   }
   return d;
+}
+
+py::list StageRowDicts(const run::MissionResult& r) {
+  using Column = run::StageColumn;
+  constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
+  py::list out;
+  for (const run::StageRow& row : run::StageRows(r)) {
+    py::dict d;
+    for (const Column& c : run::StageTable::Columns()) {
+      const bool applies = !c.applies || c.applies(row);
+      if (c.type == Column::Type::kText) {
+        d[c.name.c_str()] = applies ? py::object(py::str(c.text(row))) : py::object(py::none());
+        continue;
+      }
+      double v[3];
+      c.number(row, v);
+      if (!applies) v[0] = v[1] = v[2] = kMissing;
+      if (c.type == Column::Type::kFlag) {
+        d[c.name.c_str()] = v[0] != 0.0;
+      } else if (c.type == Column::Type::kInteger) {
+        d[c.name.c_str()] = static_cast<long long>(v[0]);
+      } else if (c.width() == 1) {
+        d[c.name.c_str()] = v[0];
+      } else {
+        d[c.name.c_str()] = DoublesCopy({v[0], v[1], v[2]});
+      }
+    }
+    d["predicted_flips"] = DoublesCopy(row.predicted_flips);
+    d["observed_flips"] = DoublesCopy(row.observed_flips);
+    out.append(d);
+  }
+  return out;
 }
 
 }  // namespace deploysim::python

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "deploysim/run/mission.h"
+#include "deploysim/run/stage_table.h"
 #include "deploysim/run/trajectory_schema.h"
 
 namespace deploysim::python {
@@ -18,10 +19,9 @@ class TrajectoryArrays final : public run::SampleSink {
  public:
   /// `panels`: per-panel values per sample (geometry mode; else 0); `expected`: samples
   /// to reserve room for. `schema` must outlive the arrays.
-  TrajectoryArrays(
-      std::size_t panels,
-      std::size_t expected,
-      const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
+  TrajectoryArrays(std::size_t panels,
+                   std::size_t expected,
+                   const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
   /// Without the GIL: the block's values, checked as a file writer checks them.
   void Append(const run::Trajectory& block) override;
   /// With the GIL: {name: array (N, *RowShape)} in the schema's order, e.g. (N,), (N, 3),
@@ -38,5 +38,11 @@ class TrajectoryArrays final : public run::SampleSink {
 /// With the GIL: the run's hinge event table, {name: column} per run::HingeEventTable
 /// entry (numbers as arrays (E,) or (E, 3), text as lists).
 pybind11::dict HingeEventArrays(const run::MissionResult& r);
+
+/// With the GIL: the run's stage table, one dict per row with a key per run::StageTable
+/// column (None for text and NaN for numbers where the column does not apply, as
+/// `deploysim analyze --json` writes null; flags as bools, vectors as arrays (3,)), then
+/// the stage's predicted_flips and observed_flips [s].
+pybind11::list StageRowDicts(const run::MissionResult& r);
 
 }  // namespace deploysim::python

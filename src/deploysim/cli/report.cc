@@ -502,6 +502,36 @@ std::string FormatCouplingComparison(const run::CouplingComparison& c) {
 
 namespace {
 
+/// One stage row as a JSON object: a key per column of run::StageTable (null where the
+/// column does not apply to the row), then the stage's predicted and observed flips.
+std::string StageJson(const run::StageRow& row) {
+  using Column = run::StageColumn;
+  std::string o = "{";
+  for (const Column& c : run::StageTable::Columns()) {
+    o += (o.size() > 1 ? ", " : "") + math::JsonString(c.name) + ": ";
+    if (c.applies && !c.applies(row)) {
+      o += "null";
+    } else if (c.type == Column::Type::kText) {
+      o += math::JsonString(c.text(row));
+    } else {
+      double v[3];
+      c.number(row, v);
+      if (c.type == Column::Type::kFlag) {
+        o += v[0] != 0.0 ? "true" : "false";
+      } else if (c.type == Column::Type::kInteger) {
+        o += std::to_string(static_cast<long long>(v[0]));
+      } else if (c.width() == 1) {
+        o += math::JsonNumber(v[0]);
+      } else {
+        o += fmt::format("[{}, {}, {}]", math::JsonNumber(v[0]), math::JsonNumber(v[1]),
+                         math::JsonNumber(v[2]));
+      }
+    }
+  }
+  return o + ", \"predicted_flips\": " + JsonList(row.predicted_flips) +
+         ", \"observed_flips\": " + JsonList(row.observed_flips) + "}";
+}
+
 /// One hinge event as a JSON object, a key per column of run::HingeEventTable.
 std::string HingeEventJson(const run::MissionResult& r, const run::HingeEvent& e) {
   using Column = run::HingeEventColumn;
@@ -549,24 +579,9 @@ std::string FormatJson(const run::MissionResult& r,
   o += "  \"outcome\": " + analysis::OutcomeJson(r.outcome) + ",\n";
   o += "  \"warnings\": " + schedule::ProfileWarningsJson(p) + ",\n";
   o += fmt::format("  \"flip_times\": {},\n  \"stages\": [\n", JsonList(r.flip_times));
-  for (std::size_t i = 0; i < r.stages.size(); ++i) {
-    const auto& s = r.stages[i];
-    o += fmt::format(
-        "    {{\"index\": {}, \"name\": {}, \"law\": {}, \"t_begin\": {}, \"t_end\": {}, "
-        "\"rigid\": {}, \"principal_moments_end\": [{}, {}, {}], \"spin_axis_end\": {}, "
-        "\"regime\": {}, \"one_minus_k2\": {}, \"separatrix_distance\": {}, "
-        "\"flip_half_period\": {}, \"predicted_flips\": {}, \"observed_flips\": {}, "
-        "\"max_flip_time_difference\": {}, \"caveat\": {}, \"rigid_body_only\": {}}}{}\n",
-        s.index, math::JsonString(s.name), math::JsonString(s.law), math::JsonNumber(s.t_begin),
-        math::JsonNumber(s.t_end), s.rigid ? "true" : "false", math::JsonNumber(s.moments_end[0]),
-        math::JsonNumber(s.moments_end[1]), math::JsonNumber(s.moments_end[2]),
-        math::JsonString(analysis::ToString(s.spin_axis_end)),
-        s.rigid ? math::JsonString(s.regime) : "null",
-        s.rigid ? math::JsonNumber(s.one_minus_k2) : "null",
-        math::JsonNumber(s.separatrix_distance), math::JsonNumber(s.predicted_flip_half_period),
-        JsonList(s.predicted_flips), JsonList(s.observed_flips),
-        math::JsonNumber(s.max_flip_time_difference), math::JsonString(s.caveat),
-        s.rigid_body_only ? "true" : "false", i + 1 < r.stages.size() ? "," : "");
+  const std::vector<run::StageRow> rows = run::StageRows(r);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    o += "    " + StageJson(rows[i]) + (i + 1 < rows.size() ? "," : "") + "\n";
   }
   o += "  ],\n  \"danger_windows\": [";
   for (std::size_t i = 0; i < r.danger_windows.size(); ++i) {

@@ -7,6 +7,7 @@
 
 #include "deploysim/run/coupling_comparison.h"
 #include "deploysim/run/mission.h"
+#include "deploysim/run/stage_table.h"
 #include "deploysim/run/trajectory_schema.h"
 
 namespace deploysim::cli {
@@ -26,10 +27,9 @@ std::string FormatTimeline(const run::MissionResult& r);
 /// angles in rad, rates in rad/s; "hinge_events", "latch_times" (by panel name, null:
 /// never) and "spin_axis_45_crossings" are empty for stage profiles), and "last_sample":
 /// the run's last output sample, one member per column of `schema` (null without samples).
-std::string FormatJson(
-    const run::MissionResult& r,
-    const run::CouplingComparison* c,
-    const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
+std::string FormatJson(const run::MissionResult& r,
+                       const run::CouplingComparison* c,
+                       const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
 
 /// Exact vs quasi-rigid coupling, a few lines.
 std::string FormatCouplingComparison(const run::CouplingComparison& c);

@@ -27,8 +27,8 @@ namespace deploysim::io {
 
 namespace {
 
-using run::Trajectory;
 using math::FormatNumber;
+using run::Trajectory;
 
 using hdf5::QuietErrors;
 using hdf5::TextType;
@@ -83,90 +83,29 @@ std::string StatisticsText(const integrators::Statistics& s) {
 }
 
 /// The /stages table: one row per profile stage, its definition and its analysis
-/// (run::StageReport; CheckAnalysis ensured one report per stage). A hinge profile
-/// has no stages: one row per phase between hinge events, as its reports describe them
-/// (no configurations: from and to empty).
+/// (run::StageReport; CheckAnalysis ensured one report per stage), or per phase of a hinge
+/// profile; one dataset per column of run::StageTable.
 void WriteStageTable(Hdf5Writer& w, const run::MissionResult& r) {
-  const schedule::Profile& p = r.profile();
-  const bool phases = p.is_hinge_profile();
-  std::vector<double> t_begin, t_end, moments, one_minus_k2, separatrix, half_period, max_diff;
-  std::vector<long long> index, rigid, predicted, observed, rigid_only;
-  std::vector<std::string> names, laws, from, to, roles, regimes, caveats;
-  for (std::size_t i = 0; i < r.stages.size(); ++i) {
-    const run::StageReport& a = r.stages[i];
-    index.push_back(static_cast<long long>(i));
-    if (phases) {
-      t_begin.push_back(a.t_begin);
-      t_end.push_back(a.t_end);
-      names.push_back(a.name);
-      laws.push_back(a.law);
-      from.emplace_back();
-      to.emplace_back();
-    } else {
-      const schedule::Stage& s = p.stages[i];
-      t_begin.push_back(s.t_begin);
-      t_end.push_back(s.t_end);
-      names.push_back(s.name);
-      laws.push_back(s.is_hold() ? "hold" : schedule::ToString(s.law));
-      from.push_back(s.from);
-      to.push_back(s.to);
+  const std::vector<run::StageRow> rows = run::StageRows(r);
+  const std::size_t count = rows.size();
+  for (const run::StageColumn& c : run::StageTable::Columns()) {
+    const std::string path = "/stages/" + c.name;
+    if (c.type == run::StageColumn::Type::kText) {
+      std::vector<std::string> text;
+      for (const run::StageRow& row : rows) text.push_back(c.text(row));
+      w.Strings(path, text, c.description);
+      continue;
     }
-    rigid.push_back(a.rigid ? 1 : 0);
-    moments.insert(moments.end(), {a.moments_end[0], a.moments_end[1], a.moments_end[2]});
-    roles.push_back(analysis::ToString(a.spin_axis_end));
-    regimes.push_back(a.regime);
-    one_minus_k2.push_back(a.one_minus_k2);
-    separatrix.push_back(a.separatrix_distance);
-    half_period.push_back(a.predicted_flip_half_period);
-    predicted.push_back(static_cast<long long>(a.predicted_flips.size()));
-    observed.push_back(static_cast<long long>(a.observed_flips.size()));
-    max_diff.push_back(a.max_flip_time_difference);
-    caveats.push_back(a.caveat);
-    rigid_only.push_back(a.rigid_body_only ? 1 : 0);
+    std::vector<double> v(count * static_cast<std::size_t>(c.width()));
+    for (std::size_t i = 0; i < count; ++i) c.number(rows[i], &v[i * c.width()]);
+    if (c.type == run::StageColumn::Type::kInteger || c.type == run::StageColumn::Type::kFlag) {
+      w.Integers(path, std::vector<long long>(v.begin(), v.end()), c.units, c.description);
+    } else if (c.width() == 1) {
+      w.Doubles(path, {count}, v, c.units, c.description);
+    } else {
+      w.Doubles(path, {count, 3}, v, c.units, c.description);
+    }
   }
-  const std::size_t count = r.stages.size();
-  w.Integers("/stages/index", index, "1",
-             "position of the stage in the profile (hinge profiles: of the phase), from 0");
-  w.Doubles("/stages/t_begin", {count}, t_begin, "s", "stage start time");
-  w.Doubles("/stages/t_end", {count}, t_end, "s", "stage end time");
-  w.Strings("/stages/name", names,
-            "stage name (hinge profiles: the phase between hinge events, e.g. 'free: "
-            "wing_plus_x, wing_minus_x')");
-  w.Strings("/stages/law", laws,
-            "interpolation law (hold for a hold; hinge profiles: free, prescribed or hold)");
-  w.Strings("/stages/from", from, "configuration at the stage start (empty for a phase)");
-  w.Strings("/stages/to", to, "configuration at the stage end (empty for a phase)");
-  w.Integers("/stages/rigid", rigid, "1",
-             "1 if J_B is constant and h_rel_B = 0 over the stage (closed form applies), else 0");
-  w.Doubles("/stages/moments_end", {count, 3}, moments, "kg m^2",
-            "principal moments of J_B at the stage end, ascending");
-  w.Strings("/stages/spin_axis_role", roles,
-            "role of the spin axis in J_B at the stage end: minor, intermediate, major or "
-            "degenerate (two equal moments)");
-  w.Strings("/stages/regime", regimes,
-            "rigid stages: the closed-form regime of the free body; empty otherwise");
-  w.Doubles("/stages/one_minus_k2", {count}, one_minus_k2, "1",
-            "rigid stages: complementary parameter 1 - k^2 of the closed form (0 on the "
-            "separatrix); 0 otherwise");
-  w.Doubles("/stages/separatrix_distance", {count}, separatrix, "1",
-            "(D - I2) / (I3 - I1) at the stage end, D = |H|^2 / (w.J w): 0 on the separatrix, "
-            "< 0 on the minor-axis side");
-  w.Doubles("/stages/predicted_flip_half_period", {count}, half_period, "s",
-            "rigid stages with the spin axis intermediate: closed-form time between flips; "
-            "inf otherwise");
-  w.Integers("/stages/predicted_flip_count", predicted, "1",
-             "closed-form flips within the stage (rigid stages only; 0 otherwise)");
-  w.Integers("/stages/observed_flip_count", observed, "1",
-             "flips located by the integrator within [t_begin, t_end)");
-  w.Doubles("/stages/max_flip_time_difference", {count}, max_diff, "s",
-            "max |observed - nearest predicted flip time| within the stage (0 if none)");
-  w.Strings("/stages/caveat", caveats,
-            "which conclusions of the stage's stability verdict hold only for a perfectly "
-            "rigid body (major-axis rule: with energy dissipation a minor-axis spin drifts "
-            "into a flat spin about the major axis)");
-  w.Integers("/stages/rigid_body_only", rigid_only, "1",
-             "1 if the stage's verdict about the spin axis holds only without energy "
-             "dissipation (a minor-axis or degenerate spin), else 0");
 }
 
 /// The hinge event table /events/hinge/* (one row per event, in time order), the latch
@@ -221,9 +160,7 @@ void WriteDangerWindows(Hdf5Writer& w, const run::MissionResult& r) {
 }
 
 /// Column c of the samples of t, flattened row-major (Width values per sample).
-std::vector<double> Flat(const run::TrajectoryColumn& c,
-                         const Trajectory& t,
-                         std::size_t panels) {
+std::vector<double> Flat(const run::TrajectoryColumn& c, const Trajectory& t, std::size_t panels) {
   const std::size_t width = run::Width(c, panels);
   std::vector<double> flat(width * t.size());
   if (width == 0) return flat;
@@ -570,97 +507,47 @@ void ReadEvents(const std::string& path, const H5::H5File& file, TrajectoryFile&
   }
 }
 
-/// The columns of /stages, one entry per stage each.
-struct StageColumns {
-  std::size_t count = 0;
-  std::vector<double> t_begin, t_end, moments, one_minus_k2, separatrix, half_period, max_diff;
-  std::vector<long long> index, rigid, rigid_only, predicted, observed;
-  std::vector<std::string> names, laws, from, to, roles, regimes, caveats;
-};
-
-/// Reads the columns of /stages in file order; each must have as many rows as t_begin.
-StageColumns ReadStageColumns(const std::string& path,
-                              const H5::H5File& file,
-                              TrajectoryFile& out) {
+/// The /stages table, one row per stage: one dataset per column of run::StageTable, each
+/// with as many rows as t_begin (a column newer than the file reads the row's default; a
+/// derived column is checked, not read back).
+void ReadStages(const std::string& path, const H5::H5File& file, TrajectoryFile& out) {
   const H5::Group stages = OpenGroup(path, file, "stages");
   const std::string sp = "/stages";
-  hsize_t stage_count = 0;
-  StageColumns c;
-  c.t_begin = ReadDoubles(path, stages, sp, "t_begin", {}, stage_count, out);
-  c.count = static_cast<std::size_t>(stage_count);
-  auto doubles = [&](const std::string& name, const std::vector<hsize_t>& trailing) {
-    hsize_t rows = 0;
-    std::vector<double> v = ReadDoubles(path, stages, sp, name, trailing, rows, out);
-    if (rows != stage_count) {
-      throw std::runtime_error(path + ": /stages/" + name + ": has " + std::to_string(rows) +
-                               " rows, /stages/t_begin has " + std::to_string(stage_count));
+  hsize_t count = 0;
+  (void)ReadDoubles(path, stages, sp, "t_begin", {}, count, out);
+  std::vector<run::StageRow> rows(static_cast<std::size_t>(count));
+  for (const run::StageColumn& c : run::StageTable::Columns()) {
+    if (c.since_hinge_outputs && !out.has_hinge_outputs) continue;
+    auto check = [&](std::size_t n) {
+      if (n != rows.size()) {
+        throw std::runtime_error(path + ": /stages/" + c.name + ": has " + std::to_string(n) +
+                                 " rows, /stages/t_begin has " + std::to_string(rows.size()));
+      }
+    };
+    if (c.type == run::StageColumn::Type::kText) {
+      const std::vector<std::string> v = ReadStrings(path, stages, sp, c.name, out);
+      check(v.size());
+      for (std::size_t i = 0; c.set_text && i < rows.size(); ++i) c.set_text(rows[i], v[i]);
+    } else if (c.type == run::StageColumn::Type::kInteger ||
+               c.type == run::StageColumn::Type::kFlag) {
+      const std::vector<long long> v = ReadIntegers(path, stages, sp, c.name, out);
+      check(v.size());
+      for (std::size_t i = 0; c.set_number && i < rows.size(); ++i) {
+        const double x = static_cast<double>(v[i]);
+        c.set_number(rows[i], &x);
+      }
+    } else {
+      hsize_t n = 0;
+      const std::vector<hsize_t> trailing =
+          c.width() == 1 ? std::vector<hsize_t>{} : std::vector<hsize_t>{3};
+      const std::vector<double> v = ReadDoubles(path, stages, sp, c.name, trailing, n, out);
+      check(static_cast<std::size_t>(n));
+      for (std::size_t i = 0; c.set_number && i < rows.size(); ++i) {
+        c.set_number(rows[i], &v[i * c.width()]);
+      }
     }
-    return v;
-  };
-  auto strings = [&](const std::string& name) {
-    std::vector<std::string> v = ReadStrings(path, stages, sp, name, out);
-    if (v.size() != c.count) {
-      throw std::runtime_error(path + ": /stages/" + name + ": columns of different lengths");
-    }
-    return v;
-  };
-  auto integers = [&](const std::string& name) {
-    std::vector<long long> v = ReadIntegers(path, stages, sp, name, out);
-    if (v.size() != c.count) {
-      throw std::runtime_error(path + ": /stages/" + name + ": columns of different lengths");
-    }
-    return v;
-  };
-  c.index = integers("index");
-  c.t_end = doubles("t_end", {});
-  c.names = strings("name");
-  c.laws = strings("law");
-  c.from = strings("from");
-  c.to = strings("to");
-  c.rigid = integers("rigid");
-  c.moments = doubles("moments_end", {3});
-  c.roles = strings("spin_axis_role");
-  c.regimes = strings("regime");
-  // caveat and rigid_body_only came with the free-hinge outputs (absent in version 2
-  // files written before them).
-  c.caveats = out.has_hinge_outputs ? strings("caveat") : std::vector<std::string>(c.count);
-  c.rigid_only =
-      out.has_hinge_outputs ? integers("rigid_body_only") : std::vector<long long>(c.count, 0);
-  c.one_minus_k2 = doubles("one_minus_k2", {});
-  c.separatrix = doubles("separatrix_distance", {});
-  c.half_period = doubles("predicted_flip_half_period", {});
-  c.predicted = integers("predicted_flip_count");
-  c.observed = integers("observed_flip_count");
-  c.max_diff = doubles("max_flip_time_difference", {});
-  return c;
-}
-
-/// The /stages table, one row per stage.
-void ReadStages(const std::string& path, const H5::H5File& file, TrajectoryFile& out) {
-  const StageColumns c = ReadStageColumns(path, file, out);
-  for (std::size_t i = 0; i < c.count; ++i) {
-    StageRow row;
-    row.index = static_cast<int>(c.index[i]);
-    row.name = c.names[i];
-    row.law = c.laws[i];
-    row.from = c.from[i];
-    row.to = c.to[i];
-    row.t_begin = c.t_begin[i];
-    row.t_end = c.t_end[i];
-    row.rigid = c.rigid[i] != 0;
-    row.moments_end = math::Vec3(c.moments[3 * i], c.moments[3 * i + 1], c.moments[3 * i + 2]);
-    row.spin_axis_role = c.roles[i];
-    row.regime = c.regimes[i];
-    row.one_minus_k2 = c.one_minus_k2[i];
-    row.separatrix_distance = c.separatrix[i];
-    row.predicted_flip_half_period = c.half_period[i];
-    row.predicted_flip_count = c.predicted[i];
-    row.observed_flip_count = c.observed[i];
-    row.max_flip_time_difference = c.max_diff[i];
-    row.caveat = c.caveats[i];
-    row.rigid_body_only = c.rigid_only[i] != 0;
-    out.stages.push_back(row);
   }
+  out.stages = std::move(rows);
 }
 
 /// The /danger_windows table (t_begin and t_end of one length).
@@ -705,8 +592,8 @@ struct TrajectoryFileWriter::Impl {
         writer(p) {
     for (const run::TrajectoryColumn* c : schema.Written(geometry)) {
       columns.push_back(c);
-      handles.push_back(writer.GrowingDoubles("/" + c->name, run::RowShape(*c, panels),
-                                              c->units, c->description));
+      handles.push_back(writer.GrowingDoubles("/" + c->name, run::RowShape(*c, panels), c->units,
+                                              c->description));
     }
   }
   std::string path;
@@ -715,7 +602,7 @@ struct TrajectoryFileWriter::Impl {
   const run::TrajectorySchema& schema;
   Hdf5Writer writer;
   std::vector<const run::TrajectoryColumn*> columns;  // column of each handle
-  std::vector<std::size_t> handles;                        // GrowingDoubles handles
+  std::vector<std::size_t> handles;                   // GrowingDoubles handles
   bool finished = false;
 };
 
@@ -785,8 +672,7 @@ void TrajectoryOutputs::Commit() {
   if (csv_) csv_->Commit();
 }
 
-TrajectoryFile ReadTrajectoryFile(const std::string& path,
-                                  const run::TrajectorySchema& schema) {
+TrajectoryFile ReadTrajectoryFile(const std::string& path, const run::TrajectorySchema& schema) {
   const QuietErrors quiet;
   // As in WriteTrajectoryFile: translate HDF5's exceptions to std::runtime_error.
   try {

@@ -20,9 +20,10 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/run/mission.h"
-#include "deploysim/run/trajectory_schema.h"
 #include "deploysim/io/trajectory_csv.h"
+#include "deploysim/run/mission.h"
+#include "deploysim/run/stage_table.h"
+#include "deploysim/run/trajectory_schema.h"
 
 namespace deploysim::io {
 
@@ -48,38 +49,13 @@ namespace deploysim::io {
 /// is false).
 inline constexpr int kTrajectorySchemaVersion = 2;
 
-/// One row of the /stages table: the profile's stage and its analysis
-/// (run::StageReport).
-struct StageRow {
-  int index = 0;  ///< Position in the profile, from 0.
-  std::string name;
-  std::string law;       ///< "hold" or the law's name ("minimum-jerk", ...).
-  std::string from;      ///< Configuration at t_begin (empty for a hinge profile's phase).
-  std::string to;        ///< Configuration at t_end (empty for a hinge profile's phase).
-  double t_begin = 0.0;  ///< [s]
-  double t_end = 0.0;    ///< [s]
-  bool rigid = false;    ///< J constant and h_rel = 0 over the stage.
-  math::Vec3 moments_end = math::Vec3::Zero();  ///< [kg m^2] principal moments at t_end.
-  std::string spin_axis_role;        ///< Role of the spin axis at t_end ("intermediate", ...).
-  std::string regime;                ///< Rigid stages: the analytic regime; else empty.
-  double one_minus_k2 = 0.0;         ///< Rigid stages: 1 - k^2 (0 on the separatrix).
-  double separatrix_distance = 0.0;  ///< (D - I2)/(I3 - I1) at t_end.
-  double predicted_flip_half_period = 0.0;  ///< [s] +inf when no flips are predicted.
-  long long predicted_flip_count = 0;       ///< Analytic flips within the stage.
-  long long observed_flip_count = 0;        ///< Located flips within the stage.
-  double max_flip_time_difference = 0.0;    ///< [s] |observed - predicted|.
-  /// Which conclusions of the stage's verdict hold only for a perfectly rigid body
-  /// (run::StageReport::caveat; empty in files written before the free-hinge outputs).
-  std::string caveat;
-  /// The spin-axis verdict holds only without energy dissipation
-  /// (run::StageReport::rigid_body_only).
-  bool rigid_body_only = false;
-};
+/// One row of the stage table /stages/* (run::StageTable).
+using StageRow = run::StageRow;
 
 /// One row of the hinge event table /events/hinge/* (run::HingeEvent).
 struct HingeEventRow {
-  run::HingeEvent event;  ///< Kind read back from its name ("latch", ...).
-  std::string panel_name;      ///< Name of panel event.panel in the model.
+  run::HingeEvent event;   ///< Kind read back from its name ("latch", ...).
+  std::string panel_name;  ///< Name of panel event.panel in the model.
 };
 
 /// The contents of a trajectory file, as read back.
@@ -87,9 +63,9 @@ struct TrajectoryFile {
   /// hinge_angles and hinge_rates empty unless the file has them (geometry mode);
   /// energy_spring empty only in files written before the free-hinge outputs.
   run::Trajectory trajectory;
-  std::vector<double> flip_times;                      ///< [s] /events/flip_time
-  std::vector<double> predicted_flip_times;            ///< [s] /events/predicted_flip_time
-  std::vector<StageRow> stages;                        ///< /stages/*
+  std::vector<double> flip_times;                 ///< [s] /events/flip_time
+  std::vector<double> predicted_flip_times;       ///< [s] /events/predicted_flip_time
+  std::vector<StageRow> stages;                   ///< /stages/*
   std::vector<run::DangerWindow> danger_windows;  ///< /danger_windows/*
   /// The derived columns of the schema read (run::TrajectorySchema), flat row-major
   /// by name: "energy_total" (trajectory.energy + trajectory.energy_spring, as written)
@@ -124,10 +100,9 @@ struct TrajectoryFile {
 /// std::runtime_error naming `path` for I/O failures. The same file as a
 /// TrajectoryFileWriter fed r.trajectory (it is one).
 /// The per-sample datasets are the columns of `schema` (which must outlive the call).
-void WriteTrajectoryFile(
-    const std::string& path,
-    const run::MissionResult& r,
-    const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
+void WriteTrajectoryFile(const std::string& path,
+                         const run::MissionResult& r,
+                         const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
 
 /// A trajectory file written while the mission runs (memory bounded by the block size
 /// whatever the horizon): the per-sample datasets grow block by block, the rest is
@@ -141,10 +116,9 @@ class TrajectoryFileWriter final : public run::SampleSink {
   /// Starts the temporary and the per-sample datasets for `profile` (hinge angles in
   /// geometry mode), one per column of `schema` (which must outlive the writer). Throws
   /// std::runtime_error naming `path`.
-  TrajectoryFileWriter(
-      const std::string& path,
-      const schedule::Profile& profile,
-      const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
+  TrajectoryFileWriter(const std::string& path,
+                       const schedule::Profile& profile,
+                       const run::TrajectorySchema& schema = run::TrajectorySchema::Standard());
   ~TrajectoryFileWriter() override;
   TrajectoryFileWriter(const TrajectoryFileWriter&) = delete;
   TrajectoryFileWriter& operator=(const TrajectoryFileWriter&) = delete;

@@ -1,0 +1,101 @@
+// The stage table's rows (run::StageRows): a stage profile's stages as the profile states
+// them with their reports, a hinge profile's phases without configurations; the table
+// refuses a second column of a name.
+
+#include "deploysim/run/stage_table.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "run/hinge_fixtures.h"
+
+namespace deploysim::run {
+namespace {
+namespace DEPLOYSIM_TEST_UNIT {
+
+schedule::Profile TwoStages() {
+  schedule::Profile p;
+  p.name = "two stages";
+  p.model.name = "two shapes";
+  p.model.kind = model::ModelKind::kTensors;
+  model::Configuration stowed, deployed;
+  stowed.name = "stowed";
+  stowed.J_B = math::Vec3(10.0, 12.0, 8.0).asDiagonal();
+  deployed.name = "deployed";
+  deployed.J_B = math::Vec3(30.0, 14.0, 40.0).asDiagonal();
+  p.model.configurations = {stowed, deployed};
+  p.mode = schedule::Mode::kTensor;
+  p.initial.q_NB = math::Quat::Identity();
+  p.initial.w_NB_B = math::Vec3(0.01, 1.0, 0.02);  // about the intermediate axis: flips
+  schedule::Stage move;
+  move.name = "deploy";
+  move.from = "stowed";
+  move.to = "deployed";
+  move.law = schedule::Law::kSmoothstep;
+  move.t_begin = 0.0;
+  move.t_end = 5.0;
+  schedule::Stage hold;
+  hold.name = "deployed";
+  hold.from = hold.to = "deployed";
+  hold.t_begin = 5.0;
+  hold.t_end = 120.0;
+  p.stages = {move, hold};
+  p.output.dt = 1.0;
+  return p;
+}
+
+TEST(StageTableTest, AStageProfilesRowsAreItsStagesWithTheirReports) {
+  const MissionResult r = RunMission(TwoStages());
+  const std::vector<StageRow> rows = StageRows(r);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].name, "deploy");
+  EXPECT_EQ(rows[0].law, "smoothstep");
+  EXPECT_EQ(rows[0].from, "stowed");
+  EXPECT_EQ(rows[0].to, "deployed");
+  EXPECT_FALSE(rows[0].rigid);
+  EXPECT_EQ(rows[1].law, "hold");
+  EXPECT_EQ(rows[1].t_begin, 5.0);
+  EXPECT_EQ(rows[1].t_end, 120.0);
+  EXPECT_TRUE(rows[1].rigid);
+  // Each row's analysis is its report's.
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].index, static_cast<int>(i));
+    EXPECT_EQ(rows[i].spin_axis_role, analysis::ToString(r.stages[i].spin_axis_end));
+    EXPECT_EQ(rows[i].observed_flip_count,
+              static_cast<long long>(r.stages[i].observed_flips.size()));
+    EXPECT_EQ(rows[i].observed_flips, r.stages[i].observed_flips);
+    EXPECT_EQ(rows[i].moments_end, r.stages[i].moments_end);
+  }
+}
+
+TEST(StageTableTest, AHingeProfilesRowsArePhasesWithoutConfigurations) {
+  const MissionResult r = RunMission(testing::SmallsatHingeProfile(
+      testing::SpringHinge(0.2, -30.0), testing::SpringHinge(0.15, -20.0), 100.0));
+  const std::vector<StageRow> rows = StageRows(r);
+  ASSERT_EQ(rows.size(), r.stages.size());
+  ASSERT_GE(rows.size(), 1u);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].name, r.stages[i].name);
+    EXPECT_EQ(rows[i].t_begin, r.stages[i].t_begin);
+    EXPECT_TRUE(rows[i].from.empty());
+    EXPECT_TRUE(rows[i].to.empty());
+  }
+  // Where a column does not apply: a phase's configurations.
+  for (const StageColumn& c : StageTable::Columns()) {
+    if (c.name == "from" || c.name == "to") {
+      ASSERT_TRUE(c.applies);
+      EXPECT_FALSE(c.applies(rows[0]));
+    }
+  }
+}
+
+TEST(StageTableTest, AColumnNameIsTakenOnce) {
+  StageColumn c;
+  c.name = "t_begin";
+  EXPECT_THROW(StageTable::Extend(c), std::logic_error);
+}
+
+}  // namespace DEPLOYSIM_TEST_UNIT
+}  // namespace
+}  // namespace deploysim::run
