@@ -152,7 +152,7 @@ TEST(ChebyshevFitTest, NoisyValuesAreAcceptedOnlyUpToTheCallersBound) {
   EXPECT_FALSE(fit.valid());
 }
 
-// Moved from tests/analysis/exact_dense_test.cpp (now exact_flow_test.cpp).
+// Moved from the exact stepper's dense output tests (tests/analysis/exact_flow_test.cpp).
 TEST(ChebyshevFitTest, SteepPulseIsSplitAndAccurate) {
   // A sech pulse of width 1e-3 in [0, 10]: one polynomial of degree 64 cannot hold it.
   auto f = [](double t, double* out) {

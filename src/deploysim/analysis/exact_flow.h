@@ -56,7 +56,7 @@ class ExactFlowStepper final : public integrators::Stepper {
   /// fit is found, the closed form itself (Dense). The interpolant agrees with the
   /// closed form to the closed form's own rounding (which grows with t - t0 like
   /// eps lambda |t - t0| |H| and eps |w| |t - t0| rad) and is as accurate against an
-  /// independent reference (tests/analysis/exact_dense_test.cpp). Events, event states
+  /// independent reference (tests/analysis/exact_flow_test.cpp). Events, event states
   /// and step results keep using the closed form (Dense, Step).
   integrators::State DenseSample(const integrators::Problem& problem,
                                  double t,

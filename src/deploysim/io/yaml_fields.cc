@@ -343,7 +343,7 @@ class GuardHandler : public YAML::EventHandler {
 /// the first document that makes no progress and counts nodes and depth; then YAML::Load
 /// builds the nodes. Both passes are linear in the text; the guard costs about as much as
 /// the parse (no nodes), and adds what a different parser would still need: node, depth
-/// and alias bounds. Exhaustive tests: tests/io_yaml/yaml_reader_test.cpp.
+/// and alias bounds. Exhaustive tests: tests/io_yaml/hostile_yaml_test.cpp.
 YAML::Node ParseOneDocument(const std::string& path, const std::string& text) {
   auto where = [&path](const YAML::Mark& m) {
     return path + ": line " + std::to_string(m.line + 1) + ", column " +

@@ -41,7 +41,7 @@
 ///     at 0 is -2 L1 (r + L1): a uniform field of strength Omega^2 (r + L1), the field at
 ///     the bob).
 /// A tank on the spin axis (r = 0) has omega_in = 0 (the liquid may turn freely about the
-/// axis) and omega_out = Omega. tests/analysis/slosh_dynamics_test.cpp checks both against
+/// axis) and omega_out = Omega. tests/run/slosh_dynamics_test.cpp checks both against
 /// the modes of the project's linearized equations.
 ///
 /// `damping_ratio` zeta is turned into the hinges' damper through omega_out (the swing
