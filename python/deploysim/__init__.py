@@ -143,14 +143,11 @@ EVENT_UNITS = {
     for c in _deploysim._hinge_event_columns()
     for s in (("_x", "_y", "_z") if c["type"] == "vector3" else ("",))
 }
-STAGE_UNITS = {
-    "index": "1", "name": "none", "law": "none", "from": "none", "to": "none", "t_begin": "s",
-    "t_end": "s", "rigid": "1", "moments_end": "kg m^2", "spin_axis_role": "none",
-    "regime": "none", "one_minus_k2": "1", "separatrix_distance": "1",
-    "predicted_flip_half_period": "s", "predicted_flips": "s", "observed_flips": "s",
-    "predicted_flip_count": "1", "observed_flip_count": "1", "max_flip_time_difference": "s",
-    "caveat": "none", "rigid_body_only": "1",
-}
+# The stage table's and the danger windows' come from their tables in the library too
+# (run::StageTable, with the stage's flip lists; run::DangerWindowTable).
+STAGE_UNITS = {c["name"]: c["units"] for c in _deploysim._stage_columns()}
+STAGE_UNITS.update({"predicted_flips": "s", "observed_flips": "s"})
+WINDOW_UNITS = {c["name"]: c["units"] for c in _deploysim._danger_window_columns()}
 _RESULT_UNITS = {
     "flips": "s", "predicted_flips": "s", "spin_axis_45_times": "s", "latch_times": "s",
     "max_h_N_drift": "1", "wall_seconds": "s", "energy_initial": "J", "energy_final": "J",
@@ -244,7 +241,7 @@ class SimulationResult:
             else:
                 columns[k] = v
         self.events = EventTable(columns, EVENT_UNITS)
-        self.danger_windows = Table(raw.pop("danger_windows"), {"t_begin": "s", "t_end": "s"})
+        self.danger_windows = Table(raw.pop("danger_windows"), WINDOW_UNITS)
         self.outcome = _json.loads(raw.pop("outcome_json"))
         body = raw.pop("body_json")
         self.body = None if body is None else _json.loads(body)

@@ -39,15 +39,7 @@ py::dict MissionDict(run::MissionResult&& r, TrajectoryArrays&& samples) {
   d["predicted_flip_times"] = Doubles(std::move(predicted));
   d["spin_axis_45_times"] = DoublesCopy(r.spin_axis_45_crossings);
   d["stages"] = stages;
-  std::vector<double> wb, we;
-  for (const run::DangerWindow& w : r.danger_windows) {
-    wb.push_back(w.t_begin);
-    we.push_back(w.t_end);
-  }
-  py::dict windows;
-  windows["t_begin"] = Doubles(std::move(wb));
-  windows["t_end"] = Doubles(std::move(we));
-  d["danger_windows"] = windows;
+  d["danger_windows"] = DangerWindowArrays(r);
   d["hinge_events"] = HingeEventArrays(r);
   d["latch_times"] = DoublesCopy(r.latch_times);
   std::vector<std::string> panels;
@@ -134,7 +126,24 @@ py::list HingeEventColumns() {
   return out;
 }
 
+/// A table's columns as the package describes them: name, units, description.
+template <typename Column>
+py::list DescribeColumns(const std::vector<Column>& columns) {
+  py::list out;
+  for (const Column& c : columns) {
+    py::dict d;
+    d["name"] = c.name;
+    d["units"] = c.units;
+    d["description"] = c.description;
+    out.append(d);
+  }
+  return out;
+}
+
 void RegisterSimulate(py::module_& m) {
+  m.def("_danger_window_columns",
+        [] { return DescribeColumns(run::DangerWindowTable::Columns()); });
+  m.def("_stage_columns", [] { return DescribeColumns(run::StageTable::Columns()); });
   m.def("_trajectory_columns", &TrajectoryColumns);
   m.def("_hinge_event_columns", &HingeEventColumns);
   m.def(

@@ -108,4 +108,14 @@ py::list StageRowDicts(const run::MissionResult& r) {
   return out;
 }
 
+py::dict DangerWindowArrays(const run::MissionResult& r) {
+  py::dict d;
+  for (const run::DangerWindowColumn& c : run::DangerWindowTable::Columns()) {
+    std::vector<double> v;
+    for (const run::DangerWindow& w : r.danger_windows) v.push_back(c.value(w));
+    d[c.name.c_str()] = DoublesCopy(v);
+  }
+  return d;
+}
+
 }  // namespace deploysim::python

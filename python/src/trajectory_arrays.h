@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "deploysim/run/danger_windows.h"
 #include "deploysim/run/mission.h"
 #include "deploysim/run/stage_table.h"
 #include "deploysim/run/trajectory_schema.h"
@@ -44,5 +45,9 @@ pybind11::dict HingeEventArrays(const run::MissionResult& r);
 /// `deploysim analyze --json` writes null; flags as bools, vectors as arrays (3,)), then
 /// the stage's predicted_flips and observed_flips [s].
 pybind11::list StageRowDicts(const run::MissionResult& r);
+
+/// With the GIL: the run's danger windows, {name: array (W,)} per run::DangerWindowTable
+/// column.
+pybind11::dict DangerWindowArrays(const run::MissionResult& r);
 
 }  // namespace deploysim::python

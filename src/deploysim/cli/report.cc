@@ -585,8 +585,12 @@ std::string FormatJson(const run::MissionResult& r,
   }
   o += "  ],\n  \"danger_windows\": [";
   for (std::size_t i = 0; i < r.danger_windows.size(); ++i) {
-    o += fmt::format("{}[{}, {}]", i ? ", " : "", math::JsonNumber(r.danger_windows[i].t_begin),
-                     math::JsonNumber(r.danger_windows[i].t_end));
+    std::string w;
+    for (const run::DangerWindowColumn& col : run::DangerWindowTable::Columns()) {
+      w += (w.empty() ? "" : ", ") + math::JsonString(col.name) + ": " +
+           math::JsonNumber(col.value(r.danger_windows[i]));
+    }
+    o += std::string(i ? ", " : "") + "{" + w + "}";
   }
   o += "]";
   // Hinge profiles only; empty lists otherwise. SI units, as in the HDF5 file.

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "deploysim/run/coupling_comparison.h"
+#include "deploysim/run/danger_windows.h"
 #include "deploysim/run/mission.h"
 #include "deploysim/run/stage_table.h"
 #include "deploysim/run/trajectory_schema.h"

@@ -147,16 +147,12 @@ void WriteHingeOutputs(Hdf5Writer& w, const run::MissionResult& r, bool geometry
 /// /danger_windows: the intervals of the output grid in which the spin axis is the
 /// intermediate principal axis of J_B(t) (flips possible).
 void WriteDangerWindows(Hdf5Writer& w, const run::MissionResult& r) {
-  std::vector<double> t_begin, t_end;
-  for (const run::DangerWindow& d : r.danger_windows) {
-    t_begin.push_back(d.t_begin);
-    t_end.push_back(d.t_end);
+  const std::size_t count = r.danger_windows.size();
+  for (const run::DangerWindowColumn& c : run::DangerWindowTable::Columns()) {
+    std::vector<double> v;
+    for (const run::DangerWindow& d : r.danger_windows) v.push_back(c.value(d));
+    w.Doubles("/danger_windows/" + c.name, {count}, v, c.units, c.description);
   }
-  const std::size_t count = t_begin.size();
-  w.Doubles("/danger_windows/t_begin", {count}, t_begin, "s",
-            "first output time at which the spin axis is the intermediate axis");
-  w.Doubles("/danger_windows/t_end", {count}, t_end, "s",
-            "last output time of the window at which it still is");
 }
 
 /// Column c of the samples of t, flattened row-major (Width values per sample).
@@ -550,21 +546,24 @@ void ReadStages(const std::string& path, const H5::H5File& file, TrajectoryFile&
   out.stages = std::move(rows);
 }
 
-/// The /danger_windows table (t_begin and t_end of one length).
+/// The /danger_windows table: one dataset per column of run::DangerWindowTable, of one
+/// length (a derived column is checked, not read back).
 void ReadDangerWindows(const std::string& path, const H5::H5File& file, TrajectoryFile& out) {
   const H5::Group windows = OpenGroup(path, file, "danger_windows");
-  hsize_t window_count = 0;
-  hsize_t rows = 0;
-  const std::vector<double> w_begin =
-      ReadDoubles(path, windows, "/danger_windows", "t_begin", {}, window_count, out);
-  const std::vector<double> w_end =
-      ReadDoubles(path, windows, "/danger_windows", "t_end", {}, rows, out);
-  if (rows != window_count) {
-    throw std::runtime_error(path + ": /danger_windows: columns of different lengths");
+  std::vector<run::DangerWindow> rows;
+  bool first = true;
+  for (const run::DangerWindowColumn& c : run::DangerWindowTable::Columns()) {
+    hsize_t count = 0;
+    const std::vector<double> v =
+        ReadDoubles(path, windows, "/danger_windows", c.name, {}, count, out);
+    if (first) rows.resize(v.size());
+    first = false;
+    if (v.size() != rows.size()) {
+      throw std::runtime_error(path + ": /danger_windows: columns of different lengths");
+    }
+    for (std::size_t i = 0; c.set && i < rows.size(); ++i) c.set(rows[i], v[i]);
   }
-  for (std::size_t i = 0; i < w_begin.size(); ++i) {
-    out.danger_windows.push_back({w_begin[i], w_end[i]});
-  }
+  out.danger_windows = std::move(rows);
 }
 
 TrajectoryFile ReadContents(const std::string& path, const run::TrajectorySchema& schema) {

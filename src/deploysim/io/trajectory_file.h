@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "deploysim/io/trajectory_csv.h"
+#include "deploysim/run/danger_windows.h"
 #include "deploysim/run/mission.h"
 #include "deploysim/run/stage_table.h"
 #include "deploysim/run/trajectory_schema.h"

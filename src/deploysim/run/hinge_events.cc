@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "deploysim/run/record_table.h"
+
 namespace deploysim::run {
 
 std::string ToString(HingeEvent::Kind kind) {
@@ -125,12 +127,7 @@ std::vector<Column>& Table() {
 const std::vector<HingeEventColumn>& HingeEventTable::Columns() { return Table(); }
 
 void HingeEventTable::Extend(HingeEventColumn column) {
-  for (const Column& c : Table()) {
-    if (c.name == column.name) {
-      throw std::logic_error("HingeEventTable: a column '" + column.name + "' exists");
-    }
-  }
-  Table().push_back(std::move(column));
+  AppendColumn(Table(), std::move(column), "HingeEventTable");
 }
 
 std::vector<analysis::DeploymentFault> DeploymentFaults(const schedule::Profile& profile,

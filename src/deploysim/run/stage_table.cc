@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "deploysim/analysis/flip_rule.h"
+#include "deploysim/run/record_table.h"
 #include "deploysim/schedule/profile.h"
 
 namespace deploysim::run {
@@ -193,12 +194,7 @@ std::vector<StageCol>& StageColumnsTable() {
 const std::vector<StageColumn>& StageTable::Columns() { return StageColumnsTable(); }
 
 void StageTable::Extend(StageColumn column) {
-  for (const StageCol& c : StageColumnsTable()) {
-    if (c.name == column.name) {
-      throw std::logic_error("StageTable: a column '" + column.name + "' exists");
-    }
-  }
-  StageColumnsTable().push_back(std::move(column));
+  AppendColumn(StageColumnsTable(), std::move(column), "StageTable");
 }
 
 }  // namespace deploysim::run
