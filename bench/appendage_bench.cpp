@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "bench_util.h"
-#include "deploysim/run/mission.h"
 #include "deploysim/model/flexible_beam.h"
 #include "deploysim/model/mass_properties.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/schedule/profile.h"
 
 namespace {

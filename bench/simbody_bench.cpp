@@ -29,7 +29,6 @@
 
 #include "bench_util.h"
 #include "deploysim/analysis/exact_flow.h"
-#include "deploysim/run/mission.h"
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/simbody_free_hinges.h"
 #include "deploysim/crosscheck/simbody_satellite.h"
@@ -37,6 +36,7 @@
 #include "deploysim/integrators/integrate.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/inertia.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/schedule/deployment_schedule.h"
 #include "free_body_reference.h"
 

@@ -10,12 +10,12 @@
 #include <filesystem>
 #include <string>
 
-#include "deploysim/run/hinge_events.h"
-#include "deploysim/run/mission.h"
 #include "deploysim/cli/report.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/number_format.h"
+#include "deploysim/run/hinge_events.h"
+#include "deploysim/run/mission.h"
 #include "trajectory_arrays.h"
 
 namespace {

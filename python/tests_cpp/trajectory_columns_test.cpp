@@ -14,12 +14,12 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/run/mission.h"
-#include "deploysim/run/trajectory_schema.h"
 #include "deploysim/cli/report.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
 #include "deploysim/math/number_format.h"
+#include "deploysim/run/mission.h"
+#include "deploysim/run/trajectory_schema.h"
 #include "trajectory_arrays.h"
 
 namespace {

@@ -7,40 +7,21 @@
 
 #include <vector>
 
+#include "run/stage_fixtures.h"
+
 namespace deploysim::run {
 namespace {
 namespace DEPLOYSIM_TEST_UNIT {
 
 /// Hold 0-2 s stowed, deploy 2-6 s (linear: J_B's rate jumps at both ends), hold 6-10 s.
 schedule::Profile ThreeStages() {
-  schedule::Profile p;
-  p.name = "three stages";
-  p.model.name = "two shapes";
-  p.model.kind = model::ModelKind::kTensors;
-  model::Configuration stowed, deployed;
-  stowed.name = "stowed";
-  stowed.J_B = math::Vec3(10.0, 12.0, 8.0).asDiagonal();
-  deployed.name = "deployed";
-  deployed.J_B = math::Vec3(30.0, 14.0, 40.0).asDiagonal();
-  p.model.configurations = {stowed, deployed};
-  p.mode = schedule::Mode::kTensor;
-  p.initial.q_NB = math::Quat::Identity();
-  p.initial.w_NB_B = math::Vec3(0.01, 0.02, 1.0);
-  auto stage = [](const char* name, const char* from, const char* to, double a, double b) {
-    schedule::Stage st;
-    st.name = name;
-    st.from = from;
-    st.to = to;
-    st.law = schedule::Law::kLinear;
-    st.t_begin = a;
-    st.t_end = b;
-    return st;
-  };
-  p.stages = {stage("stowed", "stowed", "stowed", 0.0, 2.0),
-              stage("deploy", "stowed", "deployed", 2.0, 6.0),
-              stage("deployed", "deployed", "deployed", 6.0, 10.0)};
-  p.output.dt = 0.5;
-  return p;
+  using schedule::Law;
+  using testing::MakeStage;
+  return testing::TwoShapeProfile(
+      "three stages", math::Vec3(0.01, 0.02, 1.0),
+      {MakeStage("stowed", "stowed", "stowed", Law::kLinear, 0.0, 2.0),
+       MakeStage("deploy", "stowed", "deployed", Law::kLinear, 2.0, 6.0),
+       MakeStage("deployed", "deployed", "deployed", Law::kLinear, 6.0, 10.0)});
 }
 
 TEST(StageBodyTest, PhasesAreTheStages) {

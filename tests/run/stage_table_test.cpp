@@ -9,38 +9,20 @@
 #include <stdexcept>
 
 #include "run/hinge_fixtures.h"
+#include "run/stage_fixtures.h"
 
 namespace deploysim::run {
 namespace {
 namespace DEPLOYSIM_TEST_UNIT {
 
+/// A deployment, then a hold spinning about y, the deployed body's intermediate axis.
 schedule::Profile TwoStages() {
-  schedule::Profile p;
-  p.name = "two stages";
-  p.model.name = "two shapes";
-  p.model.kind = model::ModelKind::kTensors;
-  model::Configuration stowed, deployed;
-  stowed.name = "stowed";
-  stowed.J_B = math::Vec3(10.0, 12.0, 8.0).asDiagonal();
-  deployed.name = "deployed";
-  deployed.J_B = math::Vec3(30.0, 14.0, 40.0).asDiagonal();
-  p.model.configurations = {stowed, deployed};
-  p.mode = schedule::Mode::kTensor;
-  p.initial.q_NB = math::Quat::Identity();
-  p.initial.w_NB_B = math::Vec3(0.01, 1.0, 0.02);  // about the intermediate axis: flips
-  schedule::Stage move;
-  move.name = "deploy";
-  move.from = "stowed";
-  move.to = "deployed";
-  move.law = schedule::Law::kSmoothstep;
-  move.t_begin = 0.0;
-  move.t_end = 5.0;
-  schedule::Stage hold;
-  hold.name = "deployed";
-  hold.from = hold.to = "deployed";
-  hold.t_begin = 5.0;
-  hold.t_end = 120.0;
-  p.stages = {move, hold};
+  using schedule::Law;
+  using testing::MakeStage;
+  schedule::Profile p = testing::TwoShapeProfile(
+      "two stages", math::Vec3(0.01, 1.0, 0.02),
+      {MakeStage("deploy", "stowed", "deployed", Law::kSmoothstep, 0.0, 5.0),
+       MakeStage("deployed", "deployed", "deployed", Law::kStep, 5.0, 120.0)});
   p.output.dt = 1.0;
   return p;
 }

@@ -21,15 +21,15 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/run/coupling_comparison.h"
 #include "deploysim/analysis/exact_flow.h"
-#include "deploysim/run/mission.h"
 #include "deploysim/analysis/work_estimate.h"
 #include "deploysim/cli/python_tool.h"
 #include "deploysim/cli/report.h"
 #include "deploysim/io/atomic_file.h"
 #include "deploysim/io/trajectory_file.h"
 #include "deploysim/io/yaml_loader.h"
+#include "deploysim/run/coupling_comparison.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/schedule/profile_warnings.h"
 #include "deploysim/version.h"
 #ifdef DEPLOYSIM_HAVE_SWEEP
@@ -130,7 +130,7 @@ void PrintWarnings(const deploysim::schedule::Profile& p) {
 }
 
 std::shared_ptr<const deploysim::run::CompiledRun> Load(const std::string& path,
-                                                             const Overrides& o) {
+                                                        const Overrides& o) {
   deploysim::io::ProfileOverrides po;
   po.method = o.method;
   po.coupling = o.coupling;
@@ -497,10 +497,10 @@ int RunSimulate(CommandLine& cl, const deploysim::run::CompiledRun& run, bool co
   deploysim::io::RemoveTemporariesOnSignals();
   deploysim::io::TrajectoryOutputs outputs(cl.out_path, cl.csv ? cl.out_path + ".csv" : "",
                                            profile);
-  const MissionResult r = NamingFile(
-      cl.profile_path,
-      [&] { return deploysim::run::RunMission(run, outputs, Progress(cl.quiet, run)); },
-      {cl.out_path, cl.out_path + ".csv"});
+  const MissionResult r =
+      NamingFile(cl.profile_path,
+                 [&] { return deploysim::run::RunMission(run, outputs, Progress(cl.quiet, run)); },
+                 {cl.out_path, cl.out_path + ".csv"});
   if (r.termination != deploysim::integrators::Termination::kReachedEnd) {
     std::cerr << "deploysim: error: " << cl.profile_path << ": integration " << r.message << "\n";
     return kExitIncomplete;
@@ -517,9 +517,8 @@ int RunSimulate(CommandLine& cl, const deploysim::run::CompiledRun& run, bool co
   }
   if (cl.compare && comparable) {
     std::cout << "\n"
-              << deploysim::cli::FormatCouplingComparison(NamingFile(cl.profile_path, [&] {
-                   return deploysim::run::CompareCouplings(profile);
-                 }));
+              << deploysim::cli::FormatCouplingComparison(NamingFile(
+                     cl.profile_path, [&] { return deploysim::run::CompareCouplings(profile); }));
   }
   std::cout << "\nwrote " << cl.out_path << (cl.csv ? " and " + cl.out_path + ".csv" : "") << "\n";
   return 0;
@@ -583,9 +582,7 @@ int RunCrosscheck(CommandLine& cl, const deploysim::schedule::Profile& profile, 
 
 // `deploysim analyze`: the summary and timeline tables (or JSON), with the coupling
 // comparison where it applies.
-int RunAnalyze(const CommandLine& cl,
-               const deploysim::run::CompiledRun& run,
-               bool comparable) {
+int RunAnalyze(const CommandLine& cl, const deploysim::run::CompiledRun& run, bool comparable) {
   const deploysim::schedule::Profile& profile = run.profile();
   // The table needs no trajectory: its samples are dropped as they come (bounded memory).
   deploysim::run::NullSink discard;
@@ -682,8 +679,7 @@ int Main(int argc, char** argv) {
 #ifdef DEPLOYSIM_HAVE_SWEEP
     if (cmds.swp->parsed()) return RunSweepCommand(cl, mpi);
 #endif
-    const std::shared_ptr<const deploysim::run::CompiledRun> run =
-        Load(cl.profile_path, cl.ov);
+    const std::shared_ptr<const deploysim::run::CompiledRun> run = Load(cl.profile_path, cl.ov);
     const deploysim::schedule::Profile& profile = run->profile();
     const bool geometry = profile.mode == deploysim::schedule::Mode::kGeometry;
     // The exact vs quasi-rigid comparison concerns prescribed stages; free hinges are

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/run/mission.h"
 #include "deploysim/crosscheck/simbody_satellite.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/schedule/profile.h"
 
 namespace deploysim::crosscheck {

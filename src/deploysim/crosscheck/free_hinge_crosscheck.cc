@@ -23,8 +23,7 @@ constexpr double kQuarterPi = 0.78539816339744831;
 std::string Num(double x) { return math::FormatSignificant(x); }
 
 /// The events after the start (releases at t_begin are the initial condition).
-std::vector<run::HingeEvent> AfterStart(const std::vector<run::HingeEvent>& e,
-                                             double t_begin) {
+std::vector<run::HingeEvent> AfterStart(const std::vector<run::HingeEvent>& e, double t_begin) {
   std::vector<run::HingeEvent> out;
   for (const run::HingeEvent& ev : e) {
     if (ev.kind == run::HingeEvent::Kind::kRelease && ev.t == t_begin) continue;

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "deploysim/run/mission.h"
 #include "deploysim/crosscheck/crosscheck.h"
 #include "deploysim/crosscheck/simbody_free_hinges.h"
+#include "deploysim/run/mission.h"
 #include "deploysim/schedule/profile.h"
 
 namespace deploysim::crosscheck {
